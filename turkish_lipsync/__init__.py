@@ -1,0 +1,1 @@
+"""Turkish lip-sync: the core (no bpy) and the Blender layer."""

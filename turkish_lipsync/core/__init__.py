@@ -1,0 +1,1 @@
+"""The bpy-free core: Turkish text to timed viseme and emotion weights."""

@@ -1,0 +1,146 @@
+"""The command line: syllables, timeline and quality reports, without Blender."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from .errors import LipSyncError
+from .model import Timeline
+
+TIMINGS = ("phone", "word", "table")
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = _parser()
+    args = parser.parse_args(argv)
+    try:
+        return args.run(args)
+    except LipSyncError as error:
+        print(f"error: {error}", file=sys.stderr)
+        return 2
+    except BrokenPipeError:
+        return 0
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="python -m turkish_lipsync", description=__doc__)
+    commands = parser.add_subparsers(required=True, metavar="COMMAND")
+
+    syllables = commands.add_parser("syllables", help="print each word's syllables joined by '-'")
+    syllables.add_argument("words", nargs="+", metavar="WORD")
+    syllables.set_defaults(run=_run_syllables)
+
+    timeline = commands.add_parser("timeline", help="print the phones, words and emotion spans of a text")
+    _add_source_arguments(timeline)
+    timeline.add_argument("--format", choices=("json", "tsv"), default="tsv")
+    timeline.add_argument("--wav", type=Path, metavar="OUT.wav", help="also write the synthesised speech")
+    timeline.set_defaults(run=_run_timeline)
+
+    quality = commands.add_parser("quality", help="measure the motion of the thesis mode and the default")
+    _add_source_arguments(quality)
+    quality.add_argument("--format", choices=("text", "json"), default="text")
+    quality.set_defaults(run=_run_quality)
+    return parser
+
+
+def _add_source_arguments(parser: argparse.ArgumentParser) -> None:
+    source = parser.add_mutually_exclusive_group(required=True)
+    source.add_argument("file", nargs="?", type=Path, metavar="FILE", help="a JSML or plain text file")
+    source.add_argument("--text", help="JSML or plain text given on the command line")
+    parser.add_argument("--timing", choices=TIMINGS, default="phone")
+    parser.add_argument("--fps", type=float, default=25.0)
+    parser.add_argument("--audio", type=Path, metavar="RECORDING", help="a recording of the same text to align")
+
+
+def read_source(file: Path | None, text: str | None) -> str:
+    if text is not None:
+        return text
+    try:
+        return file.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise LipSyncError(f"{file}: no such file") from None
+    except UnicodeDecodeError as error:
+        raise LipSyncError(f"{file}: not UTF-8 text (byte {error.start}); save it as UTF-8") from None
+    except OSError as error:
+        raise LipSyncError(f"{file}: cannot read it ({error.strerror})") from None
+
+
+def _timeline(args: argparse.Namespace):
+    from .speech import synthesize_timeline
+    from .utterance import build_utterance
+
+    utterance = build_utterance(read_source(args.file, args.text))
+    return synthesize_timeline(utterance, args.timing, recording=args.audio)
+
+
+def _run_syllables(args: argparse.Namespace) -> int:
+    from .normalize import turkish_lower
+    from .syllables import syllabify
+
+    for word in args.words:
+        print("-".join(syllabify(turkish_lower(word))))
+    return 0
+
+
+def _run_timeline(args: argparse.Namespace) -> int:
+    timeline, synthesis = _timeline(args)
+    if args.wav:
+        if synthesis is None:
+            raise LipSyncError("--wav needs a speech engine: use --timing phone or word")
+        from .speech import write_wav
+
+        write_wav(args.wav, synthesis)
+    if args.format == "json":
+        print(json.dumps(timeline_as_dict(timeline, args.fps), ensure_ascii=False, indent=1))
+    else:
+        print(timeline_as_tsv(timeline, args.fps))
+    return 0
+
+
+def _run_quality(args: argparse.Namespace) -> int:
+    from .quality import compare_modes, format_quality
+
+    timeline, _ = _timeline(args)
+    report = compare_modes(timeline, args.fps)
+    print(json.dumps(report, indent=1) if args.format == "json" else format_quality(report))
+    return 0
+
+
+def timeline_as_dict(timeline: Timeline, fps: float) -> dict:
+    return {
+        "timing": timeline.timing,
+        "fps": fps,
+        "duration": round(timeline.duration, 4),
+        "phones": [
+            {
+                "start": round(p.start, 4),
+                "end": round(p.end, 4),
+                "letter": p.letter,
+                "syllable": p.syllable,
+                "word": timeline.words[p.word_index].text,
+                "viseme": p.viseme,
+            }
+            for p in timeline.phones
+        ],
+        "words": [{"start": round(w.start, 4), "end": round(w.end, 4), "text": w.text} for w in timeline.words],
+        "emotions": [
+            {"start": round(e.start, 4), "end": round(e.end, 4), "emotion": e.emotion, "weight": e.weight}
+            for e in timeline.emotions
+        ],
+    }
+
+
+def timeline_as_tsv(timeline: Timeline, fps: float) -> str:
+    lines = [f"# timing {timeline.timing}\tduration {timeline.duration:.3f}\tfps {fps:g}"]
+    lines.append("kind\tstart\tend\tletter\tsyllable\tword\tviseme")
+    for p in timeline.phones:
+        word = timeline.words[p.word_index].text
+        lines.append(f"phone\t{p.start:.3f}\t{p.end:.3f}\t{p.letter}\t{p.syllable}\t{word}\t{p.viseme}")
+    for w in timeline.words:
+        lines.append(f"word\t{w.start:.3f}\t{w.end:.3f}\t\t\t{w.text}\t")
+    for e in timeline.emotions:
+        lines.append(f"emotion\t{e.start:.3f}\t{e.end:.3f}\t\t\t{e.emotion} {e.weight:g}\t")
+    return "\n".join(lines)

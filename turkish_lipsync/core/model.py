@@ -1,0 +1,199 @@
+"""The data model shared by every stage: markup, words, letters, timeline, weight tracks.
+
+Stages hand each other these frozen values; nothing here knows about Blender.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+EMOTIONS: tuple[str, ...] = ("happy", "sad", "angry", "afraid", "surprised", "disgusted")
+
+VISEME_KEY_PREFIX = "TR_viseme_"
+EMOTION_KEY_PREFIX = "TR_emotion_"
+# The mouth part of an emotion, stored negated: keyed while a viseme needs the lips, it lets the
+# lips close under any emotion while the upper face keeps the emotion at full strength.
+EMOTION_MOUTH_RELEASE_SUFFIX = "_mouth_release"
+BLINK_KEYS: tuple[str, str] = ("TR_blink_left", "TR_blink_right")
+BROW_RAISE_KEY = "TR_brow_raise"
+
+
+def viseme_key_name(viseme: str) -> str:
+    return VISEME_KEY_PREFIX + viseme
+
+
+def emotion_key_name(emotion: str) -> str:
+    return EMOTION_KEY_PREFIX + emotion
+
+
+def emotion_release_key_name(emotion: str) -> str:
+    return EMOTION_KEY_PREFIX + emotion + EMOTION_MOUTH_RELEASE_SUFFIX
+
+
+# ---------------------------------------------------------------- markup (jsml.py)
+
+
+@dataclass(frozen=True)
+class Style:
+    """How a stretch of text is spoken, from the JSML elements around it."""
+
+    emotion: str | None = None  # one of EMOTIONS
+    emotion_weight: float = 1.0  # the thesis's expression weight, 0..1
+    rate: float = 1.0  # multiplier of the engine's default speaking rate
+    pitch: float = 1.0  # multiplier of the engine's default pitch
+    volume: float = 1.0  # multiplier of the default volume
+    emphasis: bool = False
+
+
+@dataclass(frozen=True)
+class TextRun:
+    """Text between markup, with the source index (0-based, in characters) of each character."""
+
+    text: str
+    offsets: tuple[int, ...]
+    style: Style
+
+
+@dataclass(frozen=True)
+class Pause:
+    """Silence: a BREAK, a sentence or paragraph end, or punctuation."""
+
+    seconds: float
+    offset: int  # source index of what caused it
+    kind: str  # "break", "sentence", "paragraph", "comma", "clause"
+
+
+# ---------------------------------------------------------------- normalised text (normalize.py)
+
+
+@dataclass(frozen=True)
+class SpokenWord:
+    """A word as it is spoken: lowercase Turkish letters only (numbers and abbreviations expanded)."""
+
+    text: str
+    offsets: tuple[int, ...]  # per letter: the source index it came from
+    style: Style
+
+
+# ---------------------------------------------------------------- utterance (utterance.py)
+
+
+@dataclass(frozen=True)
+class Letter:
+    char: str
+    offset: int  # source index
+    word_index: int
+    syllable_index: int  # index into Utterance.syllables
+    viseme: str  # thesis model name (a, bpa, ..., neutral)
+    is_vowel: bool
+
+
+@dataclass(frozen=True)
+class Syllable:
+    text: str
+    word_index: int
+    first_letter: int  # index into Utterance.letters
+    letter_count: int
+
+
+@dataclass(frozen=True)
+class Word:
+    text: str
+    first_letter: int
+    letter_count: int
+    first_syllable: int
+    syllable_count: int
+    style: Style
+    pause_before: float = 0.0  # seconds of silence before this word
+
+
+@dataclass(frozen=True)
+class Utterance:
+    source: str
+    words: tuple[Word, ...]
+    syllables: tuple[Syllable, ...]
+    letters: tuple[Letter, ...]
+    final_pause: float = 0.0  # seconds of silence after the last word
+
+
+# ---------------------------------------------------------------- timeline (timing.py, speech/)
+
+
+@dataclass(frozen=True)
+class Phone:
+    """One letter's visible span: when the phone that realises it is spoken."""
+
+    start: float
+    end: float
+    letter_index: int
+    letter: str
+    syllable: str
+    word_index: int
+    viseme: str
+
+
+@dataclass(frozen=True)
+class WordSpan:
+    start: float
+    end: float
+    index: int
+    text: str
+
+
+@dataclass(frozen=True)
+class EmotionSpan:
+    start: float
+    end: float
+    emotion: str
+    weight: float
+
+
+@dataclass(frozen=True)
+class Timeline:
+    phones: tuple[Phone, ...]
+    words: tuple[WordSpan, ...]
+    emotions: tuple[EmotionSpan, ...]
+    emphases: tuple[tuple[float, float], ...]  # (start, end) of emphasised words
+    duration: float  # seconds, including the final pause
+    timing: str  # "phone", "word", "table" or "recording"
+    # Onsets of the phones the engine reported, where an engine ran (for quality checks).
+    engine_onsets: tuple[float, ...] = ()
+
+
+# ---------------------------------------------------------------- weight tracks (tracks.py, motion.py)
+
+
+@dataclass(frozen=True, eq=False)
+class Track:
+    """One shape key's weight over time: keys at (possibly fractional) frames, 0 = utterance start."""
+
+    name: str  # shape key name, e.g. "TR_viseme_a"
+    frames: np.ndarray  # float64, increasing
+    values: np.ndarray  # float64, same length
+
+
+@dataclass(frozen=True, eq=False)
+class WeightTracks:
+    fps: float
+    frame_count: int  # frames covered by the utterance
+    interpolation: str  # Blender keyframe interpolation: "LINEAR", "BEZIER" or "CONSTANT"
+    tracks: tuple[Track, ...]
+    mode: str = "natural"  # "natural" (co-articulation) or "thesis" (eq. 5.3/5.4)
+    extra: dict = field(default_factory=dict)
+
+    def track(self, name: str) -> Track | None:
+        return next((t for t in self.tracks if t.name == name), None)
+
+    def sample(self, frames: np.ndarray) -> tuple[tuple[str, ...], np.ndarray]:
+        """Weights at the given frames (linear between keys), as (names, array[frame, track])."""
+        frames = np.asarray(frames, dtype=np.float64)
+        out = np.empty((frames.size, len(self.tracks)))
+        for column, track in enumerate(self.tracks):
+            if self.interpolation == "CONSTANT":
+                index = np.clip(np.searchsorted(track.frames, frames, side="right") - 1, 0, None)
+                out[:, column] = track.values[index]
+            else:
+                out[:, column] = np.interp(frames, track.frames, track.values)
+        return tuple(t.name for t in self.tracks), out

@@ -1,0 +1,86 @@
+"""Weight tracks: the 37 viseme and 6 emotion shape-key weights over time, at a frame rate."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .model import Timeline, Track, WeightTracks, emotion_key_name, viseme_key_name
+from .visemes import NEUTRAL
+
+MOTION_MODES = ("natural", "thesis")
+
+
+def weight_tracks(
+    timeline: Timeline, fps: float, mode: str = "natural", emotion_strength: float = 1.0, **options
+) -> WeightTracks:
+    """The weight tracks of a timeline in the chosen motion model ("natural" is the default)."""
+    if fps <= 0:
+        raise ValueError(f"frame rate must be positive, got {fps}")
+    if mode == "thesis":
+        return thesis_weight_tracks(timeline, fps, emotion_strength)
+    if mode == "natural":
+        from .motion import natural_weight_tracks
+
+        return natural_weight_tracks(timeline, fps, emotion_strength, **options)
+    raise ValueError(f"unknown motion mode {mode!r}; choose one of {', '.join(MOTION_MODES)}")
+
+
+def thesis_weight_tracks(timeline: Timeline, fps: float, emotion_strength: float = 1.0) -> WeightTracks:
+    """The thesis's weighted morphing (eq. 5.3, 5.4), one key per letter onset.
+
+    Lips morph linearly from letter to letter at weight (1 - w); the emotion of each letter's word is keyed at w,
+    so consecutive words in different emotions cross-fade over the letters between them. The face starts and
+    ends on the neutral model.
+    """
+    phones = timeline.phones
+    word_weight = _word_emotion_weights(timeline, emotion_strength)
+    times = [0.0] + [p.start for p in phones] + [max(timeline.duration, phones[-1].end if phones else 0.0)]
+    visemes = [NEUTRAL] + [p.viseme for p in phones] + [NEUTRAL]
+    emotions = [None] + [word_weight.get(p.word_index) for p in phones] + [None]
+
+    names = sorted({viseme_key_name(v) for v in visemes})
+    names += sorted({emotion_key_name(e[0]) for e in emotions if e})
+    column = {name: i for i, name in enumerate(names)}
+    values = np.zeros((len(times), len(names)))
+    for row, (viseme, emotion) in enumerate(zip(visemes, emotions, strict=True)):
+        weight = emotion[1] if emotion else 0.0
+        values[row, column[viseme_key_name(viseme)]] = 1.0 - weight
+        if emotion:
+            values[row, column[emotion_key_name(emotion[0])]] = weight
+    frames = np.asarray(times) * fps
+    tracks = tuple(sparse_track(name, frames, values[:, column[name]]) for name in names)
+    return WeightTracks(
+        fps=fps,
+        frame_count=math.ceil(timeline.duration * fps) + 1,
+        interpolation="LINEAR",
+        tracks=tracks,
+        mode="thesis",
+    )
+
+
+def _word_emotion_weights(timeline: Timeline, emotion_strength: float) -> dict[int, tuple[str, float]]:
+    """Word index -> (emotion, weight w) from the emotion spans."""
+    result = {}
+    for word in timeline.words:
+        for span in timeline.emotions:
+            if span.start <= word.start and word.end <= span.end:
+                result[word.index] = (span.emotion, min(1.0, max(0.0, span.weight * emotion_strength)))
+    return result
+
+
+def sparse_track(name: str, frames: np.ndarray, values: np.ndarray) -> Track:
+    """A track without the keys linear interpolation would reproduce (the interior of constant runs).
+
+    Keys at the same frame keep the last value, so frames are strictly increasing.
+    """
+    frames = np.asarray(frames, dtype=np.float64)
+    values = np.asarray(values, dtype=np.float64)
+    unique_last = np.append(frames[1:] != frames[:-1], True)
+    frames, values = frames[unique_last], values[unique_last]
+    if frames.size > 2:
+        flat = np.zeros(frames.size, dtype=bool)
+        flat[1:-1] = (values[1:-1] == values[:-2]) & (values[1:-1] == values[2:])
+        frames, values = frames[~flat], values[~flat]
+    return Track(name=name, frames=frames, values=values)

@@ -1,0 +1,84 @@
+"""JSML source to an Utterance: words, syllables and letters with their visemes."""
+
+from __future__ import annotations
+
+from .errors import TextError
+from .jsml import parse_jsml
+from .model import Letter, Pause, SpokenWord, Syllable, Utterance, Word
+from .normalize import normalize
+from .syllables import VOWELS, syllabify, syllable_vowel
+from .visemes import viseme_for_letter
+
+
+def build_utterance(source: str) -> Utterance:
+    """Parse, normalise, syllabify and map every letter to its viseme (thesis 5.2.2-5.2.3)."""
+    words: list[Word] = []
+    syllables: list[Syllable] = []
+    letters: list[Letter] = []
+    pending_pause = 0.0
+    for item in normalize(parse_jsml(source)):
+        if isinstance(item, Pause):
+            pending_pause += item.seconds
+            continue
+        _append_word(item, pending_pause, words, syllables, letters)
+        pending_pause = 0.0
+    if not words:
+        raise TextError("nothing to speak: the text has no Turkish words after normalisation")
+    return Utterance(
+        source=source,
+        words=tuple(words),
+        syllables=tuple(syllables),
+        letters=tuple(letters),
+        final_pause=pending_pause,
+    )
+
+
+def _append_word(
+    spoken: SpokenWord,
+    pause_before: float,
+    words: list[Word],
+    syllables: list[Syllable],
+    letters: list[Letter],
+) -> None:
+    word_index = len(words)
+    first_letter = len(letters)
+    first_syllable = len(syllables)
+    parts = syllabify(spoken.text)
+    # A syllable without a vowel (only possible in vowelless words) borrows the word's nearest vowel.
+    vowels = [syllable_vowel(part) for part in parts]
+    position = 0
+    for number, part in enumerate(parts):
+        vowel = vowels[number] or _nearest_vowel(vowels, number)
+        syllable_index = len(syllables)
+        syllables.append(Syllable(part, word_index, len(letters), len(part)))
+        for char in part:
+            letters.append(
+                Letter(
+                    char=char,
+                    offset=spoken.offsets[position],
+                    word_index=word_index,
+                    syllable_index=syllable_index,
+                    viseme=viseme_for_letter(char, vowel),
+                    is_vowel=char in VOWELS,
+                )
+            )
+            position += 1
+    words.append(
+        Word(
+            text=spoken.text,
+            first_letter=first_letter,
+            letter_count=len(letters) - first_letter,
+            first_syllable=first_syllable,
+            syllable_count=len(parts),
+            style=spoken.style,
+            pause_before=pause_before,
+        )
+    )
+
+
+def _nearest_vowel(vowels: list[str | None], index: int) -> str | None:
+    for distance in range(1, len(vowels)):
+        for neighbour in (index - distance, index + distance):
+            if 0 <= neighbour < len(vowels) and vowels[neighbour]:
+                return vowels[neighbour]
+    return None
