@@ -1,0 +1,246 @@
+"""Batch lip sync: Turkish text in, a head speaking it out (MP4 with sound and/or a .blend).
+
+Runs inside Blender and with the bpy module:
+
+    blender -b -P scripts/render.py -- --text "Merhaba" --out out/merhaba.mp4
+    python scripts/render.py --jsml examples/demo.jsml --out out/demo.mp4 --save-blend out/demo.blend
+
+On any error it prints one line and exits non-zero. Given a .blend with --head, it changes only the TR_* keys,
+their F-curves, the TR_speech strip and the frame range (plus camera and lights only where there are none).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+REPOSITORY = Path(__file__).resolve().parent.parent
+if str(REPOSITORY) not in sys.path:
+    sys.path.insert(0, str(REPOSITORY))
+
+DEFAULT_RESOLUTION = (960, 540)
+DEFAULT_FPS = 25.0
+
+
+class OneLineArgumentParser(argparse.ArgumentParser):
+    def error(self, message: str):  # one clear line instead of usage + message
+        print(f"render.py: error: {message} (see --help)", file=sys.stderr)
+        sys.exit(2)
+
+
+def _resolution(text: str) -> tuple[int, int]:
+    try:
+        width, height = (int(part) for part in text.lower().split("x"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"resolution {text!r} is not WIDTHxHEIGHT, e.g. 960x540") from None
+    if not (16 <= width <= 8192 and 16 <= height <= 8192):
+        raise argparse.ArgumentTypeError(f"resolution {text!r} must be between 16 and 8192 on each side")
+    return width, height
+
+
+def _fps(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"frame rate {text!r} is not a number, e.g. 25 or 29.97") from None
+    if not 1 <= value <= 240:
+        raise argparse.ArgumentTypeError(f"frame rate {text!r} must be between 1 and 240")
+    return value
+
+
+def _positive(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} must be at least 1")
+    return value
+
+
+def parse_arguments(argv: list[str]) -> argparse.Namespace:
+    parser = OneLineArgumentParser(prog="render.py", description=__doc__.split("\n\n")[0])
+    source = parser.add_mutually_exclusive_group(required=True)
+    source.add_argument("--text", help="Turkish text to speak (plain or JSML)")
+    source.add_argument("--jsml", type=Path, help="a UTF-8 file with Turkish text (plain or JSML)")
+    parser.add_argument(
+        "--head", type=Path, help="head file: .obj .glb .gltf .fbx or .blend (default: reference)"
+    )
+    parser.add_argument("--out", type=Path, help="the MP4 to render (H.264 + AAC)")
+    parser.add_argument("--save-blend", type=Path, help="save the animated scene to this .blend")
+    parser.add_argument(
+        "--engine",
+        default="auto",
+        type=str.lower,
+        choices=("auto", "eevee", "cycles", "workbench"),
+        help="render engine (auto: EEVEE with OpenGL, else Cycles)",
+    )
+    parser.add_argument(
+        "--resolution", type=_resolution, help="WIDTHxHEIGHT (default 960x540 for new scenes)"
+    )
+    parser.add_argument("--fps", type=_fps, help="frame rate, fractional allowed (default 25 for new scenes)")
+    parser.add_argument("--timing", default="phone", choices=("phone", "word", "table"))
+    parser.add_argument("--motion", default="natural", choices=("natural", "thesis"))
+    parser.add_argument("--emotion-strength", type=float, default=1.0, help="0..1 (default 1)")
+    parser.add_argument("--rate", type=float, default=1.0, help="speaking-rate multiplier (default 1)")
+    parser.add_argument(
+        "--arkit-keys", action="store_true", help="also keep the 52 ARKit unit keys on the head"
+    )
+    parser.add_argument("--rebuild-keys", action="store_true", help="rebuild the TR_* keys even if present")
+    parser.add_argument("--no-render", action="store_true", help="only animate (and save with --save-blend)")
+    parser.add_argument("--samples", type=_positive, help="render samples per pixel (default 16)")
+    arguments = parser.parse_args(argv)
+    if not arguments.no_render and arguments.out is None:
+        parser.error("--out OUT.mp4 is required unless --no-render is given")
+    if arguments.out is not None and arguments.out.suffix.lower() != ".mp4":
+        parser.error(f"--out {arguments.out} must end in .mp4")
+    if arguments.save_blend is not None and arguments.save_blend.suffix.lower() != ".blend":
+        parser.error(f"--save-blend {arguments.save_blend} must end in .blend")
+    if arguments.head is not None and not arguments.head.is_file():
+        parser.error(f"--head {arguments.head} does not exist")
+    if arguments.jsml is not None and not arguments.jsml.is_file():
+        parser.error(f"--jsml {arguments.jsml} does not exist")
+    arguments.engine = arguments.engine.upper()
+    return arguments
+
+
+def script_arguments() -> list[str]:
+    """Arguments after '--' inside Blender; all of them with the bpy module."""
+    if "--" in sys.argv:
+        return sys.argv[sys.argv.index("--") + 1 :]
+    if Path(sys.argv[0]).resolve() == Path(__file__).resolve():
+        return sys.argv[1:]
+    return []
+
+
+def set_frame_rate(scene, fps: float) -> None:
+    """29.97 becomes fps 30 with base 1.001, as Blender's own presets store it."""
+    whole = round(fps)
+    scene.render.fps = whole
+    scene.render.fps_base = 1.0 if abs(whole - fps) < 1e-6 else whole / fps
+
+
+def _print_progress(fraction: float, message: str) -> None:
+    print(f"[{fraction * 100:5.1f}%] {message}", flush=True)
+
+
+def run(arguments: argparse.Namespace) -> None:
+    import bpy
+
+    from turkish_lipsync.blender import heads, pipeline, sequencer
+    from turkish_lipsync.core.errors import TextError
+
+    started = time.perf_counter()
+    new_scene = arguments.head is None or arguments.head.suffix.lower() != ".blend"
+    if new_scene:
+        bpy.ops.wm.read_factory_settings(use_empty=True)
+    else:
+        bpy.ops.wm.open_mainfile(filepath=str(arguments.head.resolve()))
+    context = bpy.context
+    scene = context.scene
+    if arguments.fps is not None:
+        set_frame_rate(scene, arguments.fps)
+    elif new_scene:
+        set_frame_rate(scene, DEFAULT_FPS)
+    if arguments.resolution is not None:
+        scene.render.resolution_x, scene.render.resolution_y = arguments.resolution
+    elif new_scene:
+        scene.render.resolution_x, scene.render.resolution_y = DEFAULT_RESOLUTION
+
+    if arguments.jsml is not None:
+        try:
+            source = arguments.jsml.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as error:
+            raise TextError(f"Cannot read {arguments.jsml}: {error}. Give a UTF-8 text file.") from error
+    else:
+        source = arguments.text
+
+    if arguments.head is None:
+        head = None
+    elif new_scene:
+        head = heads.find_head(heads.import_head(arguments.head))
+    else:
+        candidates = [obj for obj in scene.objects if obj.type == "MESH" and pipeline.has_lipsync_keys(obj)]
+        head = candidates[0] if candidates else heads.find_head(scene.objects)
+    if head is None or arguments.rebuild_keys or arguments.arkit_keys or not pipeline.has_lipsync_keys(head):
+        head_name = pipeline.build_keys(
+            context, head, arkit_keys=arguments.arkit_keys, progress=_print_progress
+        )
+        head = bpy.data.objects[head_name]
+    head_name = head.name
+
+    if arguments.save_blend is not None:
+        audio_folder = str(arguments.save_blend.resolve().parent / "lipsync_audio")
+    elif arguments.out is not None:
+        audio_folder = str(arguments.out.resolve().parent / "lipsync_audio")
+    else:
+        audio_folder = ""
+
+    result = pipeline.generate(
+        context,
+        bpy.data.objects[head_name],
+        source,
+        timing=arguments.timing,
+        motion=arguments.motion,
+        emotion_strength=arguments.emotion_strength,
+        rate=arguments.rate,
+        audio_folder=audio_folder,
+        progress=_print_progress,
+    )
+    print(
+        f"Generated {result.phone_count} phones, {result.duration:.2f} s, frames {result.frame_start}-"
+        f"{result.frame_end} at {result.fps:.3f} fps; audio: {result.wav_path or 'none'}",
+        flush=True,
+    )
+    if not arguments.no_render:
+        rendered = pipeline.render_video(
+            context,
+            bpy.data.objects[head_name],
+            str(arguments.out),
+            engine=arguments.engine,
+            samples=arguments.samples,
+            resolution=arguments.resolution,
+            progress=_print_progress,
+        )
+        print(
+            f"Rendered {rendered.frame_count} frames with {rendered.engine} in {rendered.seconds:.1f} s "
+            f"({rendered.seconds / max(1, rendered.frame_count):.2f} s/frame) to {rendered.path}",
+            flush=True,
+        )
+    if arguments.save_blend is not None:
+        arguments.save_blend.parent.mkdir(parents=True, exist_ok=True)
+        sequencer.relate_speech_to(scene, arguments.save_blend)
+        bpy.ops.wm.save_as_mainfile(filepath=str(arguments.save_blend.resolve()))
+        print(f"Saved {arguments.save_blend}", flush=True)
+    print(f"Done in {time.perf_counter() - started:.1f} s", flush=True)
+
+
+def main(argv: list[str] | None = None) -> int:
+    arguments = parse_arguments(script_arguments() if argv is None else argv)
+    try:
+        from turkish_lipsync.core.errors import LipSyncError
+    except ImportError as error:
+        print(f"render.py: error: cannot import the add-on from {REPOSITORY}: {error}", file=sys.stderr)
+        return 1
+    try:
+        run(arguments)
+    except LipSyncError as error:
+        print(f"render.py: error: {error}", file=sys.stderr)
+        return 1
+    except ImportError as error:
+        print(
+            f"render.py: error: {error}. Run it with Blender or with the bpy module installed.",
+            file=sys.stderr,
+        )
+        return 1
+    except (OSError, RuntimeError) as error:
+        message = " ".join(str(error).split())
+        print(f"render.py: error: {message}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,206 @@
+"""Building the TR_* keys, measured on the evaluated mesh of the default head and on the shared heads."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+from turkish_lipsync.blender import heads, shapekeys  # noqa: E402
+from turkish_lipsync.core.errors import HeadError  # noqa: E402
+from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
+
+HEADS = Path(__file__).resolve().parents[2].parent / "shared" / "heads"
+
+
+@pytest.fixture(scope="module")
+def default_head():
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    objects = heads.create_reference_head(bpy.context)
+    report = shapekeys.build_shape_keys(objects["head"])
+    return objects, report
+
+
+def _evaluated(obj):
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    evaluated = obj.evaluated_get(depsgraph)
+    mesh = evaluated.to_mesh()
+    flat = np.empty(len(mesh.vertices) * 3, np.float32)
+    mesh.vertices.foreach_get("co", flat)
+    evaluated.to_mesh_clear()
+    matrix = np.array(obj.matrix_world)
+    return flat.reshape(-1, 3) @ matrix[:3, :3].T + matrix[:3, 3]
+
+
+def _pose(objects, key):
+    for obj in objects.values():
+        for block in obj.data.shape_keys.key_blocks[1:]:
+            block.value = 1.0 if block.name == key else 0.0
+    bpy.context.view_layer.update()
+    return _evaluated(objects["head"]), _evaluated(objects["upper_teeth"])
+
+
+class Measures:
+    """Where the lips, corners and teeth are on the reference skin (indices into the head object)."""
+
+    def __init__(self):
+        reference = load_reference_head()
+        skin = reference.parts["skin"]
+        position = {int(v): i for i, v in enumerate(skin)}
+        self.landmark = {name: position[v] for name, v in reference.landmark_vertices.items()}
+        rest = reference.vertices[skin]
+        jaw = reference.units["jawOpen"][skin, 2]
+        front = (rest[:, 1] < -0.145) & (np.abs(rest[:, 0]) < 0.008)
+        self.upper_lip = np.where(
+            front & (np.abs(jaw) < 0.004) & (rest[:, 2] > 0.655) & (rest[:, 2] < 0.664)
+        )[0]
+        self.lower_lip = np.where(front & (jaw < -0.025) & (rest[:, 2] > 0.645) & (rest[:, 2] < 0.664))[0]
+
+    def lip_distance(self, skin):
+        return np.linalg.norm(skin[self.upper_lip][:, None] - skin[self.lower_lip][None], axis=2).min()
+
+    def lip_gap(self, skin):
+        return skin[self.landmark["upper_lip_inner"], 2] - skin[self.landmark["lower_lip_inner"], 2]
+
+    def width(self, skin):
+        return np.linalg.norm(
+            skin[self.landmark["mouth_corner_left"]] - skin[self.landmark["mouth_corner_right"]]
+        )
+
+    def lip_to_upper_teeth(self, skin, teeth):
+        front_teeth = teeth[np.abs(teeth[:, 0]) < 0.012]
+        return np.linalg.norm(skin[self.lower_lip][:, None] - front_teeth[None], axis=2).min()
+
+
+def test_default_head_gets_every_key(default_head):
+    objects, report = default_head
+    assert report.source == "reference"
+    assert len(report.keys) == 37 + 6 + 6 + 3
+    for obj in objects.values():
+        names = [block.name for block in obj.data.shape_keys.key_blocks]
+        assert set(report.keys) <= set(names)
+
+
+def test_bilabials_close_the_lips(default_head):
+    objects, _ = default_head
+    measures = Measures()
+    neutral, _ = _pose(objects, "")
+    assert measures.lip_distance(neutral) > 1e-3  # at rest the lips are not pressed
+    for viseme in ("bpa", "bpe", "bpo", "ma", "me", "mo"):
+        skin, _ = _pose(objects, f"TR_viseme_{viseme}")
+        assert measures.lip_distance(skin) < 1e-3, viseme
+        assert measures.lip_gap(skin) < 1e-3, viseme
+
+
+def test_labiodentals_bring_the_lower_lip_to_the_upper_teeth(default_head):
+    objects, _ = default_head
+    measures = Measures()
+    rest = measures.lip_to_upper_teeth(*_pose(objects, ""))
+    for viseme in ("fvae", "fvo"):
+        distance = measures.lip_to_upper_teeth(*_pose(objects, f"TR_viseme_{viseme}"))
+        assert distance < 2.5e-3 and distance < rest / 1.5, viseme
+
+
+def test_open_and_rounded_vowels(default_head):
+    objects, _ = default_head
+    measures = Measures()
+    neutral, _ = _pose(objects, "")
+    for viseme in ("a", "e", "o"):
+        skin, _ = _pose(objects, f"TR_viseme_{viseme}")
+        assert measures.lip_gap(neutral) - measures.lip_gap(skin) < -8e-3, (
+            viseme
+        )  # the jaw opens 8 mm or more
+    for viseme in ("o", "oi", "u"):  # o, ö, u/ü
+        skin, _ = _pose(objects, f"TR_viseme_{viseme}")
+        assert measures.width(skin) < measures.width(neutral) - 5e-3, viseme
+
+
+def test_lower_teeth_follow_the_jaw(default_head):
+    objects, _ = default_head
+    _pose(objects, "")
+    rest = _evaluated(objects["lower_teeth"])
+    _pose(objects, "TR_viseme_a")
+    assert (_evaluated(objects["lower_teeth"])[:, 2] - rest[:, 2]).mean() < -0.005
+
+
+def test_rebuild_keeps_the_users_keys_values_and_animation():
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    head = heads.create_reference_head(bpy.context)["head"]
+    head.shape_key_add(name="Basis")
+    mine = head.shape_key_add(name="my_smirk")
+    mine.value = 0.4
+    mine.keyframe_insert("value", frame=3)
+    shapekeys.build_shape_keys(head, arkit_keys=True)
+    blocks = head.data.shape_keys.key_blocks
+    blocks["TR_viseme_a"].value = 0.7
+    assert "jawOpen" in blocks
+    report = shapekeys.build_shape_keys(head, empowered=True)
+    blocks = head.data.shape_keys.key_blocks
+    assert blocks["my_smirk"].value == pytest.approx(0.4)
+    assert blocks["TR_viseme_a"].value == pytest.approx(0.7)  # a rebuilt key keeps its value
+    assert "jawOpen" not in blocks  # the ARKit keys it wrote before are gone when not asked for
+    assert head.data.shape_keys.animation_data.action is not None
+    assert len(report.keys) == 52
+
+
+def test_head_with_its_own_arkit_keys_under_other_spellings():
+    """A head that carries ARKit keys (renamed jaw_open, mouthSmile_L, ...) builds from them."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    objects = heads.create_reference_head(bpy.context)
+    head = objects["head"]
+    shapekeys.build_shape_keys(head, parts=[], arkit_keys=True)
+    expected = {b.name: np.array([v.co[:] for v in b.data]) for b in head.data.shape_keys.key_blocks}
+    copy = head.copy()
+    copy.data = head.data.copy()
+    del copy.data[shapekeys.BUILT_ARKIT_PROPERTY]
+    copy["tr_reference_part"] = "not the reference"
+    copy.location.x += 1.0  # moved away: no longer recognised by position either
+    bpy.context.scene.collection.objects.link(copy)
+    for block in list(copy.data.shape_keys.key_blocks):
+        if block.name.startswith("TR_"):
+            copy.shape_key_remove(block)
+        elif block.name.startswith("mouthSmile"):
+            block.name = "blendShape1." + block.name.replace("Left", "_L").replace("Right", "_R")
+        elif block.name == "jawOpen":
+            block.name = "jaw_open"
+    report = shapekeys.build_shape_keys(copy, parts=[])
+    assert report.source == "arkit"
+    built = copy.data.shape_keys.key_blocks
+    for name in ("TR_viseme_a", "TR_emotion_happy", "TR_viseme_mo"):
+        np.testing.assert_allclose(np.array([v.co[:] for v in built[name].data]), expected[name], atol=1e-6)
+
+
+def test_faceless_mesh_is_refused_and_left_unchanged():
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    mesh = bpy.data.meshes.new("points")
+    mesh.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [], [])
+    obj = bpy.data.objects.new("points", mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    with pytest.raises(HeadError, match="no faces"):
+        shapekeys.build_shape_keys(obj)
+    assert obj.data.shape_keys is None
+
+
+@pytest.mark.parametrize(
+    "relative",
+    ["makehuman/mh_head_expression_units.glb", "makehuman/base.obj", "mediapipe/canonical_face_model.obj"],
+)
+def test_shared_heads_build_or_are_refused_cleanly(relative):
+    path = HEADS / relative
+    if not path.exists():
+        pytest.skip(f"{path} not present")
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    imported = heads.import_head(path)
+    head = heads.find_head(imported)
+    try:
+        report = shapekeys.build_shape_keys(head)
+    except HeadError as error:
+        assert str(error)  # refused with a message, and nothing half-built
+        assert head.data.shape_keys is None or not any(
+            block.name.startswith("TR_") for block in head.data.shape_keys.key_blocks
+        )
+        return
+    assert len(report.keys) == 52
+    names = {block.name for block in head.data.shape_keys.key_blocks}
+    assert "TR_viseme_a" in names and "TR_emotion_sad_mouth_release" in names

@@ -1,0 +1,47 @@
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def run(*args, check=True):
+    result = subprocess.run(
+        [sys.executable, "-m", "turkish_lipsync", *args], cwd=ROOT, capture_output=True, text=True, timeout=120
+    )
+    if check:
+        assert result.returncode == 0, result.stderr
+    return result
+
+
+def test_syllables_one_word_a_line():
+    output = run("syllables", "merhaba", "tren", "strateji", "İSTANBUL").stdout.split()
+    assert output == ["mer-ha-ba", "tren", "stra-te-ji", "is-tan-bul"]
+
+
+def test_timeline_json_with_table_timing(tmp_path):
+    source = tmp_path / "sample.jsml"
+    source.write_text("<SENT><SURPRISED>merhaba</SURPRISED>, benim adım erdem</SENT>", encoding="utf-8")
+    data = json.loads(run("timeline", str(source), "--timing", "table", "--format", "json").stdout)
+    assert [p["letter"] for p in data["phones"]][:7] == list("merhaba")
+    assert data["phones"][0]["viseme"] == "me" and data["phones"][0]["syllable"] == "mer"
+    assert [w["text"] for w in data["words"]] == ["merhaba", "benim", "adım", "erdem"]
+    assert data["emotions"][0]["emotion"] == "surprised"
+    starts = [p["start"] for p in data["phones"]]
+    assert starts == sorted(starts)
+
+
+def test_timeline_tsv_lists_phones_words_and_emotions():
+    lines = run("timeline", "--text", "<HAPPY>iyi günler</HAPPY>", "--timing", "table").stdout.splitlines()
+    kinds = [line.split("\t")[0] for line in lines[2:]]
+    assert kinds.count("phone") == 9 and kinds.count("word") == 2 and kinds.count("emotion") == 1
+
+
+def test_errors_are_one_clear_line_and_a_non_zero_exit(tmp_path):
+    result = run("timeline", "--text", "<SENT>merhaba", "--timing", "table", check=False)
+    assert result.returncode != 0
+    assert "Traceback" not in result.stderr
+    assert result.stderr.startswith("error: ") and "line 1" in result.stderr
+    missing = run("timeline", str(tmp_path / "none.jsml"), "--timing", "table", check=False)
+    assert missing.returncode != 0 and "no such file" in missing.stderr

@@ -1,0 +1,161 @@
+"""Landmarks found from geometry alone, on the reference head, a whole body and a low-poly face mask."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from turkish_lipsync.core.errors import HeadError
+from turkish_lipsync.core.faces.landmarks import (
+    LANDMARK_NAMES,
+    connected_pieces,
+    find_head_region,
+    find_landmarks,
+    triangulate,
+    triangulate_loops,
+)
+from turkish_lipsync.core.faces.reference import load_reference_head
+
+HEADS = Path(__file__).resolve().parents[2].parent / "shared" / "heads"
+
+# Millimetres the found landmarks may lie from the reference's picked vertices (measured: the midline
+# within 3 mm, the corners of mouth and eyes and the brows within 8 mm, their depth being the larger part).
+MIDLINE_TOLERANCE_MM = 4.0
+CORNER_TOLERANCE_MM = 10.0
+MIDLINE = ("nose_tip", "upper_lip", "lower_lip", "upper_lip_inner", "lower_lip_inner", "chin")
+
+
+def read_obj(path: Path) -> tuple[np.ndarray, list[list[int]]]:
+    """Vertices (converted to Blender axes: Z up, face toward -Y) and polygons of an OBJ file."""
+    vertices, polygons = [], []
+    with open(path, encoding="utf-8") as handle:
+        for line in handle:
+            if line.startswith("v "):
+                vertices.append([float(value) for value in line.split()[1:4]])
+            elif line.startswith("f "):
+                polygons.append([int(corner.split("/")[0]) - 1 for corner in line.split()[1:]])
+    points = np.array(vertices)
+    return np.stack((points[:, 0], -points[:, 2], points[:, 1]), axis=1), polygons
+
+
+def obj_or_skip(relative: str) -> Path:
+    path = HEADS / relative
+    if not path.exists():
+        pytest.skip(f"{path} not present")
+    return path
+
+
+def assert_close_to_reference(found: dict, expected: dict, millimetres_per_unit: float) -> None:
+    assert set(found) == set(LANDMARK_NAMES)
+    for name, point in expected.items():
+        error = np.linalg.norm(found[name] - point) * millimetres_per_unit
+        tolerance = MIDLINE_TOLERANCE_MM if name in MIDLINE else CORNER_TOLERANCE_MM
+        assert error < tolerance, f"{name} is {error:.1f} mm from the reference's"
+
+
+def test_reference_head_landmarks_match_its_known_vertices():
+    head = load_reference_head()
+    found = find_landmarks(head.vertices, head.polygons)
+    assert_close_to_reference(found, head.landmarks, 1000.0)
+    # Left is the character's left, +X; the face reads top to bottom.
+    assert found["eye_outer_left"][0] > found["eye_inner_left"][0] > 0 > found["eye_inner_right"][0]
+    assert found["mouth_corner_left"][0] > 0 > found["mouth_corner_right"][0]
+    assert found["brow_left"][2] > found["eye_inner_left"][2] > found["nose_tip"][2]
+    assert found["nose_tip"][2] > found["upper_lip"][2] > found["lower_lip"][2] > found["chin"][2]
+
+
+def test_landmarks_follow_the_head_at_any_scale_and_place():
+    head = load_reference_head()
+    offset = np.array([12.0, -3.0, 150.0])
+    in_centimetres = head.vertices * 100.0 + offset
+    found = find_landmarks(in_centimetres, head.polygons)
+    reference = find_landmarks(head.vertices, head.polygons)
+    for name in LANDMARK_NAMES:
+        np.testing.assert_allclose(found[name], reference[name] * 100.0 + offset, atol=0.05)  # 0.5 mm
+
+
+def test_whole_body_in_decimetres_finds_the_head_on_top():
+    vertices, polygons = read_obj(obj_or_skip("makehuman/base.obj"))
+    region = find_head_region(vertices, polygons)
+    body_height = np.ptp(vertices[:, 2])
+    region_height = np.ptp(vertices[region, 2])
+    assert 0.1 * body_height < region_height < 0.2 * body_height  # a head is about an eighth of a body
+    assert vertices[region, 2].max() == vertices[:, 2].max()
+    found = find_landmarks(vertices, polygons)
+    # The body is the reference's own source mesh in decimetres: 1 unit = 100 mm.
+    assert_close_to_reference(found, load_reference_head().landmarks, 100.0)
+
+
+def test_head_alone_is_its_own_head_region():
+    head = load_reference_head()
+    region = find_head_region(head.vertices, head.polygons)
+    assert len(region) == len(head.vertices)
+
+
+def test_mediapipe_face_mask_landmarks_land_on_its_known_vertices():
+    vertices, polygons = read_obj(obj_or_skip("mediapipe/canonical_face_model.obj"))
+    found = find_landmarks(vertices, polygons)
+    known = {
+        "nose_tip": 4,
+        "upper_lip_inner": 13,
+        "lower_lip_inner": 14,
+        "mouth_corner_right": 61,
+        "mouth_corner_left": 291,
+    }
+    # Centimetres on a 17.6 cm mask; measured 0.02 (nose), 0.06 and 0.52 (inner lips: the mask closes the
+    # mouth with a sloping strip whose lower edge the front view cannot see), 0.36 (mouth corners).
+    tolerance = {"nose_tip": 0.2, "upper_lip_inner": 0.3, "lower_lip_inner": 0.7}
+    for name, index in known.items():
+        error = np.linalg.norm(found[name] - vertices[index])
+        assert error < tolerance.get(name, 0.5), f"{name} is {error:.2f} cm from vertex {index}"
+    assert found["eye_inner_left"][0] > 0 > found["eye_inner_right"][0]
+    assert found["brow_left"][2] > found["eye_inner_left"][2] > found["nose_tip"][2] > found["chin"][2]
+
+
+def icosphere(subdivisions: int) -> tuple[np.ndarray, np.ndarray]:
+    """A unit sphere: a closed surface with no face on it."""
+    t = (1 + 5**0.5) / 2
+    vertices = [[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0], [0, -1, t], [0, 1, t]]
+    vertices += [[0, -1, -t], [0, 1, -t], [t, 0, -1], [t, 0, 1], [-t, 0, -1], [-t, 0, 1]]
+    faces = [[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4], [11, 10, 2]]
+    faces += [[10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8], [3, 8, 9], [4, 9, 5]]
+    faces += [[2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1]]
+    points = [np.array(v, float) / np.linalg.norm(v) for v in vertices]
+    for _ in range(subdivisions):
+        middle: dict[tuple[int, int], int] = {}
+        refined = []
+        for a, b, c in faces:
+            corners = []
+            for first, second in ((a, b), (b, c), (c, a)):
+                key = (min(first, second), max(first, second))
+                if key not in middle:
+                    point = points[first] + points[second]
+                    points.append(point / np.linalg.norm(point))
+                    middle[key] = len(points) - 1
+                corners.append(middle[key])
+            ab, bc, ca = corners
+            refined += [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
+        faces = refined
+    return np.array(points), np.array(faces)
+
+
+def test_a_ball_is_refused_as_a_head_with_a_reason():
+    vertices, faces = icosphere(3)
+    with pytest.raises(HeadError, match="mouth|eye"):
+        find_landmarks(vertices * 0.1, faces)
+
+
+def test_a_mesh_without_faces_is_refused():
+    with pytest.raises(HeadError, match="no faces"):
+        find_landmarks(np.random.default_rng(0).random((50, 3)), [])
+
+
+def test_polygons_of_any_size_become_triangles_and_pieces():
+    quads_and_pentagon = [[0, 1, 2, 3], [4, 5, 6, 7, 8]]
+    triangles = triangulate(quads_and_pentagon)
+    assert triangles.tolist() == [[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7], [4, 7, 8]]
+    loops = triangulate_loops(np.arange(9), np.array([0, 4]), np.array([4, 5]))
+    assert np.array_equal(loops, triangles)
+    labels = connected_pieces(10, triangles)
+    assert len(set(labels[:4])) == 1 and len(set(labels[4:9])) == 1 and labels[0] != labels[4]
+    assert labels[9] not in labels[:9]  # a loose vertex is a piece of its own

@@ -1,0 +1,66 @@
+"""The viseme and emotion recipes: complete, validated, and shaped the way the thesis describes."""
+
+import numpy as np
+import pytest
+
+from turkish_lipsync.core.errors import DataError
+from turkish_lipsync.core.faces.arkit_names import is_mouth_unit
+from turkish_lipsync.core.faces.recipes import VISEME_NAMES, combine_units, key_deltas, load_recipes
+from turkish_lipsync.core.faces.reference import load_reference_head
+from turkish_lipsync.core.model import BLINK_KEYS, BROW_RAISE_KEY, EMOTIONS, emotion_key_name
+
+
+def test_every_key_has_a_recipe():
+    keys = load_recipes().key_recipes()
+    assert len(VISEME_NAMES) == 37
+    assert {f"TR_viseme_{name}" for name in VISEME_NAMES} <= set(keys)
+    for emotion in EMOTIONS:
+        assert keys[emotion_key_name(emotion)]
+        release = keys[f"TR_emotion_{emotion}_mouth_release"]
+        mouth = {u: -w for u, w in keys[emotion_key_name(emotion)].items() if is_mouth_unit(u)}
+        assert release == mouth
+    assert {*BLINK_KEYS, BROW_RAISE_KEY} <= set(keys)
+
+
+def _mouth_width(deltas):
+    head = load_reference_head()
+    left, right = head.landmark_vertices["mouth_corner_left"], head.landmark_vertices["mouth_corner_right"]
+    shape = head.vertices + deltas
+    return np.linalg.norm(shape[left] - shape[right])
+
+
+def test_vowel_context_changes_the_consonant():
+    """Thesis 5.2.3: m before o is rounder (narrower) than m before a, which is narrower than before e."""
+    head = load_reference_head()
+    deltas = key_deltas(head.units, len(head.vertices))
+    for consonant in ("m", "bp", "n", "r", "gky", "l"):
+        names = {"a": f"{consonant}a", "e": f"{consonant}e", "o": f"{consonant}o"}
+        widths = {context: _mouth_width(deltas[f"TR_viseme_{name}"]) for context, name in names.items()}
+        assert widths["o"] < widths["a"] < widths["e"], (consonant, widths)
+        assert widths["e"] - widths["o"] > 0.005  # visibly different: more than 5 mm
+
+
+def test_empowered_emotions_scale_by_rho():
+    head = load_reference_head()
+    plain = key_deltas(head.units, len(head.vertices))
+    empowered = key_deltas(head.units, len(head.vertices), empowered=True, rho=3.0)
+    np.testing.assert_allclose(empowered["TR_emotion_angry"], 3 * plain["TR_emotion_angry"], atol=1e-6)
+    np.testing.assert_allclose(empowered["TR_viseme_a"], plain["TR_viseme_a"])
+    # The release cancels the mouth units and keeps the rest (cheeks, eyes) of the emotion.
+    total = empowered["TR_emotion_happy"] + empowered["TR_emotion_happy_mouth_release"]
+    upper_face = {u: w for u, w in load_recipes().emotions["happy"].units.items() if not is_mouth_unit(u)}
+    np.testing.assert_allclose(
+        total, 3 * combine_units(upper_face, head.units, len(head.vertices)), atol=1e-6
+    )
+
+
+def test_bad_recipe_files_name_the_file(tmp_path):
+    visemes = tmp_path / "visemes.toml"
+    visemes.write_text("[visemes.a]\nunits = { jawOpn = 0.4 }\n", encoding="utf-8")
+    with pytest.raises(DataError, match="visemes.toml"):
+        load_recipes(visemes, tmp_path / "missing.toml")
+    good = (load_recipes.__globals__["VISEMES_FILE"]).read_text(encoding="utf-8")
+    visemes.write_text(good.replace("mouthPress = 0.3 }", "mouthPres = 0.3 }", 1), encoding="utf-8")
+    emotions = load_recipes.__globals__["EMOTIONS_FILE"]
+    with pytest.raises(DataError, match=r"visemes.toml.*'mouthPres' is not one of the 52 ARKit units"):
+        load_recipes(visemes, emotions)

@@ -1,0 +1,238 @@
+"""eSpeak NG's Turkish voice, the phone-level timeline and the thesis's word timing (real engine)."""
+
+import ctypes.util
+import sys
+import wave
+
+import numpy as np
+import pytest
+
+from turkish_lipsync.core.errors import LipSyncError, SpeechEngineError
+from turkish_lipsync.core.model import Style
+from turkish_lipsync.core.speech import (
+    Synthesis,
+    engine_names,
+    get_engine,
+    synthesize_timeline,
+    write_wav,
+)
+from turkish_lipsync.core.speech.espeak import DEFAULT_RATE, _load_library, _parameters
+from turkish_lipsync.core.timing import letter_durations, table_timeline
+from turkish_lipsync.core.tracks import thesis_weight_tracks
+from turkish_lipsync.core.utterance import build_utterance
+
+# Held out: none of these sentences was used while building the letter-to-phone table.
+HELD_OUT = (
+    "Kardeşim dün akşam bana uzun bir mektup yazdı.",
+    "Sonbaharda yapraklar sararır ve ağaçlardan düşer.",
+    "Öğrenciler sınavdan önce kütüphanede çalıştılar.",
+    "Bu yıl yaz tatilinde Karadeniz kıyılarını gezeceğiz.",
+    "Saat dokuzu çeyrek geçe otobüs durağında buluşalım.",
+    "Teyzemin bahçesindeki domatesler kıpkırmızı olmuş.",
+    "Lütfen kapıyı kapatır mısınız, içerisi çok soğuk.",
+    "Gökyüzünde bir kuş sürüsü güneye doğru uçuyordu.",
+)
+
+
+@pytest.fixture(scope="module")
+def spoken():
+    """Every held-out sentence as (utterance, timeline, synthesis) in phone timing."""
+    results = []
+    for text in HELD_OUT:
+        utterance = build_utterance(text)
+        timeline, synthesis = synthesize_timeline(utterance)
+        results.append((utterance, timeline, synthesis))
+    return results
+
+
+def test_engines_are_registered_by_name_and_made_once():
+    assert "espeak" in engine_names()
+    assert get_engine("espeak") is get_engine("espeak")
+    with pytest.raises(SpeechEngineError, match="unknown speech engine 'festival'.*espeak"):
+        get_engine("festival")
+
+
+def test_a_missing_engine_says_how_to_install_it(monkeypatch):
+    if ctypes.util.find_library("espeak-ng"):
+        pytest.skip("a system libespeak-ng is installed, so the engine is never missing here")
+    monkeypatch.setitem(sys.modules, "espeakng_loader", None)  # as if the wheel were not installed
+    with pytest.raises(SpeechEngineError, match=r"pip install espeakng-loader.*apt install libespeak-ng1"):
+        _load_library()
+
+
+@pytest.mark.parametrize("fps", [24, 25, 30, 60])
+def test_every_spoken_phone_is_keyed_within_half_a_frame_of_its_onset(spoken, fps):
+    for utterance, timeline, synthesis in spoken:
+        tracks = thesis_weight_tracks(timeline, fps)
+        checked = 0
+        starts = np.array([phone.start for phone in timeline.phones])
+        first_phone_of = {}
+        for number, event in enumerate(synthesis.phone_events):
+            for letter in event.letters:
+                first_phone_of.setdefault(letter, number)
+        for number in sorted(set(first_phone_of.values())):
+            event = synthesis.phone_events[number]
+            # The letter keyed at this phone (a letter the engine dropped may take the phone's head).
+            keyed = int(np.argmin(np.abs(starts - event.start)))
+            keyed_frame = starts[keyed] * fps
+            assert abs(round(keyed_frame) / fps - event.start) <= 0.5 / fps + 1e-9, utterance.source
+            names, weights = tracks.sample(np.array([keyed_frame]))
+            viseme = timeline.phones[keyed].viseme
+            assert weights[0, names.index(f"TR_viseme_{viseme}")] == pytest.approx(1.0)
+            checked += 1
+        assert checked >= 0.9 * len(utterance.letters), utterance.source
+
+
+def test_letters_stay_in_order_with_positive_spans(spoken):
+    for utterance, timeline, synthesis in spoken:
+        starts = np.array([phone.start for phone in timeline.phones])
+        ends = np.array([phone.end for phone in timeline.phones])
+        assert np.all(np.diff(starts) > 0), utterance.source
+        assert np.all(ends > starts), utterance.source
+        assert ends.max() <= timeline.duration == pytest.approx(synthesis.duration)
+        assert timeline.timing == "phone"
+        assert timeline.engine_onsets == tuple(event.start for event in synthesis.phone_events)
+
+
+def test_the_engine_speaks_exactly_the_normalised_words():
+    utterance = build_utterance("Dr. Ali 3 kitap ve 25 kalem aldı.")
+    _, synthesis = synthesize_timeline(utterance)
+    spoken_words = {event.word_index for event in synthesis.phone_events}
+    assert spoken_words == set(range(len(utterance.words)))
+    engine = get_engine("espeak")
+    symbols = engine.letter_symbols()
+    matched = sum(
+        engine.bare_symbol(event.symbol) in symbols[utterance.letters[letter].char]
+        for event in synthesis.phone_events
+        for letter in event.letters[:1]
+    )
+    assert matched >= 0.9 * len(utterance.letters)  # "üç", "yirmi beş", "doktor" were spoken as written
+
+
+@pytest.mark.parametrize(
+    ("word", "dropped"),
+    [("dağ", 2), ("yağmur", 2), ("soğuk", 2), ("öğle", 1)],
+)
+def test_a_silent_soft_g_gets_a_short_span_at_the_end_of_the_vowel_before_it(word, dropped):
+    utterance = build_utterance(word)
+    timeline, synthesis = synthesize_timeline(utterance)
+    soft_g, vowel = timeline.phones[dropped], timeline.phones[dropped - 1]
+    assert soft_g.letter == "ğ"
+    assert not any(dropped in event.letters for event in synthesis.phone_events)
+    vowel_phone = next(event for event in synthesis.phone_events if dropped - 1 in event.letters)
+    assert vowel.start == vowel_phone.start < vowel.end == soft_g.start < soft_g.end == vowel_phone.end
+    assert soft_g.end - soft_g.start < vowel.end - vowel.start
+
+
+@pytest.mark.parametrize("word", ["anne", "elli", "sıhhat", "tahta", "kahve", "saat", "dikkat"])
+def test_geminates_and_h_between_vowels_keep_every_letter_in_order(word):
+    utterance = build_utterance(word)
+    timeline, _ = synthesize_timeline(utterance)
+    assert "".join(phone.letter for phone in timeline.phones) == word
+    for before, after in zip(timeline.phones, timeline.phones[1:], strict=False):
+        assert before.start < after.start and before.end <= after.start + 1e-9
+        assert after.end > after.start
+
+
+def test_the_default_speaking_rate_is_espeaks_175_words_per_minute():
+    assert DEFAULT_RATE == 175 and _parameters(Style()) == (175, 50, 50, 100)
+    plain = synthesize_timeline(build_utterance("Yarın sabah erkenden yola çıkacağız."))[1]
+    explicit = synthesize_timeline(
+        build_utterance('<PROS RATE="175">Yarın sabah erkenden yola çıkacağız.</PROS>')
+    )[1]
+    # eSpeak NG varies a few samples between runs (its noise source), so compare timing, not samples.
+    assert explicit.duration == pytest.approx(plain.duration, abs=0.005)
+    onsets = [[event.start for event in synthesis.phone_events] for synthesis in (plain, explicit)]
+    assert np.allclose(onsets[0], onsets[1], atol=0.002)
+
+
+def test_prosody_rate_and_pitch_change_the_voice():
+    text = "Yarın sabah erkenden yola çıkacağız."
+    normal = synthesize_timeline(build_utterance(text))[1]
+    slow = synthesize_timeline(build_utterance(f'<PROS RATE="-40%">{text}</PROS>'))[1]
+    high = synthesize_timeline(build_utterance(f'<PROS PITCH="+40%">{text}</PROS>'))[1]
+    assert slow.duration > 1.4 * normal.duration
+    assert median_pitch(high) > 1.15 * median_pitch(normal)
+
+
+def median_pitch(synthesis: Synthesis) -> float:
+    """Median fundamental frequency (Hz) of the loud 40 ms frames, by autocorrelation."""
+    rate = synthesis.sample_rate
+    size = int(0.04 * rate)
+    samples = synthesis.samples.astype(np.float64)
+    frames = samples[: samples.size // size * size].reshape(-1, size)
+    loud = frames[np.sqrt((frames**2).mean(axis=1)) > 0.3 * np.sqrt((frames**2).mean(axis=1)).max()]
+    lags = np.arange(int(rate / 400), int(rate / 60))
+    pitches = []
+    for frame in loud:
+        frame = frame - frame.mean()
+        correlation = np.array([np.dot(frame[:-lag], frame[lag:]) for lag in lags])
+        pitches.append(rate / lags[np.argmax(correlation)])
+    return float(np.median(pitches))
+
+
+def test_breaks_and_punctuation_are_exact_silence_between_words():
+    utterance = build_utterance('<JSML>Bir <BREAK MSECS="700"/> iki, üç.</JSML>')
+    timeline, synthesis = synthesize_timeline(utterance)
+    first, second = timeline.words[0], timeline.words[1]
+    assert utterance.words[1].pause_before >= 0.7
+    gap = synthesis.samples[
+        int(first.end * synthesis.sample_rate) + 50 : int(second.start * synthesis.sample_rate)
+    ]
+    assert second.start - first.end >= 0.7
+    assert np.count_nonzero(gap == 0) >= 0.7 * synthesis.sample_rate
+    assert timeline.duration >= timeline.words[-1].end + utterance.final_pause - 1e-6
+
+
+def test_an_emphasised_word_is_spoken_longer():
+    plain = synthesize_timeline(build_utterance("Bu kitap gerçekten güzel."))[0]
+    emphasised = synthesize_timeline(build_utterance("Bu kitap <EMP>gerçekten</EMP> güzel."))[0]
+    length = [timeline.words[2].end - timeline.words[2].start for timeline in (plain, emphasised)]
+    assert length[1] > 1.05 * length[0]
+    assert emphasised.emphases == ((emphasised.words[2].start, emphasised.words[2].end),)
+
+
+def test_word_timing_is_the_thesis_word_start_events_with_table_durations_inside(spoken):
+    for utterance, _, _ in spoken[:4]:
+        timeline, synthesis = synthesize_timeline(utterance, "word")
+        assert timeline.timing == "word"
+        durations = letter_durations(utterance)
+        events = {event.word_index: event.start for event in synthesis.word_events}
+        previous_end = 0.0
+        for index, word in enumerate(utterance.words):
+            phones = timeline.phones[word.first_letter : word.first_letter + word.letter_count]
+            # The thesis waits for the word's start event (and for the previous word to finish).
+            assert phones[0].start == pytest.approx(max(events[index], previous_end))
+            for phone in phones:
+                assert phone.end - phone.start == pytest.approx(durations[phone.letter_index])
+            for before, after in zip(phones, phones[1:], strict=False):
+                assert after.start == pytest.approx(before.end)
+            previous_end = phones[-1].end
+
+
+def test_table_timing_needs_no_engine_and_returns_no_audio():
+    utterance = build_utterance("Merhaba dünya.")
+    timeline, synthesis = synthesize_timeline(utterance, "table")
+    assert synthesis is None
+    assert timeline == table_timeline(utterance)
+
+
+def test_unknown_timing_and_table_with_a_recording_are_refused(tmp_path):
+    utterance = build_utterance("Merhaba.")
+    with pytest.raises(LipSyncError, match="unknown timing 'syllable'"):
+        synthesize_timeline(utterance, "syllable")
+    with pytest.raises(LipSyncError, match="table timing .* cannot follow a recording"):
+        synthesize_timeline(utterance, "table", recording=tmp_path / "me.wav")
+
+
+def test_write_wav_writes_mono_16_bit_pcm(tmp_path, spoken):
+    synthesis = spoken[0][2]
+    path = write_wav(tmp_path / "speech.wav", synthesis)
+    with wave.open(str(path), "rb") as handle:
+        assert (handle.getnchannels(), handle.getsampwidth(), handle.getframerate()) == (
+            1,
+            2,
+            synthesis.sample_rate,
+        )
+        samples = np.frombuffer(handle.readframes(handle.getnframes()), "<i2")
+    assert np.array_equal(samples, synthesis.samples)

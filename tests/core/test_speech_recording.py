@@ -1,0 +1,161 @@
+"""Aligning a recording of the text to the synthetic speech (real eSpeak NG rendition as the "recording")."""
+
+import tracemalloc
+import wave
+
+import numpy as np
+import pytest
+import soundfile
+
+from turkish_lipsync.core.errors import AudioError
+from turkish_lipsync.core.speech import read_audio, synthesize_timeline
+from turkish_lipsync.core.speech.recording import dtw_path, resample, speech_features
+from turkish_lipsync.core.utterance import build_utterance
+
+TEXT = (
+    "Kardeşim dün akşam bana uzun bir mektup yazdı. Sonbaharda yapraklar sararır ve ağaçlardan düşer. "
+    "Lütfen kapıyı kapatır mısınız, içerisi çok soğuk."
+)
+LEAD_IN = 0.5  # seconds of near-silence before the recorded speech
+RECORDED_RATE = 16000
+
+
+def write_pcm_wav(path, samples, rate, channels=1):
+    """16-bit PCM WAV from float samples in [-1, 1] (mono array, or [frames, channels])."""
+    data = np.clip(np.round(np.asarray(samples) * 32767), -32768, 32767).astype("<i2")
+    with wave.open(str(path), "wb") as handle:
+        handle.setnchannels(channels)
+        handle.setsampwidth(2)
+        handle.setframerate(rate)
+        handle.writeframes(data.tobytes())
+    return path
+
+
+@pytest.fixture(scope="module")
+def recorded(tmp_path_factory):
+    """The text read slower and higher, as a stereo 16 kHz WAV with silence and hiss at both ends."""
+    slow = build_utterance(f'<PROS RATE="-30%" PITCH="+40%">{TEXT}</PROS>')
+    truth, synthesis = synthesize_timeline(slow)
+    voice = resample(synthesis.samples.astype(np.float32) / 32768, synthesis.sample_rate, RECORDED_RATE)
+    voice = np.concatenate(
+        (np.zeros(int(LEAD_IN * RECORDED_RATE)), voice, np.zeros(int(0.3 * RECORDED_RATE)))
+    )
+    hiss = np.random.default_rng(7).normal(0, 0.002, (voice.size, 2))
+    stereo = np.stack((voice, 0.8 * voice), axis=1) + hiss
+    path = write_pcm_wav(
+        tmp_path_factory.mktemp("recording") / "reading.wav", stereo, RECORDED_RATE, channels=2
+    )
+    return path, truth
+
+
+def test_phone_onsets_land_on_the_recording(recorded):
+    path, truth = recorded
+    timeline, synthesis = synthesize_timeline(build_utterance(TEXT), recording=path)
+    assert timeline.timing == "recording" and synthesis.engine == "recording"
+    expected = np.array([phone.start for phone in truth.phones]) + LEAD_IN
+    found = np.array([phone.start for phone in timeline.phones])
+    error = np.abs(found - expected)
+    assert np.median(error) < 0.030
+    assert np.percentile(error, 90) < 0.080
+    assert np.all(np.diff(found) > 0)
+    # The audio returned is the recording (mono, resampled to the synthesis rate), not the synthetic voice.
+    recorded_seconds = soundfile.info(str(path)).duration
+    assert synthesis.duration == pytest.approx(recorded_seconds, abs=0.01)
+    assert timeline.duration == pytest.approx(recorded_seconds, abs=0.01)
+
+
+def test_word_timing_follows_the_recordings_word_starts(recorded):
+    path, truth = recorded
+    timeline, _ = synthesize_timeline(build_utterance(TEXT), "word", recording=path)
+    assert timeline.timing == "recording"
+    expected = np.array([word.start for word in truth.words]) + LEAD_IN
+    found = np.array([word.start for word in timeline.words])
+    assert np.median(np.abs(found - expected)) < 0.060
+
+
+def test_a_flac_recording_is_read_like_a_wav(tmp_path, recorded):
+    path, _ = recorded
+    samples, rate = read_audio(path)
+    flac = tmp_path / "reading.flac"
+    soundfile.write(str(flac), samples, rate, subtype="PCM_16")
+    again, again_rate = read_audio(flac)
+    assert again_rate == rate == RECORDED_RATE
+    assert np.max(np.abs(again - samples)) < 2 / 32768
+
+
+def test_float_wav_is_read_through_soundfile(tmp_path):
+    tone = 0.5 * np.sin(2 * np.pi * 440 * np.arange(8000) / 8000)
+    path = tmp_path / "float.wav"
+    soundfile.write(str(path), tone, 8000, subtype="FLOAT")
+    samples, rate = read_audio(path)
+    assert rate == 8000 and np.allclose(samples, tone, atol=1e-6)
+
+
+@pytest.mark.parametrize(
+    ("content", "message"),
+    [
+        (None, "does not exist"),
+        (b"RIFF\x10\x00\x00\x00WAVEnot really a wave file", "cannot read the recording"),
+        ("empty", "holds no audio"),
+        ("silent", "silent"),
+    ],
+)
+def test_bad_recordings_are_refused_with_a_clear_error(tmp_path, content, message):
+    path = tmp_path / "reading.wav"
+    if isinstance(content, bytes):
+        path.write_bytes(content)
+    elif content == "empty":
+        write_pcm_wav(path, np.zeros(0), 22050)
+    elif content == "silent":
+        write_pcm_wav(path, np.zeros(22050 * 3), 22050)
+    with pytest.raises(AudioError, match=message) as raised:
+        synthesize_timeline(build_utterance("Merhaba, nasılsınız?"), recording=path)
+    assert str(path) in str(raised.value)
+
+
+def test_a_recording_of_a_much_longer_text_is_refused(tmp_path):
+    long_reading = synthesize_timeline(build_utterance(TEXT))[1]
+    path = write_pcm_wav(tmp_path / "long.wav", long_reading.samples / 32768, long_reading.sample_rate)
+    with pytest.raises(AudioError, match="more than 3 times apart"):
+        synthesize_timeline(build_utterance("Merhaba."), recording=path)
+
+
+def test_resampling_keeps_a_tone_and_its_level():
+    source_rate, target_rate = 48000, 22050
+    time = np.arange(source_rate) / source_rate
+    tone = 0.5 * np.sin(2 * np.pi * 1000 * time)
+    result = resample(tone, source_rate, target_rate)
+    assert result.size == target_rate
+    expected = 0.5 * np.sin(2 * np.pi * 1000 * np.arange(target_rate) / target_rate)
+    assert np.max(np.abs(result[200:-200] - expected[200:-200])) < 0.01
+
+
+def test_dtw_recovers_a_known_stretch():
+    rng = np.random.default_rng(3)
+    x = np.cumsum(rng.normal(size=(900, 4)), axis=0)  # a smooth random trajectory
+    stretch = np.clip(np.round(np.arange(1300) * 899 / 1299).astype(int), 0, 899)
+    y = x[stretch] + rng.normal(scale=0.05, size=(1300, 4))
+    path_x, path_y = dtw_path(x, y)
+    assert (path_x[0], path_y[0], path_x[-1], path_y[-1]) == (0, 0, 899, 1299)
+    assert np.all(np.diff(path_x) >= 0) and np.all(np.diff(path_y) >= 0)
+    mapped = np.array([path_x[path_y == j].mean() for j in range(1300)])
+    assert np.median(np.abs(mapped - stretch)) <= 1
+
+
+def test_dtw_memory_grows_with_the_audio_not_its_square():
+    rng = np.random.default_rng(5)
+    frames = 6000  # one minute of 10 ms frames: a full cost matrix would take 288 MB
+    x = np.cumsum(rng.normal(size=(frames, 12)), axis=0)
+    tracemalloc.start()
+    dtw_path(x, x + rng.normal(scale=0.1, size=x.shape))
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    assert peak < 30e6
+
+
+def test_features_mark_silence_as_unvoiced():
+    rate = 22050
+    samples = np.concatenate((np.zeros(rate // 2), 0.3 * np.sin(2 * np.pi * 200 * np.arange(rate) / rate)))
+    features, voiced = speech_features(samples.astype(np.float32), rate)
+    assert features.shape[1] == 12
+    assert not voiced[:40].any() and voiced[60:140].all()

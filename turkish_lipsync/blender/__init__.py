@@ -1,0 +1,18 @@
+"""The Blender layer: registers properties, preferences, operators, the panel and the Turkish UI."""
+
+from __future__ import annotations
+
+from . import operators, panel, preferences, properties, translations
+
+# Registration order: data types first, then what uses them; unregistered in reverse.
+MODULES = (translations, properties, preferences, operators, panel)
+
+
+def register() -> None:
+    for module in MODULES:
+        module.register()
+
+
+def unregister() -> None:
+    for module in reversed(MODULES):
+        module.unregister()

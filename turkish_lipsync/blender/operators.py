@@ -1,0 +1,195 @@
+"""Thin operators: poll (saying why not), then one call into pipeline, errors reported, progress shown."""
+
+from __future__ import annotations
+
+import contextlib
+
+import bpy
+
+from ..core.errors import LipSyncError
+from . import pipeline
+from .preferences import ADDON_PACKAGE, export_engine_paths
+
+
+@contextlib.contextmanager
+def progress_reporter(context: bpy.types.Context, title: str):
+    """A progress(fraction, message) callback: cursor progress in the UI, stdout lines in background."""
+    window_manager = context.window_manager
+    use_cursor = window_manager is not None and not bpy.app.background
+    if use_cursor:
+        window_manager.progress_begin(0, 100)
+    last_message = [""]
+
+    def progress(fraction: float, message: str) -> None:
+        if use_cursor:
+            window_manager.progress_update(int(max(0.0, min(1.0, fraction)) * 100))
+        if bpy.app.background and message != last_message[0]:
+            print(f"{title}: {fraction * 100:5.1f}% {message}", flush=True)
+        last_message[0] = message
+
+    try:
+        yield progress
+    finally:
+        if use_cursor:
+            window_manager.progress_end()
+
+
+def settings_of(context: bpy.types.Context):
+    return context.scene.turkish_lipsync
+
+
+def chosen_head(context: bpy.types.Context) -> bpy.types.Object | None:
+    """The head of the panel, else the active mesh."""
+    head = settings_of(context).head
+    if head is None and context.active_object is not None and context.active_object.type == "MESH":
+        head = context.active_object
+    return head
+
+
+def _in_object_mode(cls, context) -> bool:
+    if context.mode != "OBJECT":
+        cls.poll_message_set("Switch to Object Mode first")
+        return False
+    return True
+
+
+class TURKISH_LIPSYNC_OT_build_shape_keys(bpy.types.Operator):
+    """Build the Turkish viseme and emotion shape keys on the head (the reference head when none is chosen)"""
+
+    bl_idname = "turkish_lipsync.build_shape_keys"
+    bl_label = "Build Shape Keys"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context) -> bool:
+        return _in_object_mode(cls, context)
+
+    def execute(self, context):
+        settings = settings_of(context)
+        head = chosen_head(context)
+        head_name = head.name if head is not None else None
+        try:
+            with progress_reporter(context, "Build shape keys") as progress:
+                head_name = pipeline.build_keys(
+                    context, head, arkit_keys=settings.arkit_keys, progress=progress
+                )
+        except LipSyncError as error:
+            self.report({"ERROR"}, str(error))
+            return {"CANCELLED"}
+        settings.head = bpy.data.objects[head_name]
+        self.report({"INFO"}, f"Shape keys built on {head_name}")
+        return {"FINISHED"}
+
+
+class TURKISH_LIPSYNC_OT_generate(bpy.types.Operator):
+    """Speak the text: key the head's mouth shapes and emotions, and put the speech in the sequencer"""
+
+    bl_idname = "turkish_lipsync.generate"
+    bl_label = "Generate Animation"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context) -> bool:
+        if not _in_object_mode(cls, context):
+            return False
+        settings = settings_of(context)
+        head = chosen_head(context)
+        if head is None:
+            cls.poll_message_set("Choose the head object in the Lip Sync panel")
+            return False
+        if not pipeline.has_lipsync_keys(head):
+            cls.poll_message_set("The head has no lip-sync shape keys yet: build them first")
+            return False
+        if settings.source_kind == "TEXT" and settings.text is None:
+            cls.poll_message_set("Choose the Text to speak in the Lip Sync panel")
+            return False
+        if settings.source_kind == "FILE" and not settings.file_path:
+            cls.poll_message_set("Choose the JSML file to speak in the Lip Sync panel")
+            return False
+        return True
+
+    def execute(self, context):
+        settings = settings_of(context)
+        head = chosen_head(context)
+        export_engine_paths(context)
+        try:
+            source = pipeline.read_source(
+                settings.text.name if settings.source_kind == "TEXT" and settings.text else "",
+                settings.file_path if settings.source_kind == "FILE" else "",
+            )
+            with progress_reporter(context, "Generate") as progress:
+                result = pipeline.generate(
+                    context,
+                    head,
+                    source,
+                    timing=settings.timing,
+                    motion=settings.motion,
+                    emotion_strength=settings.emotion_strength,
+                    rate=settings.rate,
+                    interpolation=settings.interpolation,
+                    audio_folder=settings.audio_folder,
+                    package=ADDON_PACKAGE,
+                    progress=progress,
+                )
+        except LipSyncError as error:
+            self.report({"ERROR"}, str(error))
+            return {"CANCELLED"}
+        settings.head = head
+        self.report(
+            {"INFO"},
+            f"{result.phone_count} phones keyed over {result.duration:.2f} s "
+            f"(frames {result.frame_start}-{result.frame_end})",
+        )
+        return {"FINISHED"}
+
+
+class TURKISH_LIPSYNC_OT_render(bpy.types.Operator):
+    """Render the frame range to an MP4 with the speech, adding a camera and lights on the face if missing"""
+
+    bl_idname = "turkish_lipsync.render"
+    bl_label = "Render Video"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context) -> bool:
+        if not _in_object_mode(cls, context):
+            return False
+        settings = settings_of(context)
+        if not settings.output_path:
+            cls.poll_message_set("Choose the video file to write in the Lip Sync panel")
+            return False
+        if context.scene.camera is None and chosen_head(context) is None:
+            cls.poll_message_set("Choose the head (to frame a camera on it) or add a camera")
+            return False
+        return True
+
+    def execute(self, context):
+        settings = settings_of(context)
+        try:
+            with progress_reporter(context, "Render") as progress:
+                result = pipeline.render_video(
+                    context,
+                    chosen_head(context),
+                    settings.output_path,
+                    engine=settings.render_engine,
+                    samples=settings.render_samples,
+                    progress=progress,
+                )
+        except LipSyncError as error:
+            self.report({"ERROR"}, str(error))
+            return {"CANCELLED"}
+        self.report({"INFO"}, f"Rendered {result.frame_count} frames with {result.engine} to {result.path}")
+        return {"FINISHED"}
+
+
+CLASSES = (TURKISH_LIPSYNC_OT_build_shape_keys, TURKISH_LIPSYNC_OT_generate, TURKISH_LIPSYNC_OT_render)
+
+
+def register() -> None:
+    for cls in CLASSES:
+        bpy.utils.register_class(cls)
+
+
+def unregister() -> None:
+    for cls in reversed(CLASSES):
+        bpy.utils.unregister_class(cls)

@@ -1,0 +1,58 @@
+"""The Lip Sync tab in the 3D Viewport's sidebar: head, text, timing, motion, render."""
+
+from __future__ import annotations
+
+import bpy
+
+
+class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
+    bl_label = "Turkish Lip Sync"
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "Lip Sync"
+
+    def draw(self, context) -> None:
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        settings = context.scene.turkish_lipsync
+
+        column = layout.column(heading="Head")
+        column.prop(settings, "head")
+        column.prop(settings, "arkit_keys")
+        column.operator("turkish_lipsync.build_shape_keys", icon="SHAPEKEY_DATA")
+
+        layout.separator()
+        column = layout.column(heading="Speech")
+        column.prop(settings, "source_kind", expand=True)
+        if settings.source_kind == "TEXT":
+            column.prop(settings, "text")
+        else:
+            column.prop(settings, "file_path")
+        column.prop(settings, "timing")
+        column.prop(settings, "rate")
+        column.prop(settings, "emotion_strength")
+        column.prop(settings, "motion")
+        column.prop(settings, "interpolation")
+        column.prop(settings, "audio_folder")
+        column.operator("turkish_lipsync.generate", icon="PLAY_SOUND")
+
+        layout.separator()
+        column = layout.column(heading="Render")
+        column.prop(settings, "render_engine")
+        column.prop(settings, "render_samples")
+        column.prop(settings, "output_path")
+        column.operator("turkish_lipsync.render", icon="RENDER_ANIMATION")
+
+
+CLASSES = (VIEW3D_PT_turkish_lipsync,)
+
+
+def register() -> None:
+    for cls in CLASSES:
+        bpy.utils.register_class(cls)
+
+
+def unregister() -> None:
+    for cls in reversed(CLASSES):
+        bpy.utils.unregister_class(cls)

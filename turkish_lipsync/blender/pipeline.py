@@ -1,0 +1,316 @@
+"""The plain functions behind the operators and the batch script: build keys, generate, render.
+
+Everything that can fail (markup, speech engine, data tables) runs before Blender data is touched, so an
+error leaves the file as it was. Functions take and return names, never keep Blender references.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import re
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import bpy
+
+from ..core.errors import HeadError, LipSyncError, TextError
+from ..core.model import Utterance, WeightTracks
+from . import compat, keyframes, render, sequencer
+
+Progress = Callable[[float, str], None]
+TIMINGS = ("phone", "word", "table")
+MOTIONS = ("natural", "thesis")
+INTERPOLATIONS = ("AUTO", "LINEAR", "BEZIER", "CONSTANT")
+ACTION_PREFIX = "TR_"
+
+
+def _no_progress(_fraction: float, _message: str) -> None:
+    pass
+
+
+@dataclass(frozen=True)
+class GenerateResult:
+    action_names: tuple[str, ...]
+    wav_path: str | None
+    strip_name: str | None
+    frame_start: int
+    frame_end: int
+    duration: float
+    phone_count: int
+    timing: str
+    fps: float
+
+
+@dataclass(frozen=True)
+class RenderResult:
+    path: str
+    engine: str
+    frame_count: int
+    seconds: float
+    camera_added: bool
+    lights_added: bool
+
+
+# ---------------------------------------------------------------- heads
+
+
+def head_objects(head: bpy.types.Object) -> list[bpy.types.Object]:
+    """The head and the meshes that follow it (teeth, tongue, eyes)."""
+    from .heads import find_head_parts
+
+    return [head, *find_head_parts(head)]
+
+
+def require_head(name: str | None) -> bpy.types.Object:
+    head = bpy.data.objects.get(name) if name else None
+    if head is None:
+        raise HeadError(
+            f"No head object named {name!r}: pick a head in the Lip Sync panel, or build the reference head."
+            if name
+            else "No head chosen: pick the head object in the Lip Sync panel (or select it)."
+        )
+    if head.type != "MESH":
+        raise HeadError(f"The head {head.name!r} is a {head.type.lower()}, not a mesh: choose a mesh object.")
+    return head
+
+
+def build_keys(
+    context: bpy.types.Context, head: bpy.types.Object | None, *, arkit_keys: bool = False, progress=None
+) -> str:
+    """Build (or rebuild) the TR_* shape keys on head, creating the reference head when head is None.
+
+    Returns the head's name.
+    """
+    progress = progress or _no_progress
+    from . import heads, shapekeys  # the faces helper's modules
+
+    if head is None:
+        progress(0.05, "Creating the reference head")
+        head = heads.create_reference_head(context)["head"]
+    progress(0.2, f"Building shape keys on {head.name}")
+    options = {"arkit_keys": True} if arkit_keys else {}
+    shapekeys.build_shape_keys(head, **options)
+    progress(1.0, "Shape keys built")
+    return head.name
+
+
+def has_lipsync_keys(head: bpy.types.Object) -> bool:
+    key = getattr(head.data, "shape_keys", None)
+    return key is not None and any(block.name.startswith("TR_viseme_") for block in key.key_blocks)
+
+
+# ---------------------------------------------------------------- text
+
+
+def read_source(text_name: str = "", file_path: str = "") -> str:
+    """The JSML source: a Blender Text datablock, else a file."""
+    if text_name:
+        text = bpy.data.texts.get(text_name)
+        if text is None:
+            raise TextError(f"There is no Text named {text_name!r}: choose a Text in the Lip Sync panel.")
+        source = text.as_string()
+    elif file_path:
+        path = Path(bpy.path.abspath(file_path))
+        try:
+            source = path.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as error:
+            raise TextError(
+                f"Cannot read the JSML file {path}: {error}. Check the path (UTF-8 text)."
+            ) from error
+    else:
+        raise TextError("No text to speak: choose a Text datablock or a JSML file in the Lip Sync panel.")
+    if not source.strip():
+        raise TextError("The text is empty: write some Turkish text (plain or JSML) to speak.")
+    return source
+
+
+def action_name_for(utterance: Utterance) -> str:
+    """One action per utterance, named after its words (Blender names hold at most 63 bytes)."""
+    words = " ".join(word.text for word in utterance.words)
+    name = ACTION_PREFIX + re.sub(r"\s+", " ", words).strip()
+    while len(name.encode("utf-8")) > 60:
+        name = name[:-1]
+    return name
+
+
+def _with_rate(utterance: Utterance, rate: float) -> Utterance:
+    if abs(rate - 1.0) < 1e-9:
+        return utterance
+    if not 0.1 <= rate <= 10:
+        raise TextError(f"Speaking rate {rate} is outside 0.1..10; choose a multiplier such as 0.8 or 1.2.")
+    words = tuple(
+        dataclasses.replace(word, style=dataclasses.replace(word.style, rate=word.style.rate * rate))
+        for word in utterance.words
+    )
+    return dataclasses.replace(utterance, words=words)
+
+
+# ---------------------------------------------------------------- generate
+
+
+def compute_tracks(
+    source: str,
+    fps: float,
+    *,
+    timing: str = "phone",
+    motion: str = "natural",
+    emotion_strength: float = 1.0,
+    rate: float = 1.0,
+    interpolation: str = "AUTO",
+    recording: str | None = None,
+):
+    """Text to (utterance, timeline, synthesis, tracks): the core's work, no Blender data touched."""
+    from ..core.tracks import weight_tracks
+    from ..core.utterance import build_utterance
+
+    if timing not in TIMINGS:
+        raise LipSyncError(f"Unknown timing {timing!r}; use one of {', '.join(TIMINGS)}.")
+    if motion not in MOTIONS:
+        raise LipSyncError(f"Unknown motion {motion!r}; use one of {', '.join(MOTIONS)}.")
+    utterance = _with_rate(build_utterance(source), rate)
+    from ..core.speech import synthesize_timeline
+
+    timeline, synthesis = synthesize_timeline(utterance, timing, recording=recording or None)
+    tracks: WeightTracks = weight_tracks(timeline, fps, mode=motion, emotion_strength=emotion_strength)
+    if interpolation != "AUTO":
+        if interpolation not in INTERPOLATIONS:
+            raise LipSyncError(
+                f"Unknown interpolation {interpolation!r}; use one of {', '.join(INTERPOLATIONS)}."
+            )
+        tracks = dataclasses.replace(tracks, interpolation=interpolation)
+    return utterance, timeline, synthesis, tracks
+
+
+def generate(
+    context: bpy.types.Context,
+    head: bpy.types.Object,
+    source: str,
+    *,
+    timing: str = "phone",
+    motion: str = "natural",
+    emotion_strength: float = 1.0,
+    rate: float = 1.0,
+    interpolation: str = "AUTO",
+    recording: str | None = None,
+    audio_folder: str = "",
+    start_frame: int | None = None,
+    package: str | None = None,
+    progress: Progress | None = None,
+) -> GenerateResult:
+    """Speak source on head: F-curves on its TR_* keys, the speech strip, the frame range."""
+    progress = progress or _no_progress
+    scene = context.scene
+    if not has_lipsync_keys(head):
+        raise HeadError(
+            f"The head {head.name!r} has no TR_viseme_* shape keys yet: press 'Build Shape Keys' first "
+            "(or run the script with --head on it)."
+        )
+    fps = sequencer.scene_fps(scene)
+    start = scene.frame_start if start_frame is None else int(start_frame)
+
+    progress(0.05, "Reading the text and speaking it")
+    utterance, timeline, synthesis, tracks = compute_tracks(
+        source,
+        fps,
+        timing=timing,
+        motion=motion,
+        emotion_strength=emotion_strength,
+        rate=rate,
+        interpolation=interpolation,
+        recording=recording,
+    )
+    action_name = action_name_for(utterance)
+    wav_path = None
+    if synthesis is not None:
+        from ..core.speech import write_wav
+
+        progress(0.45, "Saving the speech audio")
+        wav_path = sequencer.speech_wav_path(action_name, audio_folder, package)
+        write_wav(wav_path, synthesis)
+
+    # From here on Blender data changes; nothing below raises LipSyncError for bad input.
+    progress(0.6, f"Keying {len(tracks.tracks)} shape-key tracks")
+    written = keyframes.write_weight_tracks(head_objects(head), tracks, start, action_name)
+    progress(0.85, "Placing the speech in the sequencer")
+    strip_name = None
+    frame_count = max(1, math.ceil(timeline.duration * fps - 1e-6))
+    if wav_path is not None:
+        strip_name = sequencer.place_speech_strip(scene, wav_path, start, timeline.duration)
+    else:
+        sequencer.remove_speech_strip(scene)
+        scene.pop(sequencer.SPEECH_PATH_PROPERTY, None)
+        scene.frame_start = start
+        scene.frame_end = start + frame_count - 1
+    progress(1.0, "Animation generated")
+    return GenerateResult(
+        action_names=tuple(w.action_name for w in written),
+        wav_path=str(wav_path) if wav_path else None,
+        strip_name=strip_name,
+        frame_start=start,
+        frame_end=start + frame_count - 1,
+        duration=timeline.duration,
+        phone_count=len(timeline.phones),
+        timing=timeline.timing,
+        fps=fps,
+    )
+
+
+# ---------------------------------------------------------------- render
+
+
+def render_video(
+    context: bpy.types.Context,
+    head: bpy.types.Object | None,
+    out_path: str,
+    *,
+    engine: str = "AUTO",
+    samples: int | None = None,
+    resolution: tuple[int, int] | None = None,
+    progress: Progress | None = None,
+) -> RenderResult:
+    """Frame the face (camera and lights only where missing), set the engine and MP4 output, render."""
+    progress = progress or _no_progress
+    scene = context.scene
+    if not out_path:
+        raise render.RenderError("No output file: choose where to write the video (an .mp4 path).")
+    path = Path(bpy.path.abspath(out_path))
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise render.RenderError(f"Cannot create the folder {path.parent}: {error.strerror}.") from error
+    chosen = render.choose_engine(engine)
+    progress(0.02, f"Setting up the {chosen} render")
+    framed = render.frame_face(scene, head_objects(head) if head is not None else [])
+    render.configure_engine(scene, chosen, samples)
+    render.configure_output(scene, path, resolution)
+    frame_count = scene.frame_end - scene.frame_start + 1
+    progress(0.05, f"Rendering {frame_count} frames to {path}")
+    started = time.perf_counter()
+
+    def after_frame(rendered_scene, _depsgraph=None):
+        done = rendered_scene.frame_current - rendered_scene.frame_start + 1
+        progress(0.05 + 0.9 * done / max(1, frame_count), f"Rendered frame {done}/{frame_count}")
+
+    bpy.app.handlers.render_post.append(after_frame)
+    try:
+        bpy.ops.render.render(animation=True, scene=scene.name)
+    finally:
+        bpy.app.handlers.render_post.remove(after_frame)
+    if not path.is_file():
+        raise render.RenderError(f"Blender did not write {path}; see the console for the render error.")
+    wav = sequencer.speech_wav_of(scene)
+    if not compat.HAS_AUDIO and wav is not None and wav.is_file():
+        progress(0.97, "Adding the speech to the video")
+        render.mux_audio(path, wav)
+    progress(1.0, f"Wrote {path}")
+    return RenderResult(
+        path=str(path),
+        engine=chosen,
+        frame_count=frame_count,
+        seconds=time.perf_counter() - started,
+        camera_added=framed["camera"],
+        lights_added=framed["lights"],
+    )

@@ -1,0 +1,71 @@
+"""Add-on preferences: where the speech engine lives when the bundled one cannot be used."""
+
+from __future__ import annotations
+
+import os
+
+import bpy
+from bpy.props import StringProperty
+
+# The extension's package: "bl_ext.<repo>.turkish_lipsync" when installed, "turkish_lipsync" in a checkout.
+ADDON_PACKAGE = (__package__ or "").removesuffix(".blender").removesuffix(
+    ".turkish_lipsync"
+) or "turkish_lipsync"
+
+# Read by the speech engine: a libespeak-ng to load instead of the bundled one, and its data folder.
+LIBRARY_ENVIRONMENT_VARIABLE = "TURKISH_LIPSYNC_ESPEAK_LIBRARY"
+DATA_ENVIRONMENT_VARIABLE = "TURKISH_LIPSYNC_ESPEAK_DATA"
+
+
+class TurkishLipSyncPreferences(bpy.types.AddonPreferences):
+    bl_idname = ADDON_PACKAGE
+
+    engine_library: StringProperty(
+        name="eSpeak NG Library",
+        subtype="FILE_PATH",
+        description="A libespeak-ng to use instead of the bundled one (empty: bundled, then the system's)",
+    )
+    engine_data: StringProperty(
+        name="eSpeak NG Data",
+        subtype="DIR_PATH",
+        description="The espeak-ng-data folder that belongs to that library (empty: the library's own)",
+    )
+
+    def draw(self, _context) -> None:
+        layout = self.layout
+        layout.prop(self, "engine_library")
+        layout.prop(self, "engine_data")
+
+
+def addon_preferences(context: bpy.types.Context) -> TurkishLipSyncPreferences | None:
+    """The preferences, or None where the add-on is not enabled through Blender (scripts, tests)."""
+    addon = context.preferences.addons.get(ADDON_PACKAGE)
+    return addon.preferences if addon is not None else None
+
+
+def export_engine_paths(context: bpy.types.Context) -> None:
+    """Hand the engine paths to the speech engine (it reads them from the environment, bpy-free)."""
+    preferences = addon_preferences(context)
+    if preferences is None:
+        return
+    for variable, value in (
+        (LIBRARY_ENVIRONMENT_VARIABLE, preferences.engine_library),
+        (DATA_ENVIRONMENT_VARIABLE, preferences.engine_data),
+    ):
+        if value:
+            os.environ[variable] = bpy.path.abspath(value)
+        else:
+            os.environ.pop(variable, None)
+
+
+CLASSES = (TurkishLipSyncPreferences,)
+
+
+def register() -> None:
+    for cls in CLASSES:
+        bpy.utils.register_class(cls)
+
+
+def unregister() -> None:
+    for cls in reversed(CLASSES):
+        bpy.utils.unregister_class(cls)

@@ -1,0 +1,124 @@
+"""The panel's settings, stored per scene (so they are saved in the .blend and undone with it)."""
+
+from __future__ import annotations
+
+import bpy
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
+
+
+def _is_mesh(_settings, obj) -> bool:
+    return obj.type == "MESH"
+
+
+class TurkishLipSyncSettings(bpy.types.PropertyGroup):
+    head: PointerProperty(
+        name="Head",
+        type=bpy.types.Object,
+        poll=_is_mesh,
+        description="The head mesh that speaks; its teeth, tongue and eyes follow it",
+    )
+    source_kind: EnumProperty(
+        name="Source",
+        items=(
+            ("TEXT", "Text", "A Text datablock of this file (Text Editor)"),
+            ("FILE", "File", "A JSML or plain-text file on disk"),
+        ),
+        default="TEXT",
+        description="Where the Turkish text (plain or JSML markup) comes from",
+    )
+    text: PointerProperty(name="Text", type=bpy.types.Text, description="Turkish text, plain or JSML markup")
+    file_path: StringProperty(
+        name="File", subtype="FILE_PATH", description="A UTF-8 file with Turkish text, plain or JSML markup"
+    )
+    timing: EnumProperty(
+        name="Timing",
+        items=(
+            ("phone", "Phone", "Key every phone where the speech engine speaks it (most accurate)"),
+            ("word", "Word", "The thesis's method: word starts from the engine, letters by mean durations"),
+            ("table", "Table", "Mean letter durations only (thesis Table 5.4), no speech engine, no audio"),
+        ),
+        default="phone",
+        description="How the mouth shapes are timed against the speech",
+    )
+    rate: FloatProperty(
+        name="Speaking Rate",
+        default=1.0,
+        min=0.25,
+        max=4.0,
+        soft_min=0.5,
+        soft_max=2.0,
+        description="Multiplier of the speaking rate (1 is the engine's normal speed)",
+    )
+    emotion_strength: FloatProperty(
+        name="Emotion Strength",
+        default=1.0,
+        min=0.0,
+        max=1.0,
+        subtype="FACTOR",
+        description="How strongly the emotions of the markup show on the face",
+    )
+    motion: EnumProperty(
+        name="Motion",
+        items=(
+            ("natural", "Natural", "Co-articulation, blinks and brow movement"),
+            ("thesis", "Thesis", "The thesis's weighted morphing from letter to letter (eq. 5.3, 5.4)"),
+        ),
+        default="natural",
+        description="How the weights move between mouth shapes",
+    )
+    interpolation: EnumProperty(
+        name="Interpolation",
+        items=(
+            ("AUTO", "Automatic", "What the motion model asks for"),
+            ("LINEAR", "Linear", "Straight lines between keys"),
+            ("BEZIER", "Bézier", "Smooth curves between keys"),
+            ("CONSTANT", "Constant", "Hold each key until the next (stepped)"),
+        ),
+        default="AUTO",
+        description="Interpolation of the shape-key keyframes",
+    )
+    arkit_keys: BoolProperty(
+        name="Keep ARKit Keys",
+        default=False,
+        description="Also keep the 52 ARKit face-unit shape keys the mouth shapes are built from",
+    )
+    audio_folder: StringProperty(
+        name="Audio Folder",
+        subtype="DIR_PATH",
+        description="Where the speech WAV is saved (empty: a folder next to the saved .blend file)",
+    )
+    render_engine: EnumProperty(
+        name="Render Engine",
+        items=(
+            ("AUTO", "Automatic", "EEVEE where OpenGL is available, Cycles otherwise"),
+            ("EEVEE", "EEVEE", "Fast, needs OpenGL"),
+            ("CYCLES", "Cycles", "Path tracing on the CPU, works everywhere"),
+            ("WORKBENCH", "Workbench", "Solid shading preview, needs OpenGL"),
+        ),
+        default="AUTO",
+        description="The engine that renders the video",
+    )
+    render_samples: IntProperty(
+        name="Samples", default=16, min=1, max=4096, description="Render samples per pixel (EEVEE and Cycles)"
+    )
+    output_path: StringProperty(
+        name="Video",
+        subtype="FILE_PATH",
+        default="//lipsync.mp4",
+        description="The MP4 file to write (H.264 video with AAC audio)",
+    )
+
+
+CLASSES = (TurkishLipSyncSettings,)
+
+
+def register() -> None:
+    for cls in CLASSES:
+        bpy.utils.register_class(cls)
+    bpy.types.Scene.turkish_lipsync = PointerProperty(type=TurkishLipSyncSettings)
+
+
+def unregister() -> None:
+    del bpy.types.Scene.turkish_lipsync
+    for cls in reversed(CLASSES):
+        bpy.utils.unregister_class(cls)

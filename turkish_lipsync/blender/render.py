@@ -1,0 +1,305 @@
+"""Scene set-up for a talking-head render: camera and three-point lights on the face, engine, MP4 output."""
+
+from __future__ import annotations
+
+import math
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import bpy
+import numpy as np
+from mathutils import Vector
+
+from ..core.errors import AudioError, LipSyncError
+from ..core.model import EMOTION_KEY_PREFIX, VISEME_KEY_PREFIX
+from . import compat
+
+ENGINES = ("EEVEE", "CYCLES", "WORKBENCH")
+CAMERA_NAME = "TR_camera"
+LIGHT_NAMES = ("TR_key_light", "TR_fill_light", "TR_rim_light")
+WORLD_NAME = "TR_world"
+CAMERA_LENS_MM = 70.0
+FACE_MARGIN = 1.45  # frame this much more than the moving part of the face (forehead, chin, ears)
+PROBE_ENVIRONMENT_VARIABLE = "TURKISH_LIPSYNC_PROBE_OPENGL"
+
+
+class RenderError(LipSyncError):
+    """A render that cannot be set up or written."""
+
+
+# ---------------------------------------------------------------- engine choice
+
+
+def _probe_opengl_in_subprocess(timeout_seconds: float = 180.0) -> bool:
+    """Render one tiny EEVEE frame in a child process: a missing EGL driver aborts the child, not us."""
+    engine = compat.engine_id("EEVEE")
+    code = (
+        "import bpy, sys\n"
+        "scene = bpy.context.scene\n"
+        f"scene.render.engine = {engine!r}\n"
+        "scene.render.resolution_x = scene.render.resolution_y = 8\n"
+        "bpy.ops.render.render()\n"
+        "sys.exit(0)\n"
+    )
+    if (
+        bpy.app.binary_path
+        and not bpy.app.binary_path.endswith(("python", "python3"))
+        and os.path.isfile(bpy.app.binary_path)
+    ):
+        command = [bpy.app.binary_path, "-b", "--factory-startup", "--python-expr", code]
+    else:
+        command = [sys.executable, "-c", code]
+    try:
+        result = subprocess.run(command, capture_output=True, timeout=timeout_seconds, check=False)
+    except (OSError, subprocess.TimeoutExpired):
+        return False
+    return result.returncode == 0
+
+
+def opengl_available(probe: bool | None = None) -> bool:
+    """Whether EEVEE can render here.
+
+    With a user interface there is always a GL context. In background mode there may be none (and Mesa's
+    software EGL takes a minute to compile EEVEE's shaders), so assume none unless probing is asked for,
+    by the argument or by setting TURKISH_LIPSYNC_PROBE_OPENGL=1.
+    """
+    if not bpy.app.background:
+        return True
+    if probe is None:
+        probe = os.environ.get(PROBE_ENVIRONMENT_VARIABLE, "") not in ("", "0")
+    return _probe_opengl_in_subprocess() if probe else False
+
+
+def choose_engine(requested: str, probe: bool | None = None) -> str:
+    """EEVEE, CYCLES or WORKBENCH; 'AUTO' picks EEVEE where an OpenGL context exists, Cycles otherwise."""
+    requested = requested.upper()
+    if requested == "AUTO":
+        return "EEVEE" if opengl_available(probe) else "CYCLES"
+    if requested not in ENGINES:
+        raise RenderError(f"Unknown render engine {requested!r}; use auto, EEVEE, CYCLES or WORKBENCH.")
+    return requested
+
+
+def cycles_has_denoiser() -> bool:
+    try:
+        import _cycles  # Blender's own module, present wherever Cycles is
+
+        return bool(getattr(_cycles, "with_openimagedenoise", False))
+    except ImportError:
+        return False
+
+
+def configure_engine(scene: bpy.types.Scene, engine: str, samples: int | None = None) -> None:
+    """Select the engine with settings fit for a face close-up on a CPU."""
+    scene.render.engine = compat.engine_id(engine)
+    if engine == "CYCLES":
+        cycles = scene.cycles
+        cycles.device = "CPU"
+        cycles.samples = samples or 16
+        cycles.use_adaptive_sampling = True
+        cycles.max_bounces = 4
+        denoise = cycles_has_denoiser()
+        cycles.use_denoising = denoise
+        if denoise:
+            cycles.denoiser = "OPENIMAGEDENOISE"
+    elif engine == "EEVEE":
+        scene.eevee.taa_render_samples = samples or 16
+    else:
+        shading = scene.display.shading
+        shading.light = "STUDIO"
+        shading.color_type = "MATERIAL"
+        scene.display.render_aa = "8" if samples is None or samples >= 8 else "OFF"
+
+
+# ---------------------------------------------------------------- output
+
+
+def configure_output(
+    scene: bpy.types.Scene, out_path: str | os.PathLike, resolution: tuple[int, int] | None = None
+) -> None:
+    """MP4 with H.264 video and AAC audio (H.264 needs even frame sizes)."""
+    render = scene.render
+    if resolution is not None:
+        width, height = resolution
+        render.resolution_x = max(2, int(width) // 2 * 2)
+        render.resolution_y = max(2, int(height) // 2 * 2)
+    render.resolution_percentage = 100
+    compat.set_video_output(render.image_settings)
+    ffmpeg = render.ffmpeg
+    ffmpeg.format = "MPEG4"
+    ffmpeg.codec = "H264"
+    ffmpeg.constant_rate_factor = "MEDIUM"
+    ffmpeg.ffmpeg_preset = "GOOD"
+    ffmpeg.gopsize = max(1, round(render.fps / render.fps_base))
+    ffmpeg.audio_codec = "AAC"
+    ffmpeg.audio_channels = "MONO"
+    ffmpeg.audio_mixrate = 48000
+    ffmpeg.audio_bitrate = 128
+    render.use_file_extension = False
+    render.filepath = os.fspath(Path(out_path).resolve())
+
+
+def mux_audio(video_path: Path, wav_path: Path, start_seconds: float = 0.0) -> None:
+    """Add the speech as AAC to a silent MP4 (for Blender builds without audio: the bpy module 4.2)."""
+    try:
+        import av
+    except ImportError as error:
+        raise AudioError(
+            "This Blender cannot write audio and PyAV is not installed to add it: install the 'av' package "
+            "into the Python that runs bpy, or render in a Blender with audio support."
+        ) from error
+    silent = video_path.with_name(video_path.stem + ".silent" + video_path.suffix)
+    os.replace(video_path, silent)
+    try:
+        with av.open(os.fspath(silent)) as video_in, av.open(os.fspath(wav_path)) as audio_in:
+            with av.open(os.fspath(video_path), "w", format="mp4") as out:
+                video_stream_in = video_in.streams.video[0]
+                video_stream_out = out.add_stream_from_template(video_stream_in)
+                audio_stream_in = audio_in.streams.audio[0]
+                audio_stream_out = out.add_stream("aac", rate=48000, layout="mono")
+                for packet in video_in.demux(video_stream_in):
+                    if packet.dts is None:
+                        continue
+                    packet.stream = video_stream_out
+                    out.mux(packet)
+                resampler = av.AudioResampler(format="fltp", layout="mono", rate=48000)
+                video_seconds = float(video_stream_in.duration * video_stream_in.time_base)
+                samples_left = int(round((video_seconds - start_seconds) * 48000))
+                for frame in audio_in.decode(audio_stream_in):
+                    for resampled in resampler.resample(frame):
+                        if samples_left <= 0:
+                            break
+                        if resampled.samples > samples_left:
+                            data = resampled.to_ndarray()[:, :samples_left]
+                            resampled = av.AudioFrame.from_ndarray(np.ascontiguousarray(data), "fltp", "mono")
+                            resampled.sample_rate = 48000
+                        samples_left -= resampled.samples
+                        resampled.pts = None
+                        out.mux(audio_stream_out.encode(resampled))
+                out.mux(audio_stream_out.encode(None))
+    except Exception:
+        os.replace(silent, video_path)
+        raise
+    silent.unlink()
+
+
+# ---------------------------------------------------------------- camera and lights
+
+
+def _world_vertices(obj: bpy.types.Object, coordinates: np.ndarray) -> np.ndarray:
+    matrix = np.array(obj.matrix_world, dtype=np.float64)
+    return coordinates @ matrix[:3, :3].T + matrix[:3, 3]
+
+
+def face_bounds(objects) -> tuple[np.ndarray, np.ndarray]:
+    """World-space box of the face: the vertices our viseme and emotion keys move, else the whole mesh."""
+    moving_points = []
+    all_points = []
+    for obj in objects:
+        if obj is None or obj.type != "MESH" or not len(obj.data.vertices):
+            continue
+        count = len(obj.data.vertices)
+        rest = np.empty(count * 3)
+        obj.data.vertices.foreach_get("co", rest)
+        rest = rest.reshape(-1, 3)
+        all_points.append(_world_vertices(obj, rest))
+        key = obj.data.shape_keys
+        if key is None:
+            continue
+        moved = np.zeros(count, dtype=bool)
+        shape = np.empty(count * 3)
+        for block in key.key_blocks:
+            if not block.name.startswith((VISEME_KEY_PREFIX, EMOTION_KEY_PREFIX)):
+                continue
+            block.data.foreach_get("co", shape)
+            moved |= np.abs(shape.reshape(-1, 3) - rest).max(axis=1) > 1e-6
+        if moved.any():
+            moving_points.append(_world_vertices(obj, rest[moved]))
+    points = moving_points or all_points
+    if not points:
+        raise RenderError("No head mesh to frame: choose a head object with vertices in the Lip Sync panel.")
+    stacked = np.concatenate(points)
+    return stacked.min(axis=0), stacked.max(axis=0)
+
+
+def _look_at(obj: bpy.types.Object, target: Vector) -> None:
+    obj.rotation_euler = (target - obj.location).to_track_quat("-Z", "Y").to_euler()
+
+
+def _link(scene: bpy.types.Scene, obj: bpy.types.Object) -> None:
+    if obj.name not in scene.collection.objects:
+        scene.collection.objects.link(obj)
+
+
+def _ensure_object(scene: bpy.types.Scene, name: str, data) -> bpy.types.Object:
+    obj = bpy.data.objects.get(name)
+    if obj is None:
+        obj = bpy.data.objects.new(name, data)
+    _link(scene, obj)
+    return obj
+
+
+def frame_face(scene: bpy.types.Scene, head_objects) -> dict[str, bool]:
+    """Add a camera and three-point lights on the face where the scene has none; re-aim ours.
+
+    The user's own camera and lights are never moved. Returns which were added or re-aimed.
+    """
+    low, high = face_bounds(head_objects)
+    size = high - low
+    low = low - size * (FACE_MARGIN - 1) / 2 * np.array([1.0, 0.0, 1.0])
+    high = high + size * (FACE_MARGIN - 1) / 2 * np.array([1.0, 0.0, 1.0])
+    # Faces look along -Y: centre a little above the mouth so eyes and brows are in.
+    centre = Vector(((low + high) / 2).tolist())
+    width, depth, height = (high - low).tolist()
+    aspect = (
+        scene.render.resolution_x
+        * scene.render.pixel_aspect_x
+        / max(1.0, scene.render.resolution_y * scene.render.pixel_aspect_y)
+    )
+    sensor = 36.0
+    half_wide = math.atan(sensor / 2 / CAMERA_LENS_MM)  # across the longer side of the frame
+    half_horizontal = half_wide if aspect >= 1 else math.atan(math.tan(half_wide) * aspect)
+    half_vertical = math.atan(math.tan(half_wide) / aspect) if aspect >= 1 else half_wide
+    distance = max(width / 2 / math.tan(half_horizontal), height / 2 / math.tan(half_vertical)) + depth / 2
+    distance = max(distance, 1e-3)
+    done = {"camera": False, "lights": False}
+
+    camera = scene.camera
+    if camera is None or camera.name == CAMERA_NAME:
+        camera_data = bpy.data.cameras.get(CAMERA_NAME) or bpy.data.cameras.new(CAMERA_NAME)
+        camera = _ensure_object(scene, CAMERA_NAME, camera_data)
+        camera.data.lens = CAMERA_LENS_MM
+        camera.data.sensor_width = sensor
+        camera.data.sensor_fit = "AUTO"
+        camera.data.clip_start = distance / 100
+        camera.data.clip_end = distance * 100
+        camera.location = centre + Vector((0.0, -distance, 0.0))
+        _look_at(camera, centre)
+        scene.camera = camera
+        done["camera"] = True
+
+    has_user_lights = any(o.type == "LIGHT" and o.name not in LIGHT_NAMES for o in scene.objects)
+    if not has_user_lights:
+        # (name, direction from the face, power relative to the key light)
+        placement = (
+            (LIGHT_NAMES[0], Vector((-0.7, -1.0, 0.6)), 1.0),
+            (LIGHT_NAMES[1], Vector((0.9, -0.8, 0.1)), 0.35),
+            (LIGHT_NAMES[2], Vector((0.4, 1.0, 0.8)), 0.8),
+        )
+        for name, direction, power in placement:
+            light_data = bpy.data.lights.get(name) or bpy.data.lights.new(name, type="AREA")
+            light_data.size = max(width, height) * 1.2
+            # Area light power falls with the square of the distance: scale it with the framing.
+            light_data.energy = 150.0 * power * distance**2
+            light = _ensure_object(scene, name, light_data)
+            light.location = centre + direction.normalized() * distance * 1.1
+            _look_at(light, centre)
+        done["lights"] = True
+
+    if scene.world is None:
+        world = bpy.data.worlds.get(WORLD_NAME) or bpy.data.worlds.new(WORLD_NAME)
+        world.color = (0.05, 0.05, 0.06)
+        scene.world = world
+    return done

@@ -1,0 +1,430 @@
+"""Building the TR_* shape keys on a head from the best basis it has.
+
+Everything is computed first (numpy), then written with foreach_set, so a failure leaves the head as
+it was; only the keys this module owns are replaced, so the user's keys, values and animation survive.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import bpy
+import numpy as np
+
+from ..core.errors import HeadError
+from ..core.faces.arkit_names import ARKIT_UNITS, has_arkit_basis, match_arkit_keys
+from ..core.faces.recipes import VISEME_NAMES, key_deltas, load_recipes
+from ..core.faces.reference import ReferenceHead, load_reference_head
+from ..core.model import EMOTIONS, emotion_key_name, viseme_key_name
+from .heads import find_head_parts, reference_part_of
+
+SOURCES = ("auto", "arkit", "reference", "transfer", "obj_folder")
+OWNED_KEY_PREFIX = "TR_"
+# Mesh property listing the ARKit-named keys this module wrote (so a rebuild never touches the user's own).
+BUILT_ARKIT_PROPERTY = "tr_built_arkit_keys"
+_MATCH_GRID = 1e-4  # metres: vertices this close to a reference vertex are that vertex
+
+
+@dataclass(frozen=True)
+class BuildReport:
+    """What a build did: shown to the user and checked in tests."""
+
+    head: str
+    source: str  # "arkit", "reference", "transfer" or "obj_folder"
+    keys: tuple[str, ...]  # key names written on the head
+    objects: tuple[str, ...]  # every object that received the keys (head first)
+    missing_units: tuple[str, ...] = ()  # ARKit units the basis lacked (treated as zero)
+    notes: tuple[str, ...] = ()
+
+
+# ---------------------------------------------------------------- reading meshes
+
+
+def _basis_coordinates(obj: bpy.types.Object) -> np.ndarray:
+    """(N, 3) local coordinates of the shape the keys are relative to (the reference key, else the mesh)."""
+    mesh = obj.data
+    flat = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
+    if mesh.shape_keys is not None:
+        mesh.shape_keys.reference_key.data.foreach_get("co", flat)
+    else:
+        mesh.vertices.foreach_get("co", flat)
+    return flat.reshape(-1, 3).astype(np.float64)
+
+
+def _triangles(obj: bpy.types.Object) -> np.ndarray:
+    mesh = obj.data
+    mesh.calc_loop_triangles()
+    flat = np.empty(len(mesh.loop_triangles) * 3, dtype=np.int32)
+    mesh.loop_triangles.foreach_get("vertices", flat)
+    return flat.reshape(-1, 3)
+
+
+def _world_matrix(obj: bpy.types.Object) -> np.ndarray:
+    return np.array(obj.matrix_world, dtype=np.float64)
+
+
+def _to_world(obj: bpy.types.Object, local: np.ndarray) -> np.ndarray:
+    matrix = _world_matrix(obj)
+    return local @ matrix[:3, :3].T + matrix[:3, 3]
+
+
+def _world_deltas_to_local(obj: bpy.types.Object, deltas: np.ndarray) -> np.ndarray:
+    linear = _world_matrix(obj)[:3, :3]
+    if abs(np.linalg.det(linear)) < 1e-12:
+        raise HeadError(f"Object {obj.name!r} has a zero scale; apply or fix its scale, then build again.")
+    return (deltas.astype(np.float64) @ np.linalg.inv(linear).T).astype(np.float32)
+
+
+# ---------------------------------------------------------------- the ARKit basis, by source
+
+
+def own_arkit_units(obj: bpy.types.Object) -> dict[str, np.ndarray]:
+    """The object's own ARKit-named keys as (N, 3) local deltas against each key's relative key."""
+    shape_keys = obj.data.shape_keys
+    if shape_keys is None:
+        return {}
+    blocks = [block for block in shape_keys.key_blocks if block != shape_keys.reference_key]
+    built = set(obj.data.get(BUILT_ARKIT_PROPERTY, ()))
+    names = [
+        block.name
+        for block in blocks
+        if not block.name.startswith(OWNED_KEY_PREFIX) and block.name not in built
+    ]
+    count = len(obj.data.vertices)
+    units: dict[str, np.ndarray] = {}
+    for unit, key_name in match_arkit_keys(names).items():
+        block = shape_keys.key_blocks[key_name]
+        shape = np.empty(count * 3, dtype=np.float32)
+        relative = np.empty(count * 3, dtype=np.float32)
+        block.data.foreach_get("co", shape)
+        block.relative_key.data.foreach_get("co", relative)
+        units[unit] = (shape - relative).reshape(-1, 3)
+    return units
+
+
+def _reference_units_by_part(obj: bpy.types.Object, reference: ReferenceHead) -> dict[str, np.ndarray] | None:
+    """Units of an object made by create_reference_head (its mesh is the part, in the same vertex order)."""
+    part = reference_part_of(obj, reference)
+    if part is None:
+        return None
+    indices = reference.parts[part]
+    return {unit: deltas[indices] for unit, deltas in reference.units.items()}
+
+
+def _reference_units_by_position(
+    obj: bpy.types.Object, reference: ReferenceHead
+) -> dict[str, np.ndarray] | None:
+    """Units of a mesh cut from MakeHuman's base mesh (the whole body, or a crop) where it was imported.
+
+    Vertices that coincide with reference vertices (in metres, decimetres or centimetres) take their deltas.
+    """
+    world = _to_world(obj, _basis_coordinates(obj))
+    reference_keys = _grid_keys(reference.vertices)
+    order = np.argsort(reference_keys)
+    sorted_keys = reference_keys[order]
+    for metres_per_unit in (1.0, 0.1, 0.01):
+        keys = _grid_keys(world * metres_per_unit)
+        position = np.clip(np.searchsorted(sorted_keys, keys), 0, len(sorted_keys) - 1)
+        found = sorted_keys[position] == keys
+        if found.sum() < 0.9 * min(len(world), len(reference.parts["skin"])):
+            continue
+        matched = np.full(len(world), -1, dtype=np.int64)
+        matched[found] = order[position[found]]
+        units = {}
+        for unit, deltas in reference.units.items():
+            world_deltas = np.zeros((len(world), 3), dtype=np.float64)
+            world_deltas[found] = deltas[matched[found]] / metres_per_unit
+            units[unit] = _world_deltas_to_local(obj, world_deltas)
+        return units
+    return None
+
+
+def _grid_keys(points: np.ndarray) -> np.ndarray:
+    # A quarter-cell offset keeps coordinates written with few decimals off the rounding boundaries.
+    cells = np.round(np.asarray(points, dtype=np.float64) / _MATCH_GRID + 0.25).astype(np.int64) + (1 << 20)
+    return (cells[:, 0] << 42) | (cells[:, 1] << 21) | cells[:, 2]
+
+
+def reference_units(obj: bpy.types.Object, reference: ReferenceHead) -> dict[str, np.ndarray] | None:
+    return _reference_units_by_part(obj, reference) or _reference_units_by_position(obj, reference)
+
+
+def _transfer_units(
+    head: bpy.types.Object, parts: list[bpy.types.Object], reference: ReferenceHead
+) -> dict[str, dict[str, np.ndarray]]:
+    """The transfer helper's landmark registration, run in world space over the head and its parts."""
+    try:
+        from ..core.faces import landmarks as landmark_finder
+        from ..core.faces import transfer
+    except ImportError as error:
+        raise HeadError(
+            f"{head.name!r} has no ARKit shape keys and the transfer from the reference head is not available "
+            f"({error}); give the head ARKit-named keys or build from a folder of viseme OBJ files."
+        ) from error
+    if not hasattr(transfer, "transfer_units"):
+        raise HeadError(f"{head.name!r} has no ARKit shape keys and the transfer is not available in this build.")
+    objects = [head, *parts]
+    local = [_basis_coordinates(obj) for obj in objects]
+    world = [_to_world(obj, coordinates) for obj, coordinates in zip(objects, local, strict=True)]
+    offsets = np.cumsum([0] + [len(points) for points in world])
+    all_vertices = np.concatenate(world)
+    all_triangles = np.concatenate(
+        [_triangles(obj) + offset for obj, offset in zip(objects, offsets, strict=False)]
+    )
+    head_triangles = _triangles(head)
+    if len(head_triangles) == 0:
+        raise HeadError(f"{head.name!r} has no faces; a head needs a surface to build shape keys on.")
+
+    landmarks = None
+    try:
+        from .landmarks import read_landmark_markers
+
+        markers = read_landmark_markers(head)
+        if markers:
+            landmarks = {
+                name: _to_world(head, np.asarray(p, np.float64)[None])[0] for name, p in markers.items()
+            }
+    except ImportError:
+        pass
+    if landmarks is None:
+        landmarks = landmark_finder.find_landmarks(world[0], head_triangles)
+    target_parts = None
+    if hasattr(transfer, "find_parts"):
+        target_parts = transfer.find_parts(all_vertices, all_triangles, landmarks)
+    elif hasattr(landmark_finder, "find_parts"):
+        target_parts = landmark_finder.find_parts(all_vertices, all_triangles, landmarks)
+    deltas = transfer.transfer_units(
+        reference, all_vertices, all_triangles, landmarks, target_parts=target_parts
+    )
+    result: dict[str, dict[str, np.ndarray]] = {}
+    for index, obj in enumerate(objects):
+        start, stop = offsets[index], offsets[index + 1]
+        result[obj.name] = {unit: _world_deltas_to_local(obj, d[start:stop]) for unit, d in deltas.items()}
+    return result
+
+
+# ---------------------------------------------------------------- the thesis path: a folder of OBJ models
+
+
+def _read_obj_vertices(path: Path) -> np.ndarray:
+    """Vertices of an OBJ file in Blender axes (what Blender's OBJ importer gives by default)."""
+    with open(path, encoding="utf-8", errors="replace") as handle:
+        rows = [line[2:].split()[:3] for line in handle if line.startswith("v ")]
+    try:
+        points = np.array(rows, dtype=np.float64).reshape(-1, 3)
+    except ValueError as error:
+        raise HeadError(
+            f"{path}: unreadable vertex line ({error}); export the model again as OBJ."
+        ) from error
+    return np.stack([points[:, 0], -points[:, 2], points[:, 1]], axis=1)
+
+
+def obj_folder_keys(head: bpy.types.Object, folder: str | Path) -> dict[str, np.ndarray]:
+    """TR_viseme_* deltas (and TR_emotion_* where <emotion>.obj exists) from homeomorphic OBJ models."""
+    folder = Path(folder)
+    if not folder.is_dir():
+        raise HeadError(
+            f"OBJ folder not found: {folder}. Choose the folder holding a.obj, bpa.obj, ..., Neutral.obj."
+        )
+    files = {path.stem.lower(): path for path in folder.glob("*.obj")}
+    files.update({path.stem: path for path in folder.glob("*.obj")})
+    if "neutral" not in files:
+        raise HeadError(f"{folder} has no Neutral.obj; the visemes are measured against the neutral model.")
+    neutral = _read_obj_vertices(files["neutral"])
+    basis = _basis_coordinates(head)
+    if len(neutral) != len(basis):
+        raise HeadError(
+            f"{files['neutral']} has {len(neutral)} vertices but {head.name!r} has {len(basis)}; "
+            "the models must be homeomorphic to the head (same vertices in the same order)."
+        )
+    scale = float(np.ptp(basis, axis=0).sum() / max(np.ptp(neutral, axis=0).sum(), 1e-12))
+    missing = [name for name in VISEME_NAMES if name != "neutral" and name not in files]
+    if missing:
+        raise HeadError(f"{folder} lacks the viseme models {', '.join(m + '.obj' for m in missing)}.")
+    keys: dict[str, np.ndarray] = {viseme_key_name("neutral"): np.zeros_like(basis, dtype=np.float32)}
+    for name in [*VISEME_NAMES, *EMOTIONS]:
+        if name == "neutral" or name not in files:
+            continue
+        shape = _read_obj_vertices(files[name])
+        if len(shape) != len(neutral):
+            raise HeadError(
+                f"{files[name]} has {len(shape)} vertices, Neutral.obj {len(neutral)}; they must match."
+            )
+        key_name = viseme_key_name(name) if name in VISEME_NAMES else emotion_key_name(name)
+        keys[key_name] = ((shape - neutral) * scale).astype(np.float32)
+    return keys
+
+
+# ---------------------------------------------------------------- building
+
+
+def _unit_sets(
+    head: bpy.types.Object, parts: list[bpy.types.Object], source: str, reference: ReferenceHead
+) -> tuple[str, dict[str, dict[str, np.ndarray]]]:
+    """(source used, object name -> ARKit unit deltas) for the head and its parts."""
+    objects = [head, *parts]
+    own = {obj.name: own_arkit_units(obj) for obj in objects}
+    if source in ("auto", "arkit") and has_arkit_basis(match_arkit_keys(list(own[head.name]))):
+        units = dict(own)
+        for part in parts:  # a part without keys of its own may still be a piece of the reference
+            if not units[part.name]:
+                units[part.name] = reference_units(part, reference) or {}
+        return "arkit", units
+    if source == "arkit":
+        found = ", ".join(sorted(own[head.name])) or "none"
+        raise HeadError(
+            f"{head.name!r} lacks ARKit shape keys (found: {found}); it needs at least jawOpen, mouthClose, "
+            "mouthFunnel, mouthPucker and 20 units. Use source 'auto' to transfer them from the reference head."
+        )
+    if source in ("auto", "reference"):
+        head_units = reference_units(head, reference)
+        if head_units is not None:
+            units = {head.name: head_units}
+            for part in parts:
+                units[part.name] = reference_units(part, reference) or own[part.name]
+            return "reference", units
+        if source == "reference":
+            raise HeadError(f"{head.name!r} is not the reference head (or a piece of MakeHuman's base mesh).")
+    return "transfer", _transfer_units(head, parts, reference)
+
+
+def _validate_head(head: bpy.types.Object) -> None:
+    if head is None or head.type != "MESH":
+        raise HeadError("Select a mesh object as the head; shape keys can only be built on meshes.")
+    if len(head.data.polygons) == 0:
+        raise HeadError(f"{head.name!r} has no faces; a head needs a surface to build shape keys on.")
+    if head.data.is_editmode or head.mode == "EDIT":
+        raise HeadError(f"{head.name!r} is in Edit Mode; switch to Object Mode and build again.")
+
+
+def build_shape_keys(
+    head: bpy.types.Object,
+    *,
+    parts: list[bpy.types.Object] | None = None,
+    source: str = "auto",
+    obj_folder: str | Path | None = None,
+    empowered: bool = False,
+    rho: float = 3.0,
+    arkit_keys: bool = False,
+) -> BuildReport:
+    """Write TR_viseme_* (37), TR_emotion_* (6 + 6 mouth releases), blinks and brow raise on head and parts.
+
+    source: "auto" (own ARKit keys, else the reference head's units when the mesh is a piece of it, else a
+    transfer), "arkit", "reference", "transfer", or "obj_folder" (the thesis's homeomorphic OBJ models).
+    empowered stores emotions as rho * (E - N) (thesis eq. 5.2). arkit_keys also writes the 52 units
+    under Apple's names where the object has no such keys of its own.
+    """
+    _validate_head(head)
+    if source not in SOURCES:
+        raise HeadError(f"Unknown shape-key source {source!r}; use one of {', '.join(SOURCES)}.")
+    if source == "obj_folder" and obj_folder is None:
+        raise HeadError(
+            "The OBJ-folder source needs a folder of viseme models (a.obj, bpa.obj, ..., Neutral.obj)."
+        )
+    if parts is None:
+        parts = find_head_parts(head)
+    parts = [part for part in parts if part is not head and part.type == "MESH" and len(part.data.vertices)]
+    reference = load_reference_head()
+    recipes = load_recipes()
+    notes: list[str] = []
+
+    # 1. Compute every array first: nothing is written until all of them exist.
+    planned: dict[str, dict[str, np.ndarray]] = {}
+    if source == "obj_folder" or (source == "auto" and obj_folder is not None):
+        obj_keys = obj_folder_keys(head, obj_folder)
+        used_source = "obj_folder"
+        try:
+            _, unit_sets = _unit_sets(head, parts, "auto", reference)
+        except HeadError as error:
+            unit_sets = {}
+            notes.append(f"no ARKit basis for emotions and blinks: {error}")
+        for obj in [head, *parts]:
+            units = unit_sets.get(obj.name, {})
+            count = len(obj.data.vertices)
+            planned[obj.name] = (
+                key_deltas(units, count, recipes=recipes, empowered=empowered, rho=rho) if units else {}
+            )
+            if not units and obj is not head:
+                planned[obj.name] = {}
+        derived = planned[head.name]
+        for key_name, deltas in obj_keys.items():
+            derived[key_name] = deltas * (
+                np.float32(rho) if empowered and key_name.startswith("TR_emotion_") else 1
+            )
+        planned[head.name] = derived
+        for part in parts:  # the models move the head only; parts keep the visemes' names at rest
+            for key_name in obj_keys:
+                planned[part.name].setdefault(key_name, np.zeros((len(part.data.vertices), 3), np.float32))
+    else:
+        used_source, unit_sets = _unit_sets(head, parts, source, reference)
+        for obj in [head, *parts]:
+            units = unit_sets.get(obj.name, {})
+            planned[obj.name] = key_deltas(
+                units, len(obj.data.vertices), recipes=recipes, empowered=empowered, rho=rho
+            )
+        if arkit_keys:
+            for obj in [head, *parts]:
+                own_names = set(own_arkit_units(obj))
+                units = unit_sets.get(obj.name, {})
+                for unit in ARKIT_UNITS:
+                    if unit not in own_names:
+                        deltas = units.get(unit)
+                        planned[obj.name][unit] = (
+                            deltas
+                            if deltas is not None
+                            else np.zeros((len(obj.data.vertices), 3), np.float32)
+                        )
+    missing = tuple(
+        unit
+        for unit in ARKIT_UNITS
+        if used_source != "obj_folder" and unit not in unit_sets.get(head.name, {})
+    )
+    for obj in [head, *parts]:
+        for key_name, deltas in planned[obj.name].items():
+            if deltas.shape != (len(obj.data.vertices), 3) or not np.isfinite(deltas).all():
+                raise HeadError(f"Key {key_name} for {obj.name!r} came out malformed; nothing was changed.")
+
+    # 2. Write.
+    for obj in [head, *parts]:
+        _write_keys(obj, planned[obj.name], arkit_keys=arkit_keys)
+    return BuildReport(
+        head=head.name,
+        source=used_source,
+        keys=tuple(planned[head.name]),
+        objects=tuple(obj.name for obj in [head, *parts]),
+        missing_units=missing,
+        notes=tuple(notes),
+    )
+
+
+def _write_keys(obj: bpy.types.Object, deltas_by_key: dict[str, np.ndarray], *, arkit_keys: bool) -> None:
+    """Replace this module's keys on obj; keep every other key, its value, drivers and animation."""
+    mesh = obj.data
+    previously_built = set(mesh.get(BUILT_ARKIT_PROPERTY, ()))
+    if mesh.shape_keys is None:
+        obj.shape_key_add(name="Basis", from_mix=False)
+    shape_keys = mesh.shape_keys
+    blocks = shape_keys.key_blocks
+    # Drop our own keys that this build does not write (e.g. ARKit keys no longer asked for).
+    for block in list(blocks):
+        ours = block.name.startswith(OWNED_KEY_PREFIX) or block.name in previously_built
+        if ours and block.name not in deltas_by_key and block != shape_keys.reference_key:
+            obj.shape_key_remove(block)
+    basis = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
+    shape_keys.reference_key.data.foreach_get("co", basis)
+    for key_name, deltas in deltas_by_key.items():
+        block = blocks.get(key_name)
+        if block is None:
+            block = obj.shape_key_add(name=key_name, from_mix=False)
+        block.relative_key = shape_keys.reference_key
+        block.data.foreach_set("co", basis + deltas.astype(np.float32).ravel())
+    built_arkit = sorted(name for name in deltas_by_key if not name.startswith(OWNED_KEY_PREFIX))
+    mesh[BUILT_ARKIT_PROPERTY] = built_arkit if arkit_keys else []
+    mesh.update()
+
+
+def owned_key(name: str) -> bool:
+    """True for keys a build writes (TR_*), which a rebuild may replace."""
+    return bool(re.match(OWNED_KEY_PREFIX, name))

@@ -1,0 +1,142 @@
+"""Turkish UI: Blender shows these when its interface language is Turkish (tr_TR)."""
+
+from __future__ import annotations
+
+import bpy
+
+LOCALE = "tr_TR"
+
+# English UI text -> Turkish. Labels, headings, enum items, tooltips of properties and operators.
+TURKISH = {
+    # panel and headings
+    "Turkish Lip Sync": "Türkçe Dudak Senkronu",
+    "Lip Sync": "Dudak Senkronu",
+    "Head": "Kafa",
+    "Speech": "Konuşma",
+    "Render": "Görüntü Oluşturma",
+    # operators
+    "Build Shape Keys": "Şekil Anahtarlarını Oluştur",
+    "Generate Animation": "Animasyonu Üret",
+    "Render Video": "Videoyu Oluştur",
+    "Build the Turkish viseme and emotion shape keys on the head (the reference head when none is chosen)": (
+        "Kafaya Türkçe vizem ve duygu şekil anahtarlarını kurar (kafa seçilmemişse referans kafayı ekler)"
+    ),
+    "Speak the text: key the head's mouth shapes and emotions, and put the speech in the sequencer": (
+        "Metni seslendirir: ağız şekillerini ve duyguları anahtarlar, konuşmayı kurgu düzenleyicisine koyar"
+    ),
+    "Render the frame range to an MP4 with the speech, adding a camera and lights on the face if missing": (
+        "Sahnenin kare aralığını konuşmayla birlikte MP4 olarak oluşturur; eksikse yüze kamera ve ışık ekler"
+    ),
+    # poll messages
+    "Switch to Object Mode first": "Önce Nesne Kipine geçin",
+    "Choose the head object in the Lip Sync panel": "Dudak Senkronu panelinde kafa nesnesini seçin",
+    "The head has no lip-sync shape keys yet: build them first": (
+        "Kafada henüz dudak senkronu şekil anahtarı yok: önce onları oluşturun"
+    ),
+    "Choose the Text to speak in the Lip Sync panel": "Dudak Senkronu panelinde seslendirilecek metni seçin",
+    "Choose the JSML file to speak in the Lip Sync panel": (
+        "Dudak Senkronu panelinde seslendirilecek JSML dosyasını seçin"
+    ),
+    "Choose the video file to write in the Lip Sync panel": (
+        "Dudak Senkronu panelinde yazılacak video dosyasını seçin"
+    ),
+    "Choose the head (to frame a camera on it) or add a camera": (
+        "Kafayı seçin (kamera ona göre yerleştirilir) ya da bir kamera ekleyin"
+    ),
+    # properties
+    "The head mesh that speaks; its teeth, tongue and eyes follow it": (
+        "Konuşan kafa ağı; dişleri, dili ve gözleri onu izler"
+    ),
+    "Source": "Kaynak",
+    "Where the Turkish text (plain or JSML markup) comes from": "Türkçe metnin (düz ya da JSML) kaynağı",
+    "Text": "Metin",
+    "A Text datablock of this file (Text Editor)": "Bu dosyadaki bir metin bloğu (Metin Düzenleyici)",
+    "File": "Dosya",
+    "A JSML or plain-text file on disk": "Diskte bir JSML ya da düz metin dosyası",
+    "Turkish text, plain or JSML markup": "Türkçe metin, düz ya da JSML işaretlemeli",
+    "A UTF-8 file with Turkish text, plain or JSML markup": "Türkçe metin içeren UTF-8 dosya, düz ya da JSML",
+    "Timing": "Zamanlama",
+    "How the mouth shapes are timed against the speech": "Ağız şekillerinin konuşmaya göre zamanlanması",
+    "Phone": "Ses",
+    "Key every phone where the speech engine speaks it (most accurate)": (
+        "Her sesi, konuşma motorunun onu söylediği anda anahtarlar (en doğru)"
+    ),
+    "Word": "Sözcük",
+    "The thesis's method: word starts from the engine, letters by mean durations": (
+        "Tezin yöntemi: sözcük başlangıçları motordan, harfler ortalama sürelerle"
+    ),
+    "Table": "Tablo",
+    "Mean letter durations only (thesis Table 5.4), no speech engine, no audio": (
+        "Yalnızca ortalama harf süreleri (tez Tablo 5.4); konuşma motoru ve ses yok"
+    ),
+    "Speaking Rate": "Konuşma Hızı",
+    "Multiplier of the speaking rate (1 is the engine's normal speed)": (
+        "Konuşma hızı çarpanı (1, motorun normal hızıdır)"
+    ),
+    "Emotion Strength": "Duygu Şiddeti",
+    "How strongly the emotions of the markup show on the face": (
+        "İşaretlemedeki duyguların yüzde ne kadar güçlü görüneceği"
+    ),
+    "Motion": "Hareket",
+    "How the weights move between mouth shapes": "Ağırlıkların ağız şekilleri arasında nasıl geçtiği",
+    "Natural": "Doğal",
+    "Co-articulation, blinks and brow movement": "Eşsesletim, göz kırpma ve kaş hareketi",
+    "Thesis": "Tez",
+    "The thesis's weighted morphing from letter to letter (eq. 5.3, 5.4)": (
+        "Tezin harften harfe ağırlıklı biçim dönüşümü (denklem 5.3, 5.4)"
+    ),
+    "Interpolation": "Ara Değerleme",
+    "Interpolation of the shape-key keyframes": "Şekil anahtarı karelerinin ara değerlemesi",
+    "Automatic": "Otomatik",
+    "What the motion model asks for": "Hareket modelinin istediği",
+    "Linear": "Doğrusal",
+    "Straight lines between keys": "Anahtarlar arasında düz çizgiler",
+    "Bézier": "Bézier",
+    "Smooth curves between keys": "Anahtarlar arasında yumuşak eğriler",
+    "Constant": "Sabit",
+    "Hold each key until the next (stepped)": "Her anahtarı bir sonrakine kadar tutar (basamaklı)",
+    "Keep ARKit Keys": "ARKit Anahtarlarını Tut",
+    "Also keep the 52 ARKit face-unit shape keys the mouth shapes are built from": (
+        "Ağız şekillerinin kurulduğu 52 ARKit yüz birimi şekil anahtarını da tutar"
+    ),
+    "Audio Folder": "Ses Klasörü",
+    "Where the speech WAV is saved (empty: a folder next to the saved .blend file)": (
+        "Konuşma WAV dosyasının kaydedileceği yer (boş: kayıtlı .blend dosyasının yanındaki bir klasör)"
+    ),
+    "Render Engine": "Oluşturma Motoru",
+    "The engine that renders the video": "Videoyu oluşturan motor",
+    "EEVEE where OpenGL is available, Cycles otherwise": "OpenGL varsa EEVEE, yoksa Cycles",
+    "Fast, needs OpenGL": "Hızlı, OpenGL gerektirir",
+    "Path tracing on the CPU, works everywhere": "İşlemcide ışın izleme, her yerde çalışır",
+    "Solid shading preview, needs OpenGL": "Düz gölgeli önizleme, OpenGL gerektirir",
+    "Samples": "Örnek Sayısı",
+    "Render samples per pixel (EEVEE and Cycles)": "Piksel başına örnek sayısı (EEVEE ve Cycles)",
+    "Video": "Video",
+    "The MP4 file to write (H.264 video with AAC audio)": "Yazılacak MP4 dosyası (H.264 görüntü, AAC ses)",
+    # preferences
+    "eSpeak NG Library": "eSpeak NG Kitaplığı",
+    "A libespeak-ng to use instead of the bundled one (empty: bundled, then the system's)": (
+        "Paketle gelen yerine kullanılacak libespeak-ng kitaplığı (boş: paketteki, sonra sistemdeki)"
+    ),
+    "eSpeak NG Data": "eSpeak NG Verisi",
+    "The espeak-ng-data folder that belongs to that library (empty: the library's own)": (
+        "O kitaplığa ait espeak-ng-data klasörü (boş: kitaplığın kendi verisi)"
+    ),
+}
+
+# Operator labels are looked up in the "Operator" context, everything else in the default one.
+_CONTEXTS = ("*", "Operator")
+
+
+def translation_table() -> dict[str, dict[tuple[str, str], str]]:
+    return {
+        LOCALE: {(context, english): turkish for english, turkish in TURKISH.items() for context in _CONTEXTS}
+    }
+
+
+def register() -> None:
+    bpy.app.translations.register(__package__, translation_table())
+
+
+def unregister() -> None:
+    bpy.app.translations.unregister(__package__)

@@ -1,0 +1,1 @@
+"""Faces without Blender: the reference head, the ARKit unit names, and the viseme/emotion recipes."""

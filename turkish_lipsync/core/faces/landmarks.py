@@ -1,0 +1,488 @@
+"""Face landmarks found from the geometry of a head that looks toward -Y with Z up.
+
+Users import heads of every scale, topology and origin, often without named parts, so the landmarks that
+register the reference head onto theirs are found from the shape alone: the head is cut from the body at
+the neck, a front-view depth map is rasterised, the midline profile below the nose gives the lips and the
+chin, the groove between the lips runs sideways to the mouth corners, and the eyes are the recesses
+beside the nose with the brows above them. Left means the character's left, which is +X.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import HeadError
+
+LANDMARK_NAMES: tuple[str, ...] = (
+    "nose_tip",
+    "upper_lip",
+    "lower_lip",
+    "upper_lip_inner",
+    "lower_lip_inner",
+    "mouth_corner_left",
+    "mouth_corner_right",
+    "chin",
+    "eye_outer_left",
+    "eye_inner_left",
+    "eye_outer_right",
+    "eye_inner_right",
+    "brow_left",
+    "brow_right",
+)
+
+# Depth-map pixels across the head's height: about 1 mm on a real head, enough for lips and eye corners.
+DEPTH_MAP_ROWS = 320
+
+
+# ---------------------------------------------------------------- mesh topology
+
+
+def triangulate(polygons) -> np.ndarray:
+    """(T, 3) vertex indices from triangles, quads, n-gons (fan split) or an (F, k) array."""
+    if isinstance(polygons, np.ndarray) and polygons.ndim == 2:
+        polygons = polygons.astype(np.int64, copy=False)
+        if polygons.shape[1] == 3:
+            return polygons
+        corners = polygons.shape[1]
+        fans = [polygons[:, [0, i, i + 1]] for i in range(1, corners - 1)]
+        return np.concatenate(fans) if fans else np.empty((0, 3), np.int64)
+    totals = np.fromiter((len(p) for p in polygons), dtype=np.int64, count=len(polygons))
+    if totals.size == 0:
+        return np.empty((0, 3), np.int64)
+    loop_vertices = np.fromiter((i for p in polygons for i in p), dtype=np.int64, count=int(totals.sum()))
+    starts = np.concatenate(([0], np.cumsum(totals)[:-1]))
+    return triangulate_loops(loop_vertices, starts, totals)
+
+
+def triangulate_loops(
+    loop_vertices: np.ndarray, loop_starts: np.ndarray, loop_totals: np.ndarray
+) -> np.ndarray:
+    """Fan triangles from Blender-style polygon loops (the arrays `foreach_get` gives)."""
+    loop_vertices = np.asarray(loop_vertices, np.int64)
+    loop_starts = np.asarray(loop_starts, np.int64)
+    loop_totals = np.asarray(loop_totals, np.int64)
+    fan_counts = np.clip(loop_totals - 2, 0, None)
+    polygon_of_fan = np.repeat(np.arange(loop_starts.size), fan_counts)
+    fan_offsets = np.arange(polygon_of_fan.size) - np.repeat(np.cumsum(fan_counts) - fan_counts, fan_counts)
+    first = loop_starts[polygon_of_fan]
+    return np.stack(
+        (
+            loop_vertices[first],
+            loop_vertices[first + fan_offsets + 1],
+            loop_vertices[first + fan_offsets + 2],
+        ),
+        axis=1,
+    )
+
+
+def connected_pieces(vertex_count: int, triangles: np.ndarray) -> np.ndarray:
+    """A label per vertex; vertices share a label when edges connect them (isolated vertices stand alone)."""
+    labels = np.arange(vertex_count)
+    if triangles.size == 0:
+        return labels
+    a = np.concatenate((triangles[:, 0], triangles[:, 1], triangles[:, 2]))
+    b = np.concatenate((triangles[:, 1], triangles[:, 2], triangles[:, 0]))
+    while True:
+        low = np.minimum(labels[a], labels[b])
+        new = labels.copy()
+        np.minimum.at(new, a, low)
+        np.minimum.at(new, b, low)
+        new = new[new]  # pointer jumping: labels converge in a few rounds, not one per edge hop
+        new = new[new]
+        if np.array_equal(new, labels):
+            return labels
+        labels = new
+
+
+def largest_piece(vertex_count: int, triangles: np.ndarray, among: np.ndarray | None = None) -> np.ndarray:
+    """Vertex indices of the biggest connected piece (by vertex count), optionally among some vertices."""
+    labels = connected_pieces(vertex_count, triangles)
+    used = np.zeros(vertex_count, bool)
+    used[triangles.ravel()] = True
+    if among is not None:
+        keep = np.zeros(vertex_count, bool)
+        keep[among] = True
+        used &= keep
+    if not used.any():
+        raise HeadError("The mesh has no faces: a head needs polygons to find a face on. Import a mesh head.")
+    counts = np.bincount(labels[used], minlength=vertex_count)
+    return np.flatnonzero(used & (labels == np.argmax(counts)))
+
+
+# ---------------------------------------------------------------- the head on a body
+
+
+def find_head_region(vertices: np.ndarray, polygons) -> np.ndarray:
+    """Indices of the vertices above the neck; every vertex when the mesh has no shoulders (a head alone).
+
+    The neck is the narrowest slice between the widest part of the head and the shoulders, which are
+    found walking down from the top as the first slice much wider than the head.
+    """
+    vertices = np.asarray(vertices, np.float64)
+    triangles = triangulate(polygons)
+    body = largest_piece(len(vertices), triangles)
+    z = vertices[body, 2]
+    x = vertices[body, 0]
+    top, bottom = z.max(), z.min()
+    height = top - bottom
+    if height <= 0:
+        raise HeadError("The mesh is flat (no height along Z): a head must stand upright, Z up, facing -Y.")
+    slice_count = 200
+    slice_of = np.clip(((top - z) / height * slice_count).astype(int), 0, slice_count - 1)
+    low = np.full(slice_count, np.inf)
+    high = np.full(slice_count, -np.inf)
+    np.minimum.at(low, slice_of, x)
+    np.maximum.at(high, slice_of, x)
+    width = high - low
+    width[~np.isfinite(width)] = np.nan
+    widest, narrowest, neck_slice = 0.0, np.inf, -1
+    for index, value in enumerate(width):
+        if np.isnan(value):
+            continue
+        if value > 1.6 * widest and narrowest < 0.85 * widest:
+            neck_z = top - (neck_slice + 0.5) / slice_count * height
+            centre = 0.5 * (low[:neck_slice].min() + high[:neck_slice].max())
+            above = vertices[:, 2] >= neck_z
+            near = np.abs(vertices[:, 0] - centre) <= widest
+            return np.flatnonzero(above & near)
+        if value >= widest:
+            widest, narrowest = value, np.inf
+        elif value < narrowest:
+            narrowest, neck_slice = value, index
+    return np.arange(len(vertices))
+
+
+# ---------------------------------------------------------------- front-view depth map
+
+
+class DepthMap:
+    """How far forward (-Y) the surface comes at each point of a front-view grid; NaN where no surface.
+
+    Pixel (row, column) looks at x = left + column * pixel, z = top - row * pixel.
+    """
+
+    def __init__(self, vertices: np.ndarray, triangles: np.ndarray, pixel: float) -> None:
+        self.pixel = pixel
+        used = vertices[np.unique(triangles)]
+        self.left = used[:, 0].min() - 2 * pixel
+        self.top = used[:, 2].max() + 2 * pixel
+        columns = int(np.ceil((used[:, 0].max() + 2 * pixel - self.left) / pixel)) + 1
+        rows = int(np.ceil((self.top - used[:, 2].min() + 2 * pixel) / pixel)) + 1
+        self.front = self._rasterise(vertices, triangles, rows, columns)
+
+    def _rasterise(self, vertices: np.ndarray, triangles: np.ndarray, rows: int, columns: int) -> np.ndarray:
+        u = (vertices[:, 0] - self.left) / self.pixel
+        v = (self.top - vertices[:, 2]) / self.pixel
+        forward = -vertices[:, 1]
+        tu, tv, tf = u[triangles], v[triangles], forward[triangles]
+        u0 = np.ceil(tu.min(1)).astype(np.int64)
+        u1 = np.floor(tu.max(1)).astype(np.int64)
+        v0 = np.ceil(tv.min(1)).astype(np.int64)
+        v1 = np.floor(tv.max(1)).astype(np.int64)
+        span_u = np.clip(u1 - u0 + 1, 0, None)
+        counts = span_u * np.clip(v1 - v0 + 1, 0, None)
+        owner = np.repeat(np.arange(len(triangles)), counts)
+        local = np.arange(owner.size) - np.repeat(np.cumsum(counts) - counts, counts)
+        pu = u0[owner] + local % span_u[owner]
+        pv = v0[owner] + local // span_u[owner]
+        a_u, b_u, c_u = tu[owner].T
+        a_v, b_v, c_v = tv[owner].T
+        area = (b_u - a_u) * (c_v - a_v) - (c_u - a_u) * (b_v - a_v)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            w_b = ((pu - a_u) * (c_v - a_v) - (c_u - a_u) * (pv - a_v)) / area
+            w_c = ((b_u - a_u) * (pv - a_v) - (pu - a_u) * (b_v - a_v)) / area
+            w_a = 1.0 - w_b - w_c
+            tolerance = -1e-9
+            inside = (area != 0) & (w_a >= tolerance) & (w_b >= tolerance) & (w_c >= tolerance)
+        f = tf[owner[inside]]
+        depth = w_a[inside] * f[:, 0] + w_b[inside] * f[:, 1] + w_c[inside] * f[:, 2]
+        image = np.full(rows * columns, -np.inf)
+        np.maximum.at(image, pv[inside] * columns + pu[inside], depth)
+        image = image.reshape(rows, columns)
+        image[~np.isfinite(image)] = np.nan
+        return image
+
+    def column_of(self, x: float) -> int:
+        return int(round((x - self.left) / self.pixel))
+
+    def row_of(self, z: float) -> int:
+        return int(round((self.top - z) / self.pixel))
+
+    def x_of(self, column) -> np.ndarray:
+        return self.left + np.asarray(column, np.float64) * self.pixel
+
+    def z_of(self, row) -> np.ndarray:
+        return self.top - np.asarray(row, np.float64) * self.pixel
+
+    def point(self, row: int, column: int) -> np.ndarray:
+        """The surface point seen at a pixel, in head coordinates."""
+        return np.array([self.x_of(column), -self.front[row, column], self.z_of(row)])
+
+
+def _box_blur(image: np.ndarray, radius: int) -> np.ndarray:
+    """Mean over a (2r+1)^2 window, edges clamped; summed-area table so it costs the same at any radius."""
+    padded = np.pad(image, radius + 1, mode="edge")
+    table = padded.cumsum(0).cumsum(1)
+    size = 2 * radius + 1
+    total = table[size:, size:] - table[:-size, size:] - table[size:, :-size] + table[:-size, :-size]
+    return total[: image.shape[0], : image.shape[1]] / size**2
+
+
+# ---------------------------------------------------------------- landmarks
+
+
+def find_landmarks(vertices: np.ndarray, polygons) -> dict[str, np.ndarray]:
+    """The 14 landmarks of LANDMARK_NAMES as (3,) points in the mesh's coordinates.
+
+    Raises HeadError when the mesh shows no face toward -Y (no nose above a mouth, no eyes).
+    """
+    vertices = np.asarray(vertices, np.float64)
+    if vertices.ndim != 2 or vertices.shape[1] != 3 or len(vertices) < 4:
+        raise HeadError("The head mesh has too few vertices to find a face on; import a head mesh.")
+    triangles = triangulate(polygons)
+    head = find_head_region(vertices, triangles)
+    skin = largest_piece(len(vertices), triangles, head)
+    keep = np.zeros(len(vertices), bool)
+    keep[skin] = True
+    skin_triangles = triangles[keep[triangles].all(1)]
+    size = float(np.ptp(vertices[skin, 2]))
+    if size <= 0 or np.ptp(vertices[skin, 0]) <= 0:
+        raise HeadError("The head mesh is flat; a head must stand upright (Z up) and face -Y.")
+    depth = DepthMap(vertices, skin_triangles, size / DEPTH_MAP_ROWS)
+    return _FaceReader(depth, size).landmarks()
+
+
+class _FaceReader:
+    """Reads the face off a depth map: nose, lips and chin on the midline, then mouth corners, eyes, brows."""
+
+    def __init__(self, depth: DepthMap, size: float) -> None:
+        self.depth = depth
+        self.size = size
+        front = depth.front
+        valid = np.isfinite(front)
+        if valid.sum() < 100:
+            raise HeadError("The head mesh covers too little of the front view to find a face.")
+        # Holes (eye and mouth openings of a mask) count as deep recesses.
+        self.floor = np.nanmin(front) - 0.05 * size
+        self.filled = np.where(valid, front, self.floor)
+        self.valid = valid
+        self.groove = self._groove_strength()
+
+    def pixels(self, fraction: float) -> int:
+        return max(1, int(round(fraction * self.size / self.depth.pixel)))
+
+    def landmarks(self) -> dict[str, np.ndarray]:
+        nose_row, mid = self.nose_tip()
+        mouth_row = self.mouth_line(nose_row, mid)
+        points = {"nose_tip": self.depth.point(nose_row, mid)}
+        points.update(self.midline(nose_row, mouth_row, mid))
+        points.update(self.mouth_corners(mouth_row, mid))
+        points.update(self.eyes_and_brows(nose_row, mouth_row, mid))
+        return points
+
+    def nose_tip(self) -> tuple[int, int]:
+        """The most forward point near the vertical midline, between the forehead and the jaw."""
+        rows = np.flatnonzero(self.valid.any(1))
+        columns = np.flatnonzero(self.valid.any(0))
+        centre = (columns[0] + columns[-1]) // 2
+        half = self.pixels(0.04)
+        top = rows[0] + int(0.25 * (rows[-1] - rows[0]))
+        bottom = rows[0] + int(0.85 * (rows[-1] - rows[0]))
+        window = np.where(self.valid, self.depth.front, -np.inf)[
+            top:bottom, centre - half : centre + half + 1
+        ]
+        if not np.isfinite(window).any():
+            raise HeadError("No surface faces -Y near the middle of the head; turn the face toward -Y.")
+        row, column = np.unravel_index(np.argmax(window), window.shape)
+        return top + int(row), centre - half + int(column)
+
+    def _groove_strength(self) -> np.ndarray:
+        """How much deeper each pixel is than the pixels a little above and below it (a horizontal crease)."""
+        padded = np.pad(self.filled, ((3, 3), (0, 0)), mode="edge")
+        rows = self.filled.shape[0]
+        strength = np.zeros_like(self.filled)
+        for step in (1, 2, 3):
+            above = padded[3 - step : 3 - step + rows]
+            below = padded[3 + step : 3 + step + rows]
+            strength = np.maximum(strength, np.minimum(above, below) - self.filled)
+        return strength
+
+    def _bowl_depth(self, reach: int) -> np.ndarray:
+        """How far a pixel lies below its surroundings both vertically and sideways: a socket or an opening.
+
+        A crease or the side of the nose is low in one direction only, so it scores nothing.
+        """
+        padded = np.pad(self.filled, reach, mode="edge")
+        rows, columns = self.filled.shape
+        vertical = np.zeros_like(self.filled)
+        sideways = np.zeros_like(self.filled)
+        for step in np.unique(np.linspace(1, reach, 8).astype(int)):
+            up = padded[reach - step : reach - step + rows, reach : reach + columns]
+            down = padded[reach + step : reach + step + rows, reach : reach + columns]
+            left = padded[reach : reach + rows, reach - step : reach - step + columns]
+            right = padded[reach : reach + rows, reach + step : reach + step + columns]
+            vertical = np.maximum(vertical, np.minimum(up, down) - self.filled)
+            sideways = np.maximum(sideways, np.minimum(left, right) - self.filled)
+        return np.minimum(vertical, sideways)
+
+    def follow_crease(self, row: int, column: int, direction: int, threshold: float, steps: int):
+        """Walk sideways along a horizontal crease while it stays deeper than threshold; its last pixel."""
+        last = (row, column)
+        weak = 0
+        height, width = self.groove.shape
+        for _ in range(steps):
+            column += direction
+            if not 2 <= column < width - 2:
+                break
+            window = self.groove[max(row - 2, 0) : row + 3, column]
+            best = int(np.argmax(window))
+            if window[best] < threshold:
+                weak += 1
+                if weak >= 2:
+                    break
+                continue
+            weak = 0
+            row = max(row - 2, 0) + best
+            last = (row, column)
+        return last
+
+    def mouth_line(self, nose_row: int, mid: int) -> int:
+        """The row of the crease (or gap) between the lips, the strongest horizontal groove under the nose."""
+        first = nose_row + self.pixels(0.04)
+        last = min(nose_row + self.pixels(0.3), self.filled.shape[0] - 1)
+        if last <= first:
+            raise HeadError("The head mesh ends just below the nose; no mouth was found under it.")
+        half = self.pixels(0.03)
+        strength = self.groove[first:last, max(mid - half, 0) : mid + half + 1]
+        score = np.median(np.minimum(strength, 0.02 * self.size), axis=1)
+        if score.max() <= 1e-4 * self.size:
+            raise HeadError("No mouth found under the nose (no crease or gap between lips facing -Y).")
+        return first + int(np.argmax(score))
+
+    def midline(self, nose_row: int, mouth_row: int, mid: int) -> dict[str, np.ndarray]:
+        """Lips, their contact line and the chin on the vertical profile through the nose tip."""
+        profile = self.filled[:, mid - 1 : mid + 2].max(1)
+        reach = self.pixels(0.05)
+        upper = mouth_row - reach + int(np.argmax(profile[mouth_row - reach : mouth_row]))
+        lower = mouth_row + 1 + int(np.argmax(profile[mouth_row + 1 : mouth_row + reach + 1]))
+        # Behind the lips by more than a few millimetres is the inside of the mouth (or a hole): the gap.
+        gap_depth = min(profile[upper], profile[lower]) - 0.02 * self.size
+        upper_inner = mouth_row
+        while upper_inner > upper + 1 and profile[upper_inner] < gap_depth:
+            upper_inner -= 1
+        lower_inner = mouth_row
+        while lower_inner < lower - 1 and profile[lower_inner] < gap_depth:
+            lower_inner += 1
+        if profile[mouth_row] < gap_depth:
+            upper_inner = min(upper_inner, mouth_row - 1)
+            lower_inner = max(lower_inner, mouth_row + 1)
+        column_rows = np.flatnonzero(self.valid[:, mid])
+        end = min(nose_row + self.pixels(0.45), column_rows[-1])
+        start = lower + self.pixels(0.03)
+        # Under the chin the surface turns to face down: the profile falls back faster than it descends.
+        falls = np.flatnonzero(np.diff(profile[start : end + 1]) < -1.5 * self.depth.pixel)
+        if falls.size:
+            end = start + int(falls[0])
+        if end <= start:
+            raise HeadError("The head mesh ends below the lower lip: no chin was found. Include the chin.")
+        # The chin is the most forward point below the groove under the lower lip; a receding chin with
+        # no groove: where a line from the lower lip first touches the profile below (its support point).
+        below = np.arange(start, end + 1)
+        values = profile[below]
+        dip_before = np.minimum.accumulate(values)
+        bulges = below[
+            (values - dip_before > 0.001 * self.size) & (values >= np.maximum.accumulate(values[::-1])[::-1])
+        ]
+        if bulges.size:
+            chin = int(bulges[0])
+        else:
+            chin = int(below[np.argmax((values - profile[lower]) / (below - lower))])
+        point = self.depth.point
+        return {
+            "upper_lip": point(upper, mid),
+            "lower_lip": point(lower, mid),
+            "upper_lip_inner": point(upper_inner, mid),
+            "lower_lip_inner": point(lower_inner, mid),
+            "chin": point(chin, mid),
+        }
+
+    def mouth_corners(self, mouth_row: int, mid: int) -> dict[str, np.ndarray]:
+        """Follow the crease between the lips sideways from the midline until it fades: the mouth corners."""
+        reference = np.median(self.groove[mouth_row - 1 : mouth_row + 2, mid - 2 : mid + 3].max(0))
+        steps = self.pixels(0.16)
+        corners = {}
+        for name, direction in (("mouth_corner_left", 1), ("mouth_corner_right", -1)):
+            row, column = self.follow_crease(mouth_row, mid, direction, 0.25 * reference, steps)
+            corners[name] = self._surface_near(row, column)
+        return corners
+
+    def eyes_and_brows(self, nose_row: int, mouth_row: int, mid: int) -> dict[str, np.ndarray]:
+        """The eyes are the sockets on each side above the nose tip; the brows the ridge above them."""
+        top = max(nose_row - self.pixels(0.3), 1)
+        bottom = nose_row - self.pixels(0.04)
+        bowl = self._bowl_depth(self.pixels(0.06))
+        recess = _box_blur(self.filled, self.pixels(0.04)) - self.filled
+        points = {}
+        for side, direction in (("left", 1), ("right", -1)):
+            near, far = mid + direction * self.pixels(0.03), mid + direction * self.pixels(0.26)
+            first, last = max(min(near, far), 0), max(near, far)
+            socket = bowl[top:bottom, first : last + 1]
+            if socket.size == 0 or socket.max() <= 0.002 * self.size:
+                raise HeadError(f"No {side} eye found beside the nose (no socket where an eye should be).")
+            seed = np.unravel_index(np.argmax(socket), socket.shape)
+            window = recess[top:bottom, first : last + 1]
+            blob = _grow_blob(window > min(0.015 * self.size, 0.5 * window[seed]), seed)
+            rows, columns = np.nonzero(blob)
+            distance = np.abs(first + columns - mid)
+            inner_column, outer_column = distance.min(), distance.max()
+            inner_row = top + int(np.median(rows[distance == inner_column]))
+            outer_row = top + int(np.median(rows[distance == outer_column]))
+            # The opening narrows below a pixel toward the corners; its crease goes on to where the lids meet.
+            threshold, steps = 0.004 * self.size, self.pixels(0.04)
+            inner = self.follow_crease(
+                inner_row, mid + direction * int(inner_column), -direction, threshold, steps
+            )
+            outer = self.follow_crease(
+                outer_row, mid + direction * int(outer_column), direction, threshold, steps
+            )
+            if abs(outer[1] - inner[1]) < self.pixels(0.07):
+                # Closed, smooth eyes (a low-poly mask): no opening to read the corners from. An eye is
+                # about half as wide as the distance between the eye centres, centred on its socket.
+                centre_row = top + int(np.median(rows))
+                centre = abs(first + int(np.median(columns)) - mid)
+                inner = (centre_row, mid + direction * int(round(0.5 * centre)))
+                outer = (centre_row, mid + direction * int(round(1.5 * centre)))
+            points[f"eye_inner_{side}"] = self._surface_near(*inner)
+            points[f"eye_outer_{side}"] = self._surface_near(*outer)
+            centre_column = (inner[1] + outer[1]) // 2
+            eye_top = min(inner[0], outer[0], top + rows.min())
+            brow_rows = np.arange(max(eye_top - self.pixels(0.1), 0), eye_top)
+            brow_row = int(brow_rows[np.argmax(self.filled[brow_rows, centre_column])])
+            points[f"brow_{side}"] = self.depth.point(brow_row, centre_column)
+        return points
+
+    def _surface_near(self, row: int, column: int) -> np.ndarray:
+        """The pixel's point on the bottom of its crease: skin around it, not the inside of an opening."""
+        reach = self.pixels(0.006)
+        patch = self.filled[
+            max(row - reach, 0) : row + reach + 1, max(column - reach, 0) : column + reach + 1
+        ]
+        rim = patch.max()
+        skin = patch[patch >= rim - 0.02 * self.size]
+        return np.array([self.depth.x_of(column), -skin.min(), self.depth.z_of(row)])
+
+
+def _grow_blob(mask: np.ndarray, seed: tuple[int, int]) -> np.ndarray:
+    """The 4-connected region of a boolean mask that contains the seed pixel."""
+    blob = np.zeros_like(mask)
+    blob[seed] = True
+    while True:
+        grown = blob.copy()
+        grown[1:] |= blob[:-1]
+        grown[:-1] |= blob[1:]
+        grown[:, 1:] |= blob[:, :-1]
+        grown[:, :-1] |= blob[:, 1:]
+        grown &= mask
+        if np.array_equal(grown, blob):
+            return blob
+        blob = grown

@@ -1,0 +1,456 @@
+"""JSML markup to styled text runs and pauses, with a small tokenizer of our own.
+
+XML libraries expand entities and DTDs (the "billion laughs" bomb); this tokenizer knows only the five
+predefined entities and numeric character references, and refuses any DTD at once. Every character of a
+text run keeps its index in the source, so later stages can point back at what the user wrote.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import replace
+from functools import cache
+
+from .data import DATA_DIR, load_table
+from .errors import DataError, MarkupError
+from .model import EMOTIONS, Pause, Style, TextRun
+
+# Table 5.3's tags, the variant spellings the thesis's own text uses (ANGER, FEAR, ...) and a few more.
+EMOTION_TAGS: dict[str, str] = {
+    "HAPPY": "happy",
+    "HAPPINESS": "happy",
+    "JOY": "happy",
+    "SAD": "sad",
+    "SADNESS": "sad",
+    "ANGRY": "angry",
+    "ANGER": "angry",
+    "AFRAID": "afraid",
+    "FEAR": "afraid",
+    "FEARFUL": "afraid",
+    "SCARED": "afraid",
+    "SURPRISED": "surprised",
+    "SURPRISE": "surprised",
+    "DISGUSTED": "disgusted",
+    "DISGUST": "disgusted",
+}
+assert set(EMOTION_TAGS.values()) == set(EMOTIONS)
+
+# JSML's containers that change nothing we animate; their text is spoken as usual.
+_NEUTRAL_CONTAINERS = frozenset({"JSML", "ENGINE", "SAYAS", "DIV"})
+_EMPTY_ELEMENTS = frozenset({"BREAK", "MARKER"})
+_KNOWN_TAGS = (
+    frozenset(EMOTION_TAGS) | _NEUTRAL_CONTAINERS | _EMPTY_ELEMENTS | {"SENT", "PARA", "PROS", "EMP"}
+)
+
+# The words/min JSML assumes for RATE, and the descriptive values of PROS (multipliers of the default).
+DEFAULT_WORDS_PER_MINUTE = 175.0
+_RATE_WORDS = {"xslow": 0.6, "slow": 0.8, "medium": 1.0, "fast": 1.25, "xfast": 1.5, "default": 1.0}
+_PITCH_WORDS = {"xlow": 0.7, "low": 0.85, "medium": 1.0, "high": 1.15, "xhigh": 1.3, "default": 1.0}
+_VOLUME_WORDS = {
+    "silent": 0.0,
+    "xsoft": 0.4,
+    "soft": 0.7,
+    "medium": 1.0,
+    "loud": 1.3,
+    "xloud": 1.6,
+    "default": 1.0,
+}
+# An absolute PITCH is in hertz; it is taken relative to a typical speaking voice.
+DEFAULT_PITCH_HZ = 120.0
+
+# Attributes JSML defines that change nothing here; accepted and ignored so valid JSML parses.
+_IGNORED_ATTRIBUTES = {
+    "PROS": {"RANGE"},
+    "SAYAS": {"CLASS", "SUB"},
+    "MARKER": {"MARK"},
+    "ENGINE": {"ENGID", "DATA"},
+    "JSML": {"LANG", "VERSION"},
+    "PARA": {"LANG", "MARK"},
+    "SENT": {"LANG", "MARK"},
+    "DIV": {"TYPE", "LANG", "MARK"},
+    "EMP": {"MARK"},
+    "BREAK": {"MARK"},
+}
+
+_ENTITIES = {"lt": "<", "gt": ">", "amp": "&", "quot": '"', "apos": "'"}
+_SPECIAL = re.compile(r"[<&]")
+_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_.\-]*")
+_SPACE = re.compile(r"\s*")
+_ENTITY = re.compile(r"&(#[0-9]{1,8}|#[xX][0-9A-Fa-f]{1,8}|[A-Za-z][A-Za-z0-9]{0,31});")
+_NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)")
+
+
+@cache
+def pause_seconds() -> dict[str, dict[str, float]]:
+    """shapekeys/pauses.toml, validated: seconds of silence per BREAK size and per punctuation kind."""
+    table = load_table("pauses")
+    path = DATA_DIR / "pauses.toml"
+    result: dict[str, dict[str, float]] = {}
+    required = {
+        "break_size": ("none", "small", "medium", "large"),
+        "punctuation": ("comma", "clause", "sentence", "paragraph"),
+    }
+    for section, keys in required.items():
+        values = table.get(section)
+        if not isinstance(values, dict):
+            raise DataError(f"data file {path}: section [{section}] is missing")
+        for key in keys:
+            value = values.get(key)
+            if isinstance(value, bool) or not isinstance(value, int | float) or not 0 <= value <= 10:
+                raise DataError(
+                    f"data file {path}: [{section}] {key} must be seconds in 0..10, got {value!r}"
+                )
+        result[section] = {key: float(value) for key, value in values.items()}
+    return result
+
+
+class _Open:
+    """An element on the stack of open elements."""
+
+    __slots__ = ("name", "written", "offset", "style")
+
+    def __init__(self, name: str, written: str, offset: int, style: Style) -> None:
+        self.name = name
+        self.written = written
+        self.offset = offset
+        self.style = style
+
+
+class _Parser:
+    def __init__(self, source: str) -> None:
+        self.source = source
+        self.items: list[TextRun | Pause] = []
+        self.stack: list[_Open] = []
+        self.text_parts: list[str] = []
+        self.offset_parts: list[range | tuple[int, ...]] = []
+
+    # ------------------------------------------------------------ errors
+
+    def error(self, message: str, index: int, length: int = 20) -> MarkupError:
+        line = self.source.count("\n", 0, index) + 1
+        column = index - (self.source.rfind("\n", 0, index) + 1) + 1
+        snippet = self.source[index : index + length].split("\n")[0]
+        return MarkupError(message, line, column, snippet)
+
+    # ------------------------------------------------------------ output
+
+    @property
+    def style(self) -> Style:
+        return self.stack[-1].style if self.stack else Style()
+
+    def flush_text(self) -> None:
+        if not self.text_parts:
+            return
+        text = "".join(self.text_parts)
+        offsets: list[int] = []
+        for part in self.offset_parts:
+            offsets.extend(part)
+        self.text_parts.clear()
+        self.offset_parts.clear()
+        if text.strip():
+            self.items.append(TextRun(text=text, offsets=tuple(offsets), style=self.style))
+
+    def add_pause(self, seconds: float, offset: int, kind: str) -> None:
+        self.flush_text()
+        self.items.append(Pause(seconds=seconds, offset=offset, kind=kind))
+
+    # ------------------------------------------------------------ scanning
+
+    def parse(self) -> tuple[TextRun | Pause, ...]:
+        source = self.source
+        position = 0
+        length = len(source)
+        while position < length:
+            match = _SPECIAL.search(source, position)
+            end = match.start() if match else length
+            if end > position:
+                self.text_parts.append(source[position:end])
+                self.offset_parts.append(range(position, end))
+            if not match:
+                break
+            if source[end] == "&":
+                character, position = self.entity(end)
+                self.text_parts.append(character)
+                self.offset_parts.append((end,))
+            else:
+                position = self.markup(end)
+        if self.stack:
+            unclosed = self.stack[-1]
+            raise self.error(
+                f"<{unclosed.written}> is never closed; add </{unclosed.written}> where it should end",
+                unclosed.offset,
+            )
+        self.flush_text()
+        return tuple(self.items)
+
+    def entity(self, index: int) -> tuple[str, int]:
+        match = _ENTITY.match(self.source, index)
+        if not match:
+            raise self.error("a '&' that does not start an entity; write &amp; for a literal '&'", index)
+        name = match.group(1)
+        if name.startswith("#"):
+            digits = name[2:] if name[1] in "xX" else name[1:]
+            code = int(digits, 16 if name[1] in "xX" else 10)
+            if code == 0 or 0xD800 <= code <= 0xDFFF or code > 0x10FFFF:
+                raise self.error(f"&{name}; is not a valid character", index)
+            return chr(code), match.end()
+        if name not in _ENTITIES:
+            raise self.error(
+                f"unknown entity &{name};; only &lt; &gt; &amp; &quot; &apos; and &#NNN; are allowed", index
+            )
+        return _ENTITIES[name], match.end()
+
+    def markup(self, index: int) -> int:
+        source = self.source
+        if source.startswith("<!--", index):
+            end = source.find("-->", index + 4)
+            if end < 0:
+                raise self.error("a comment that is never closed; end it with -->", index)
+            return end + 3
+        if source.startswith("<!", index):
+            if source[index + 2 : index + 9].upper().startswith(("DOCTYPE", "ENTITY", "ELEMENT", "ATTLIST")):
+                raise self.error("DTDs and entity declarations are not allowed in JSML; remove them", index)
+            raise self.error(
+                "'<!' markup (CDATA, declarations) is not supported; write the text plainly", index
+            )
+        if source.startswith("<?", index):
+            end = source.find("?>", index + 2)
+            if end < 0:
+                raise self.error("a processing instruction that is never closed; end it with ?>", index)
+            return end + 2
+        if source.startswith("</", index):
+            return self.closing_tag(index)
+        return self.opening_tag(index)
+
+    def tag_name(self, index: int, start: int) -> tuple[str, str, int]:
+        match = _NAME.match(self.source, start)
+        if not match:
+            raise self.error("a '<' that does not start a tag; write &lt; for a literal '<'", index)
+        written = match.group()
+        name = written.upper()
+        if name not in _KNOWN_TAGS:
+            known = ", ".join(sorted(_KNOWN_TAGS))
+            raise self.error(f"unknown tag <{written}>; known tags are {known}", index)
+        return name, written, match.end()
+
+    def closing_tag(self, index: int) -> int:
+        name, written, position = self.tag_name(index, index + 2)
+        position = _SPACE.match(self.source, position).end()
+        if not self.source.startswith(">", position):
+            raise self.error(f"</{written} is not closed by '>'", index)
+        end = position + 1
+        if name in _EMPTY_ELEMENTS:
+            return end  # <BREAK ...></BREAK>: the element is empty either way
+        if not self.stack:
+            raise self.error(f"</{written}> closes nothing: no <{written}> is open", index)
+        top = self.stack[-1]
+        if top.name != name:
+            if any(element.name == name for element in self.stack):
+                line = self.source.count("\n", 0, top.offset) + 1
+                column = top.offset - (self.source.rfind("\n", 0, top.offset) + 1) + 1
+                raise self.error(
+                    f"</{written}> crosses <{top.written}> (opened at line {line}, column {column}); "
+                    f"close </{top.written}> first",
+                    index,
+                )
+            raise self.error(f"</{written}> closes nothing: no <{written}> is open", index)
+        self.flush_text()
+        self.stack.pop()
+        if name == "SENT":
+            self.add_pause(pause_seconds()["punctuation"]["sentence"], index, "sentence")
+        elif name == "PARA":
+            self.add_pause(pause_seconds()["punctuation"]["paragraph"], index, "paragraph")
+        return end
+
+    def opening_tag(self, index: int) -> int:
+        source = self.source
+        name, written, position = self.tag_name(index, index + 1)
+        attributes: dict[str, tuple[str, int]] = {}
+        while True:
+            spaced = _SPACE.match(source, position).end()
+            if source.startswith("/>", spaced):
+                end, self_closing = spaced + 2, True
+                break
+            if source.startswith(">", spaced):
+                end, self_closing = spaced + 1, False
+                break
+            if spaced == position:
+                raise self.error(f"<{written} is not closed by '>' (or attributes are not separated)", index)
+            attribute = _NAME.match(source, spaced)
+            if not attribute:
+                raise self.error(f"<{written}: expected an attribute name or '>'", spaced)
+            key = attribute.group().upper()
+            after = _SPACE.match(source, attribute.end()).end()
+            if not source.startswith("=", after):
+                raise self.error(
+                    f'attribute {attribute.group()} has no value; write {attribute.group()}="..."', spaced
+                )
+            value_start = _SPACE.match(source, after + 1).end()
+            value, position = self.attribute_value(value_start)
+            if key in attributes:
+                raise self.error(f"attribute {attribute.group()} is given twice", spaced)
+            attributes[key] = (value, spaced)
+        self.apply_element(name, written, index, attributes, self_closing)
+        return end
+
+    def attribute_value(self, start: int) -> tuple[str, int]:
+        source = self.source
+        if start < len(source) and source[start] in "\"'":
+            quote = source[start]
+            end = source.find(quote, start + 1)
+            if end < 0:
+                raise self.error("an attribute value whose quote is never closed", start)
+            raw = source[start + 1 : end]
+            if "<" in raw:
+                raise self.error("'<' inside an attribute value; write &lt;", start)
+            return self.decode_entities(raw, start + 1), end + 1
+        match = re.compile(r"[^\s>/\"'<=]+").match(source, start)
+        if not match:
+            raise self.error('an attribute without a value; write NAME="value"', start)
+        return self.decode_entities(match.group(), start), match.end()
+
+    def decode_entities(self, raw: str, start: int) -> str:
+        if "&" not in raw:
+            return raw
+        parts: list[str] = []
+        position = 0
+        while True:
+            ampersand = raw.find("&", position)
+            if ampersand < 0:
+                parts.append(raw[position:])
+                return "".join(parts)
+            parts.append(raw[position:ampersand])
+            character, after = self.entity(start + ampersand)
+            parts.append(character)
+            position = after - start
+
+    # ------------------------------------------------------------ elements
+
+    def apply_element(
+        self, name: str, written: str, index: int, attributes: dict[str, tuple[str, int]], self_closing: bool
+    ) -> None:
+        allowed = set(_IGNORED_ATTRIBUTES.get(name, ()))
+        if name in EMOTION_TAGS:
+            allowed |= {"WEIGHT"}
+        elif name == "BREAK":
+            allowed |= {"MSECS", "SIZE", "TIME"}
+        elif name == "PROS":
+            allowed |= {"RATE", "PITCH", "VOL"}
+        elif name == "EMP":
+            allowed |= {"LEVEL"}
+        for key, (_value, where) in attributes.items():
+            if key not in allowed:
+                expected = ", ".join(sorted(allowed)) or "none"
+                raise self.error(f"<{written}> has no attribute {key}; it accepts: {expected}", where)
+
+        if name in _EMPTY_ELEMENTS:
+            if name == "BREAK":
+                self.add_pause(self.break_seconds(attributes), index, "break")
+            return
+        if self_closing:
+            return  # an empty container (<SENT/>) has no text to style
+        style = self.style
+        if name in EMOTION_TAGS:
+            weight = 1.0
+            if "WEIGHT" in attributes:
+                weight = self.fraction(*attributes["WEIGHT"], "WEIGHT", "a number from 0 to 1, e.g. 0.5")
+            style = replace(style, emotion=EMOTION_TAGS[name], emotion_weight=weight)
+        elif name == "PROS":
+            style = self.prosody(style, attributes)
+        elif name == "EMP":
+            level = attributes.get("LEVEL", ("strong", index))
+            if level[0].lower() not in ("strong", "moderate", "none", "reduced"):
+                raise self.error("LEVEL must be strong, moderate, none or reduced", level[1])
+            style = replace(style, emphasis=level[0].lower() in ("strong", "moderate"))
+        elif name == "PARA" or name == "SENT":
+            pass
+        self.flush_text()
+        self.stack.append(_Open(name, written, index, style))
+
+    def fraction(self, value: str, where: int, key: str, expected: str) -> float:
+        text = value.strip()
+        try:
+            number = float(text[:-1]) / 100 if text.endswith("%") else float(text)
+        except ValueError:
+            number = float("nan")
+        if not 0.0 <= number <= 1.0:
+            raise self.error(f"{key}={value!r} is not valid; expected {expected}", where)
+        return number
+
+    def break_seconds(self, attributes: dict[str, tuple[str, int]]) -> float:
+        sizes = pause_seconds()["break_size"]
+        if "MSECS" in attributes:
+            value, where = attributes["MSECS"]
+            if not value.strip().isdigit() or int(value) > 600_000:
+                raise self.error(
+                    f"MSECS={value!r} is not valid; expected whole milliseconds, e.g. 300", where
+                )
+            return int(value) / 1000.0
+        if "TIME" in attributes:
+            value, where = attributes["TIME"]
+            match = re.fullmatch(r"\s*([0-9]+(?:\.[0-9]+)?)\s*(ms|s)\s*", value.lower())
+            if not match or float(match.group(1)) * (1 if match.group(2) == "s" else 0.001) > 600:
+                raise self.error(f"TIME={value!r} is not valid; expected e.g. 300ms or 1.5s", where)
+            return float(match.group(1)) * (1.0 if match.group(2) == "s" else 0.001)
+        if "SIZE" in attributes:
+            value, where = attributes["SIZE"]
+            key = value.strip().lower()
+            if key not in sizes:
+                raise self.error(f"SIZE={value!r} is not valid; expected none, small, medium or large", where)
+            return sizes[key]
+        return sizes["medium"]
+
+    def prosody(self, style: Style, attributes: dict[str, tuple[str, int]]) -> Style:
+        if "RATE" in attributes:
+            value, where = attributes["RATE"]
+            rate = _relative(value, style.rate, _RATE_WORDS, DEFAULT_WORDS_PER_MINUTE)
+            if rate is None or not 0.1 <= rate <= 10:
+                raise self.error(
+                    f"RATE={value!r} is not valid; expected words per minute (175), +20%, -10%, "
+                    "or xslow, slow, medium, fast, xfast, default",
+                    where,
+                )
+            style = replace(style, rate=rate)
+        if "PITCH" in attributes:
+            value, where = attributes["PITCH"]
+            pitch = _relative(value, style.pitch, _PITCH_WORDS, DEFAULT_PITCH_HZ)
+            if pitch is None or not 0.1 <= pitch <= 10:
+                raise self.error(
+                    f"PITCH={value!r} is not valid; expected hertz (120), +20%, -10%, "
+                    "or xlow, low, medium, high, xhigh, default",
+                    where,
+                )
+            style = replace(style, pitch=pitch)
+        if "VOL" in attributes:
+            value, where = attributes["VOL"]
+            volume = _relative(value, style.volume, _VOLUME_WORDS, 1.0)
+            if volume is None or not 0.0 <= volume <= 10:
+                raise self.error(
+                    f"VOL={value!r} is not valid; expected 0.0 to 1.0, +20%, -10%, "
+                    "or silent, xsoft, soft, medium, loud, xloud, default",
+                    where,
+                )
+            style = replace(style, volume=volume)
+        return style
+
+
+def _relative(value: str, current: float, words: dict[str, float], unit: float) -> float | None:
+    """A PROS value as a multiplier: a word, "+20%"/"-10%" of the current value, "+N" units, or absolute."""
+    text = value.strip().lower()
+    if text in words:
+        return words[text]
+    percent = text.endswith("%")
+    number_text = text[:-1].strip() if percent else text
+    if not _NUMBER.fullmatch(number_text):
+        return None
+    number = float(number_text)
+    if percent:
+        return current * (1.0 + number / 100.0) if number_text[0] in "+-" else current * number / 100.0
+    if number_text[0] in "+-":
+        return current + number / unit
+    return number / unit
+
+
+def parse_jsml(source: str) -> tuple[TextRun | Pause, ...]:
+    """Styled text runs and pauses, in source order; plain text without markup is one run."""
+    return _Parser(source).parse()

@@ -1,0 +1,450 @@
+"""The default motion model: co-articulated lips, hard closures, layered emotions, blinks and brows.
+
+The thesis morphs linearly from one letter's model to the next and gives the emotion weight w by taking it
+from the lips (eq. 5.3, 5.4). That pops on short phones, misses closures that fall between frames, and a
+smile weakens every m, b and p. Here instead:
+
+- every phone has a dominance over the face (Cohen and Massaro): a plateau over the middle of the phone,
+  decaying exponentially before it (anticipation) and after it (carry-over), strong and far-reaching for
+  rounded vowels, weak for consonants whose lips follow the vowel. Each frame shows the visemes in proportion
+  to their dominances, so the viseme weights sum to exactly 1 (neutral is one of them, it holds the silences);
+- bilabials (m, b, p) and labiodentals (f, v) are hard targets: each gets a frame of its own at full weight,
+  however short the phone, with a ramp around it;
+- a shape that would be shown for a single frame (and is not a closure) is lowered below half weight, so it
+  blends into its neighbours instead of flashing;
+- emotions are separate layers at full strength with onset, apex and offset ramps; their mouth part gives
+  way (TR_emotion_<e>_mouth_release) exactly as much as the lips need to close;
+- seeded blinks every few seconds, and a brow raise on emphasised words.
+
+Parameters live in shapekeys/motion.toml.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cache
+
+import numpy as np
+
+from .data import DATA_DIR, load_table, require
+from .errors import DataError
+from .model import (
+    BLINK_KEYS,
+    BROW_RAISE_KEY,
+    EMOTIONS,
+    Timeline,
+    Track,
+    WeightTracks,
+    emotion_key_name,
+    emotion_release_key_name,
+    viseme_key_name,
+)
+from .quality import shape_runs, shown_shapes
+from .visemes import BILABIAL_VISEMES, LABIODENTAL_VISEMES, NEUTRAL, viseme_names
+
+HARD_TARGETS = BILABIAL_VISEMES | LABIODENTAL_VISEMES
+TABLE = "motion"
+
+
+@dataclass(frozen=True)
+class VisemeClass:
+    name: str
+    dominance: float
+    anticipation: float  # seconds
+    carryover: float  # seconds
+    lip_need: float  # 0..1: how far the emotion's mouth part must give way
+
+
+@dataclass(frozen=True)
+class MotionParameters:
+    hold_fraction: float
+    shape_exponent: float
+    min_weight: float
+    min_rest_gap: float
+    closure_ramp: float
+    blend_ceiling: float
+    classes: dict[str, VisemeClass]  # viseme name -> its class
+    emotion_onset: float
+    emotion_offset: float
+    emotion_merge_gap: float
+    eye_closure: dict[str, float]
+    blinks: dict[str, float]
+    brow_raise: dict[str, float]
+
+
+def _number(section: dict, key: str, where: str, low: float = 0.0, high: float = math.inf) -> float:
+    value = section.get(key)
+    if isinstance(value, bool) or not isinstance(value, int | float) or not low <= value <= high:
+        raise DataError(
+            f"data file {DATA_DIR / (TABLE + '.toml')}: [{where}] {key} must be a number in [{low}, {high}], "
+            f"got {value!r}; fix the entry or reinstall the extension"
+        )
+    return float(value)
+
+
+@cache
+def motion_parameters() -> MotionParameters:
+    """The validated contents of shapekeys/motion.toml (read once per process)."""
+    table = load_table(TABLE)
+    path = DATA_DIR / (TABLE + ".toml")
+    co = require(table, "coarticulation", dict, TABLE)
+    classes_table = require(table, "classes", dict, TABLE)
+    emotions = require(table, "emotions", dict, TABLE)
+    eye_closure = require(emotions, "eye_closure", dict, TABLE)
+    blinks = require(table, "blinks", dict, TABLE)
+    brow = require(table, "brow_raise", dict, TABLE)
+
+    classes: dict[str, VisemeClass] = {}
+    for name, entry in classes_table.items():
+        where = f"classes.{name}"
+        visemes = entry.get("visemes") if isinstance(entry, dict) else None
+        if not isinstance(visemes, list) or not visemes:
+            raise DataError(f"data file {path}: [{where}] needs a non-empty list 'visemes'")
+        viseme_class = VisemeClass(
+            name=name,
+            dominance=_number(entry, "dominance", where, 1e-6),
+            anticipation=_number(entry, "anticipation", where, 1e-4),
+            carryover=_number(entry, "carryover", where, 1e-4),
+            lip_need=_number(entry, "lip_need", where, 0.0, 1.0),
+        )
+        for viseme in visemes:
+            if viseme in classes:
+                raise DataError(f"data file {path}: viseme {viseme!r} is in two classes; keep it in one")
+            classes[viseme] = viseme_class
+    missing = sorted(set(viseme_names()) - set(classes))
+    unknown = sorted(set(classes) - set(viseme_names()))
+    if missing or unknown:
+        raise DataError(
+            f"data file {path}: every viseme needs exactly one class "
+            f"(missing: {', '.join(missing) or 'none'}; unknown: {', '.join(unknown) or 'none'})"
+        )
+    unknown_emotions = sorted(set(eye_closure) - set(EMOTIONS))
+    if unknown_emotions:
+        raise DataError(f"data file {path}: [emotions.eye_closure] names unknown emotions {unknown_emotions}")
+
+    blink_keys = (
+        "mean_interval",
+        "min_interval",
+        "max_interval",
+        "first_after",
+        "min_duration",
+        "max_duration",
+    )
+    blink_values = {key: _number(blinks, key, "blinks", 1e-3) for key in blink_keys}
+    for key in ("close_share", "hold_share", "blink_suppress_closure"):
+        blink_values[key] = _number(blinks, key, "blinks", 0.0, 1.0)
+    if blink_values["close_share"] + blink_values["hold_share"] >= 1.0:
+        raise DataError(
+            f"data file {path}: [blinks] close_share + hold_share must stay below 1 (time to open the eyes)"
+        )
+    return MotionParameters(
+        hold_fraction=_number(co, "hold_fraction", "coarticulation", 0.0, 1.0),
+        shape_exponent=_number(co, "shape_exponent", "coarticulation", 0.25, 4.0),
+        min_weight=_number(co, "min_weight", "coarticulation", 0.0, 0.1),
+        min_rest_gap=_number(co, "min_rest_gap", "coarticulation", 0.0),
+        closure_ramp=_number(co, "closure_ramp", "coarticulation", 0.0),
+        blend_ceiling=_number(co, "blend_ceiling", "coarticulation", 0.0, 0.499),
+        classes=classes,
+        emotion_onset=_number(emotions, "onset", "emotions", 1e-3),
+        emotion_offset=_number(emotions, "offset", "emotions", 1e-3),
+        emotion_merge_gap=_number(emotions, "merge_gap", "emotions", 0.0),
+        eye_closure={e: _number(eye_closure, e, "emotions.eye_closure", 0.0, 1.0) for e in eye_closure},
+        blinks=blink_values,
+        brow_raise={k: _number(brow, k, "brow_raise", 0.0, 10.0) for k in ("weight", "lead", "rise", "fall")},
+    )
+
+
+# ---------------------------------------------------------------- public entry point
+
+
+def natural_weight_tracks(
+    timeline: Timeline,
+    fps: float,
+    emotion_strength: float = 1.0,
+    *,
+    blinks: bool = True,
+    brow_raise: bool = True,
+    seed: int = 0,
+) -> WeightTracks:
+    """Weight tracks of the default motion model, keyed at integer frames (linear in between)."""
+    if fps <= 0:
+        raise ValueError(f"frame rate must be positive, got {fps}")
+    params = motion_parameters()
+    frame_count = math.ceil(timeline.duration * fps) + 1
+    times = np.arange(frame_count) / fps
+
+    visemes, weights, closure_frames = viseme_weights(timeline, fps, frame_count, params)
+    columns: dict[str, np.ndarray] = {viseme_key_name(v): weights[:, i] for i, v in enumerate(visemes)}
+
+    lip_need = weights @ np.array([params.classes[v].lip_need for v in visemes])
+    emotion_curves = _emotion_curves(timeline, times, emotion_strength, params)
+    for emotion, curve in emotion_curves.items():
+        columns[emotion_key_name(emotion)] = curve
+        columns[emotion_release_key_name(emotion)] = curve * np.clip(lip_need, 0.0, 1.0)
+
+    blink_spans: list[tuple[float, float]] = []
+    if blinks:
+        eye_closure = sum(
+            (params.eye_closure.get(e, 0.0) * curve for e, curve in emotion_curves.items()),
+            start=np.zeros(frame_count),
+        )
+        blink_curve, blink_spans = _blink_curve(times, fps, eye_closure, params, seed)
+        for name in BLINK_KEYS:
+            columns[name] = blink_curve
+    if brow_raise and timeline.emphases:
+        columns[BROW_RAISE_KEY] = _brow_curve(timeline.emphases, times, params)
+
+    tracks = tuple(linear_sparse_track(name, values) for name, values in columns.items())
+    return WeightTracks(
+        fps=fps,
+        frame_count=frame_count,
+        interpolation="LINEAR",
+        tracks=tracks,
+        mode="natural",
+        extra={"closure_frames": tuple(closure_frames), "blinks": tuple(blink_spans)},
+    )
+
+
+def linear_sparse_track(name: str, values: np.ndarray) -> Track:
+    """A track keyed at integer frames, without the keys that linear interpolation reproduces exactly."""
+    values = np.asarray(values, dtype=np.float64)
+    keep = np.ones(values.size, dtype=bool)
+    if values.size > 2:
+        second_difference = values[:-2] - 2.0 * values[1:-1] + values[2:]
+        keep[1:-1] = np.abs(second_difference) > 1e-9
+    frames = np.flatnonzero(keep).astype(np.float64)
+    return Track(name=name, frames=frames, values=values[keep])
+
+
+# ---------------------------------------------------------------- visemes: co-articulation
+
+
+@dataclass(frozen=True)
+class _Segment:
+    start: float
+    end: float
+    viseme: str
+    phone_index: int  # -1 for a rest
+
+
+def _segments(timeline: Timeline, params: MotionParameters) -> list[_Segment]:
+    """The phones, with rests before, after, and in every silence long enough to relax the face."""
+    phones = sorted(timeline.phones, key=lambda p: p.start)
+    end_of_time = max(timeline.duration, phones[-1].end if phones else 0.0)
+    if not phones:
+        return [_Segment(-1.0, end_of_time + 1.0, NEUTRAL, -1)]
+    segments = [_Segment(-1.0, phones[0].start, NEUTRAL, -1)]
+    for previous, phone in zip([None, *phones[:-1]], phones, strict=True):
+        if previous is not None and phone.start - previous.end >= params.min_rest_gap:
+            segments.append(_Segment(previous.end, phone.start, NEUTRAL, -1))
+        segments.append(_Segment(phone.start, max(phone.end, phone.start), phone.viseme, phone.letter_index))
+    segments.append(_Segment(phones[-1].end, end_of_time + 1.0, NEUTRAL, -1))
+    return segments
+
+
+def viseme_weights(
+    timeline: Timeline, fps: float, frame_count: int, params: MotionParameters | None = None
+) -> tuple[tuple[str, ...], np.ndarray, list[tuple[int, int]]]:
+    """(visemes, weights[frame, viseme] summing to 1 per frame, [(phone index, closure frame)])."""
+    params = params or motion_parameters()
+    times = np.arange(frame_count) / fps
+    segments = _segments(timeline, params)
+    visemes = tuple(sorted({s.viseme for s in segments}))
+    column = {v: i for i, v in enumerate(visemes)}
+
+    # Hard targets get a frame of their own first, so their dominance can be centred on it.
+    closures = _closure_frames(segments, fps, frame_count)
+    closure_frame_of = dict(closures)
+
+    dominance = np.empty((frame_count, len(segments)))
+    for k, segment in enumerate(segments):
+        viseme_class = params.classes[segment.viseme]
+        rest = segment.phone_index < 0
+        center = (segment.start + segment.end) / 2
+        half_hold = (segment.end - segment.start) / 2 * (1.0 if rest else params.hold_fraction)
+        if segment.phone_index in closure_frame_of:
+            center = closure_frame_of[segment.phone_index] / fps
+        offset = times - center
+        distance = np.maximum(np.abs(offset) - half_hold, 0.0)
+        time_constant = np.where(offset < 0, viseme_class.anticipation, viseme_class.carryover)
+        decay = (distance / time_constant) ** params.shape_exponent
+        dominance[:, k] = viseme_class.dominance * np.exp(-decay)
+
+    membership = np.zeros((len(segments), len(visemes)))
+    for k, segment in enumerate(segments):
+        membership[k, column[segment.viseme]] = 1.0
+    weights = _normalised(dominance @ membership, column[NEUTRAL])
+    weights[weights < params.min_weight] = 0.0
+    weights = _normalised(weights, column[NEUTRAL])
+
+    weights = _apply_closures(weights, segments, closures, column, fps, params)
+    claimed = np.zeros(frame_count, dtype=bool)
+    claimed[[frame for _, frame in closures]] = True
+    weights = _blend_single_frame_shapes(weights, visemes, claimed, params)
+    return visemes, weights, closures
+
+
+def _normalised(weights: np.ndarray, neutral: int) -> np.ndarray:
+    """Rows scaled to sum to 1; an empty row becomes the rest pose."""
+    totals = weights.sum(axis=1, keepdims=True)
+    empty = totals[:, 0] <= 0
+    weights = np.divide(weights, totals, out=np.zeros_like(weights), where=totals > 0)
+    weights[empty, neutral] = 1.0
+    return weights
+
+
+def _closure_frames(segments: list[_Segment], fps: float, frame_count: int) -> list[tuple[int, int]]:
+    """A distinct frame for every hard-target phone: inside the phone if a frame falls there, else nearest.
+
+    Phones shorter than a frame (fast speech) still get one; two such phones in a row get neighbouring frames.
+    """
+    taken: set[int] = set()
+    result = []
+    for segment in segments:
+        if segment.phone_index < 0 or segment.viseme not in HARD_TARGETS:
+            continue
+        center = (segment.start + segment.end) / 2 * fps
+        inside = range(math.ceil(segment.start * fps), math.floor(segment.end * fps) + 1)
+        candidates = sorted(inside, key=lambda f: (abs(f - center), f)) or [round(center)]
+        nearest = candidates[0]
+        candidates += sorted(range(nearest - 3, nearest + 4), key=lambda f: (abs(f - center), f))
+        frame = next((f for f in candidates if f not in taken and 0 <= f < frame_count), None)
+        if frame is None:
+            frame = min((f for f in range(frame_count) if f not in taken), key=lambda f: abs(f - center))
+        taken.add(frame)
+        result.append((segment.phone_index, frame))
+    return result
+
+
+def _apply_closures(
+    weights: np.ndarray,
+    segments: list[_Segment],
+    closures: list[tuple[int, int]],
+    column: dict[str, int],
+    fps: float,
+    params: MotionParameters,
+) -> np.ndarray:
+    """Pull each hard target to full weight on its frame, with a linear ramp on both sides."""
+    weights = weights.copy()
+    viseme_of = {s.phone_index: s.viseme for s in segments}
+    ramp_frames = max(1.0, params.closure_ramp * fps)
+    claimed = {frame for _, frame in closures}
+    frames = np.arange(weights.shape[0])
+    # Weaker pulls first, so where two ramps overlap the nearer closure has the last word.
+    pulls = []
+    for phone_index, frame in closures:
+        strength = np.clip(1.0 - np.abs(frames - frame) / ramp_frames, 0.0, 1.0)
+        for f in np.flatnonzero(strength > 0):
+            if f == frame or f not in claimed:
+                pulls.append((strength[f], int(f), column[viseme_of[phone_index]]))
+    for strength, f, target in sorted(pulls):
+        weights[f] *= 1.0 - strength
+        weights[f, target] += strength
+    return weights
+
+
+def _blend_single_frame_shapes(
+    weights: np.ndarray, visemes: tuple[str, ...], claimed: np.ndarray, params: MotionParameters
+) -> np.ndarray:
+    """Lower every non-closure shape shown for a single frame below half weight: it blends, never flashes."""
+    weights = weights.copy()
+    labels = shown_shapes(weights)
+    ceiling = params.blend_ceiling
+    for label, start, length in shape_runs(labels):
+        if length != 1 or visemes[label] in HARD_TARGETS or claimed[start]:
+            continue
+        weights[start] = _capped(weights[start], ceiling)
+    return weights
+
+
+def _capped(row: np.ndarray, ceiling: float) -> np.ndarray:
+    """The row with no entry above the ceiling, the excess spread over the others in proportion."""
+    row = row.copy()
+    for _ in range(row.size):
+        over = row > ceiling
+        excess = float((row[over] - ceiling).sum())
+        if excess <= 1e-15:
+            break
+        row[over] = ceiling
+        room = np.where(row < ceiling, ceiling - row, 0.0)
+        share = np.where(row < ceiling, row + 1e-6, 0.0)
+        share = np.minimum(share / share.sum() * excess, room)
+        row += share
+    return row
+
+
+# ---------------------------------------------------------------- emotions, blinks, brows
+
+
+def _smoothstep(x: np.ndarray) -> np.ndarray:
+    x = np.clip(x, 0.0, 1.0)
+    return x * x * (3.0 - 2.0 * x)
+
+
+def _emotion_curves(
+    timeline: Timeline, times: np.ndarray, strength: float, params: MotionParameters
+) -> dict[str, np.ndarray]:
+    """Per emotion, its weight over the frames: ramps centred on span edges, so neighbours cross-fade."""
+    curves: dict[str, np.ndarray] = {}
+    spans = sorted(timeline.emotions, key=lambda s: s.start)
+    for index, span in enumerate(spans):
+        start, end = span.start, span.end
+        # Same emotion again shortly after: meet in the middle of the gap instead of dipping to nothing.
+        following = next((s for s in spans[index + 1 :] if s.emotion == span.emotion), None)
+        if following is not None and following.start - end < params.emotion_merge_gap:
+            end = (end + following.start) / 2
+        preceding = next((s for s in reversed(spans[:index]) if s.emotion == span.emotion), None)
+        if preceding is not None and start - preceding.end < params.emotion_merge_gap:
+            start = (start + preceding.end) / 2
+        length = max(end - start, 1e-6)
+        scale = min(1.0, length / (params.emotion_onset / 2 + params.emotion_offset / 2))
+        onset, offset = params.emotion_onset * scale, params.emotion_offset * scale
+        rising = _smoothstep((times - (start - onset / 2)) / onset)
+        falling = 1.0 - _smoothstep((times - (end - offset / 2)) / offset)
+        level = float(np.clip(span.weight * strength, 0.0, 1.0))
+        curve = curves.setdefault(span.emotion, np.zeros_like(times))
+        curve += level * np.minimum(rising, falling)
+    return {emotion: np.clip(curve, 0.0, 1.0) for emotion, curve in curves.items()}
+
+
+def _blink_curve(
+    times: np.ndarray, fps: float, eye_closure: np.ndarray, params: MotionParameters, seed: int
+) -> tuple[np.ndarray, list[tuple[float, float]]]:
+    """Seeded blinks at random intervals, each shut on a frame; none while an emotion shuts the eyes."""
+    settings = params.blinks
+    rng = np.random.default_rng(seed)
+    curve = np.zeros(times.size)
+    spans = []
+    end_of_time = times[-1] if times.size else 0.0
+    shape = 4.0  # gamma shape: intervals cluster around the mean without being regular
+    time = settings["first_after"] + rng.uniform(0.0, settings["mean_interval"] / 2)
+    while time < end_of_time:
+        duration = rng.uniform(settings["min_duration"], settings["max_duration"])
+        close_frames = max(1, round(duration * settings["close_share"] * fps))
+        hold_frames = max(0, round(duration * settings["hold_share"] * fps))
+        open_frames = max(1, round(duration * (1 - settings["close_share"] - settings["hold_share"]) * fps))
+        first = round(time * fps)
+        last = first + close_frames + hold_frames + open_frames
+        frames = np.arange(first, min(last + 1, times.size))
+        if last < times.size and eye_closure[frames].max() < settings["blink_suppress_closure"]:
+            closing = (frames - first) / close_frames
+            opening = (last - frames) / open_frames
+            profile = np.clip(np.minimum(closing, opening), 0.0, 1.0)
+            curve[frames] = np.maximum(curve[frames], profile)
+            spans.append((first / fps, last / fps))
+        interval = rng.gamma(shape, settings["mean_interval"] / shape)
+        time += float(np.clip(interval, settings["min_interval"], settings["max_interval"]))
+    return curve, spans
+
+
+def _brow_curve(emphases: tuple[tuple[float, float], ...], times: np.ndarray, params: MotionParameters):
+    """The brows lift just before an emphasised word, stay up through it, and settle after it."""
+    brow = params.brow_raise
+    curve = np.zeros(times.size)
+    for start, end in emphases:
+        rise_start = start - brow["lead"]
+        rising = _smoothstep((times - rise_start) / max(brow["rise"], 1e-6))
+        falling = 1.0 - _smoothstep((times - end) / max(brow["fall"], 1e-6))
+        curve = np.maximum(curve, brow["weight"] * np.minimum(rising, falling))
+    return np.clip(curve, 0.0, 1.0)

@@ -1,0 +1,54 @@
+"""The Timeline of an utterance in each timing mode: phone (default), word (the thesis), table, recording."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..errors import LipSyncError
+from ..model import Timeline, Utterance
+from ..timing import build_timeline, table_timeline
+from .align import phone_letter_spans, word_letter_spans
+from .base import Synthesis, get_engine
+from .recording import align_recording
+
+TIMINGS = ("phone", "word", "table", "recording")
+
+
+def synthesize_timeline(
+    utterance: Utterance,
+    timing: str = "phone",
+    *,
+    recording: Path | str | None = None,
+    engine: str = "espeak",
+) -> tuple[Timeline, Synthesis | None]:
+    """Speak the utterance and time every letter; returns the timeline and the audio it belongs to.
+
+    timing: "phone" keys each letter on the phone the engine spoke for it; "word" is the thesis's method
+    (word-start events, Table 5.4 durations inside words); "table" needs no engine and returns no audio.
+    With a recording, the synthetic speech is aligned to it and the timeline follows the recording
+    (timing "recording"; "word" then places the thesis's durations after the recording's word starts);
+    the returned Synthesis then holds the recording's samples.
+    """
+    if timing not in TIMINGS:
+        raise LipSyncError(f"unknown timing {timing!r}; choose one of: {', '.join(TIMINGS)}")
+    if timing == "table":
+        if recording is not None:
+            raise LipSyncError(
+                "table timing uses no speech, so it cannot follow a recording; choose phone or word timing"
+            )
+        return table_timeline(utterance), None
+    if timing == "recording" and recording is None:
+        raise LipSyncError("recording timing needs a recording: give the audio file of the text read aloud")
+    speech_engine = get_engine(engine)
+    synthesis = speech_engine.synthesize(utterance)
+    label = timing
+    if recording is not None:
+        _, synthesis = align_recording(synthesis, Path(recording))
+        label = "recording"
+    if timing == "word":
+        starts, ends = word_letter_spans(utterance, synthesis)
+    else:
+        starts, ends, synthesis = phone_letter_spans(utterance, synthesis, speech_engine)
+    onsets = tuple(event.start for event in synthesis.phone_events)
+    timeline = build_timeline(utterance, starts, ends, synthesis.duration, label, onsets)
+    return timeline, synthesis
