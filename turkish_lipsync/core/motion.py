@@ -248,7 +248,6 @@ def viseme_weights(
 ) -> tuple[tuple[str, ...], np.ndarray, list[tuple[int, int]]]:
     """(visemes, weights[frame, viseme] summing to 1 per frame, [(phone index, closure frame)])."""
     params = params or motion_parameters()
-    times = np.arange(frame_count) / fps
     segments = _segments(timeline, params)
     visemes = tuple(sorted({s.viseme for s in segments}))
     column = {v: i for i, v in enumerate(visemes)}
@@ -257,24 +256,8 @@ def viseme_weights(
     closures = _closure_frames(segments, fps, frame_count)
     closure_frame_of = dict(closures)
 
-    dominance = np.empty((frame_count, len(segments)))
-    for k, segment in enumerate(segments):
-        viseme_class = params.classes[segment.viseme]
-        rest = segment.phone_index < 0
-        center = (segment.start + segment.end) / 2
-        half_hold = (segment.end - segment.start) / 2 * (1.0 if rest else params.hold_fraction)
-        if segment.phone_index in closure_frame_of:
-            center = closure_frame_of[segment.phone_index] / fps
-        offset = times - center
-        distance = np.maximum(np.abs(offset) - half_hold, 0.0)
-        time_constant = np.where(offset < 0, viseme_class.anticipation, viseme_class.carryover)
-        decay = (distance / time_constant) ** params.shape_exponent
-        dominance[:, k] = viseme_class.dominance * np.exp(-decay)
-
-    membership = np.zeros((len(segments), len(visemes)))
-    for k, segment in enumerate(segments):
-        membership[k, column[segment.viseme]] = 1.0
-    weights = _normalised(dominance @ membership, column[NEUTRAL])
+    weights = _summed_dominance(segments, closure_frame_of, column, fps, frame_count, params)
+    weights = _normalised(weights, column[NEUTRAL])
     weights[weights < params.min_weight] = 0.0
     weights = _normalised(weights, column[NEUTRAL])
 
@@ -283,6 +266,52 @@ def viseme_weights(
     claimed[[frame for _, frame in closures]] = True
     weights = _blend_single_frame_shapes(weights, visemes, claimed, params)
     return visemes, weights, closures
+
+
+def _summed_dominance(
+    segments: list[_Segment],
+    closure_frame_of: dict[int, int],
+    column: dict[str, int],
+    fps: float,
+    frame_count: int,
+    params: MotionParameters,
+) -> np.ndarray:
+    """Each viseme's summed dominance per frame: array[frame, viseme].
+
+    A dominance is evaluated only where it exceeds 1e-5 of its peak (its window), so the cost grows with the
+    number of phones, not with phones times frames.
+    """
+    count = len(segments)
+    classes = [params.classes[s.viseme] for s in segments]
+    peak = np.array([c.dominance for c in classes])
+    anticipation = np.array([c.anticipation for c in classes])
+    carryover = np.array([c.carryover for c in classes])
+    start = np.array([s.start for s in segments])
+    end = np.array([s.end for s in segments])
+    rest = np.array([s.phone_index < 0 for s in segments])
+    center = (start + end) / 2
+    half_hold = (end - start) / 2 * np.where(rest, 1.0, params.hold_fraction)
+    for k, segment in enumerate(segments):
+        if segment.phone_index in closure_frame_of:
+            center[k] = closure_frame_of[segment.phone_index] / fps
+    reach = math.log(1e5) ** (1.0 / params.shape_exponent)
+    first = np.floor((center - half_hold - anticipation * reach) * fps)
+    last = np.ceil((center + half_hold + carryover * reach) * fps)
+    first = np.clip(first, 0, frame_count - 1).astype(int)
+    last = np.clip(last, 0, frame_count - 1).astype(int)
+    lengths = np.maximum(last - first + 1, 0)
+    owner = np.repeat(np.arange(count), lengths)
+    position = np.arange(owner.size) - np.repeat(np.cumsum(lengths) - lengths, lengths)
+    frames = first[owner] + position
+    offset = frames / fps - center[owner]
+    distance = np.maximum(np.abs(offset) - half_hold[owner], 0.0)
+    time_constant = np.where(offset < 0, anticipation[owner], carryover[owner])
+    dominance = peak[owner] * np.exp(-((distance / time_constant) ** params.shape_exponent))
+    viseme_column = np.array([column[s.viseme] for s in segments])
+    flat = np.bincount(
+        frames * len(column) + viseme_column[owner], weights=dominance, minlength=frame_count * len(column)
+    )
+    return flat.reshape(frame_count, len(column))
 
 
 def _normalised(weights: np.ndarray, neutral: int) -> np.ndarray:
