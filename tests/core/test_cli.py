@@ -8,7 +8,11 @@ ROOT = Path(__file__).resolve().parents[2]
 
 def run(*args, check=True):
     result = subprocess.run(
-        [sys.executable, "-m", "turkish_lipsync", *args], cwd=ROOT, capture_output=True, text=True, timeout=120
+        [sys.executable, "-m", "turkish_lipsync", *args],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=120,
     )
     if check:
         assert result.returncode == 0, result.stderr

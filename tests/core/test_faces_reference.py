@@ -43,13 +43,13 @@ def test_units_are_the_52_arkit_units_and_move_what_they_name():
     blink = head.units["eyeBlinkLeft"]
     moved = np.linalg.norm(blink, axis=1)
     lid = moved.argmax()
-    assert head.vertices[lid, 0] > 0.02 and moved[lid] > 0.01  # the left lid, on the character's left (+X)
+    assert head.vertices[lid, 0] > 0.02 and moved[lid] > 0.01  # the left lid, at +X
 
 
 def test_landmarks_are_mirror_pairs():
     landmarks = load_reference_head().landmarks
-    for left, right in [("mouth_corner_left", "mouth_corner_right"), ("brow_left", "brow_right"),
-                        ("eye_outer_left", "eye_outer_right"), ("eye_inner_left", "eye_inner_right")]:  # fmt: skip
+    for feature in ("mouth_corner", "brow", "eye_outer", "eye_inner"):
+        left, right = f"{feature}_left", f"{feature}_right"
         assert landmarks[left][0] > 0
         np.testing.assert_allclose(landmarks[left] * [-1, 1, 1], landmarks[right], atol=1e-6)
     assert abs(landmarks["nose_tip"][0]) < 1e-9 and abs(landmarks["chin"][0]) < 1e-9

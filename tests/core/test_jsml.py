@@ -163,9 +163,7 @@ def test_comments_declaration_and_root_element_are_accepted() -> None:
 
 def test_empty_text_parses_to_nothing() -> None:
     assert parse_jsml("") == ()
-    assert parse_jsml("<SENT> </SENT>") == (
-        Pause(pause_seconds()["punctuation"]["sentence"], 7, "sentence"),
-    )
+    assert parse_jsml("<SENT> </SENT>") == (Pause(pause_seconds()["punctuation"]["sentence"], 7, "sentence"),)
 
 
 @pytest.mark.parametrize(

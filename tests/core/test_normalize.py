@@ -162,6 +162,9 @@ def test_number_words_point_into_their_digits() -> None:
         ("Merhaba dünya", "merhaba dünya"),
         ("B planı", "be planı"),
         ("DİKKAT BU ALAN TEHLİKELİ OLABİLİR", "dikkat bu alan tehlikeli olabilir"),
+        ("İYİ GÜNLER", "iyi günler"),
+        ("MEB ve YÖK, DNA ile AVM", "meb ve yök | de ne a ile a ve me"),
+        ("AB'ye", "a beye"),
     ],
 )
 def test_abbreviations_and_acronyms(source: str, expected: str) -> None:

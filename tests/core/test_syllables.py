@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import os
 import re
 import sys
@@ -112,6 +113,7 @@ def _tex_hyphenator(tmp_path_factory: pytest.TempPathFactory):
     return pyphen.Pyphen(filename=str(dictionary), left=1, right=1)
 
 
+@functools.cache
 def _turkish_words() -> list[str]:
     wordfreq = pytest.importorskip("wordfreq")
     words = sorted({word for word in wordfreq.top_n_list("tr", 100_000) if _TURKISH_WORD.fullmatch(word)})

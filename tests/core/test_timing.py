@@ -57,6 +57,10 @@ def test_break_adds_its_silence():
 def test_emotion_spans_cover_their_words_and_merge_consecutive_words():
     timeline = table_timeline(build_utterance("<HAPPY>çok güzel</HAPPY> bir <SAD WEIGHT='0.5'>gün</SAD>"))
     happy, sad = timeline.emotions
-    assert (happy.emotion, happy.start, happy.end) == ("happy", timeline.words[0].start, timeline.words[1].end)
+    assert (happy.emotion, happy.start, happy.end) == (
+        "happy",
+        timeline.words[0].start,
+        timeline.words[1].end,
+    )
     assert (sad.emotion, sad.weight) == ("sad", 0.5)
     assert sad.start == timeline.words[3].start

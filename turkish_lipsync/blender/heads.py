@@ -83,8 +83,8 @@ def _eye_material_indices(vertices: np.ndarray, polygons: np.ndarray) -> np.ndar
 def create_reference_head(context: bpy.types.Context, name: str = "TR_Head") -> dict[str, bpy.types.Object]:
     """The default head: skin object with teeth, tongue and eyes as children, in metres, facing -Y.
 
-    Returns {"head": ..., "upper_teeth": ..., "lower_teeth": ..., "tongue": ..., "left_eye": ..., "right_eye": ...}.
-    World coordinates equal MakeHuman's (origin at the hips), the head object's origin sits at the head's centre.
+    Returns {"head", "upper_teeth", "lower_teeth", "tongue", "left_eye", "right_eye"} -> object.
+    World coordinates equal MakeHuman's (origin at the hips); the head object's origin is the head's centre.
     """
     reference = load_reference_head()
     skin = reference.parts["skin"]
@@ -184,7 +184,7 @@ def find_head(objects) -> bpy.types.Object:
 
 
 def find_head_parts(head: bpy.types.Object, objects=None) -> list[bpy.types.Object]:
-    """Meshes that belong to the head's mouth and eyes: its mesh children, or small meshes inside its bounds."""
+    """Meshes of the head's mouth and eyes: its mesh children, or small meshes inside its bounds."""
     children = [child for child in head.children if child.type == "MESH"]
     if children:
         return children

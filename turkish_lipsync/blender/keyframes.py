@@ -56,9 +56,9 @@ def _has_foreign_curves(action: bpy.types.Action, key: bpy.types.Key) -> bool:
 
 
 def _action_for(key: bpy.types.Key, action_name: str) -> bpy.types.Action:
-    """The action to write into: the user's own (kept, when it animates anything else) or ours."""
+    """The action to write into: the current one when it animates anything else (kept whole), else ours."""
     current = key.animation_data.action if key.animation_data else None
-    if current is not None and not current.get(ACTION_TAG) and _has_foreign_curves(current, key):
+    if current is not None and _has_foreign_curves(current, key):
         return current
     existing = bpy.data.actions.get(action_name)
     if existing is not None and existing.get(ACTION_TAG):

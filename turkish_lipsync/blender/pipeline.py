@@ -17,7 +17,7 @@ from pathlib import Path
 import bpy
 
 from ..core.errors import HeadError, LipSyncError, TextError
-from ..core.model import Utterance, WeightTracks
+from ..core.model import Timeline, Utterance, WeightTracks
 from . import compat, keyframes, render, sequencer
 
 Progress = Callable[[float, str], None]
@@ -31,8 +31,10 @@ def _no_progress(_fraction: float, _message: str) -> None:
     pass
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class GenerateResult:
+    """What generate did (names only, safe across undo) and the timeline and tracks it keyed."""
+
     action_names: tuple[str, ...]
     wav_path: str | None
     strip_name: str | None
@@ -42,6 +44,8 @@ class GenerateResult:
     phone_count: int
     timing: str
     fps: float
+    timeline: Timeline
+    tracks: WeightTracks
 
 
 @dataclass(frozen=True)
@@ -255,6 +259,8 @@ def generate(
         phone_count=len(timeline.phones),
         timing=timeline.timing,
         fps=fps,
+        timeline=timeline,
+        tracks=tracks,
     )
 
 

@@ -100,6 +100,8 @@ def configure_engine(scene: bpy.types.Scene, engine: str, samples: int | None = 
         cycles.samples = samples or 16
         cycles.use_adaptive_sampling = True
         cycles.max_bounces = 4
+        # Keep the scene between frames: only the shape keys change, the BVH and shaders need no rebuild.
+        scene.render.use_persistent_data = True
         denoise = cycles_has_denoiser()
         cycles.use_denoising = denoise
         if denoise:
@@ -214,7 +216,9 @@ def face_bounds(objects) -> tuple[np.ndarray, np.ndarray]:
             if not block.name.startswith((VISEME_KEY_PREFIX, EMOTION_KEY_PREFIX)):
                 continue
             block.data.foreach_get("co", shape)
-            moved |= np.abs(shape.reshape(-1, 3) - rest).max(axis=1) > 1e-6
+            displacement = np.linalg.norm(shape.reshape(-1, 3) - rest, axis=1)
+            # Recipes smear tiny motion over the whole head; the face is where a key really moves.
+            moved |= displacement > max(1e-6, 0.1 * float(displacement.max(initial=0.0)))
         if moved.any():
             moving_points.append(_world_vertices(obj, rest[moved]))
     points = moving_points or all_points
@@ -292,7 +296,7 @@ def frame_face(scene: bpy.types.Scene, head_objects) -> dict[str, bool]:
             light_data = bpy.data.lights.get(name) or bpy.data.lights.new(name, type="AREA")
             light_data.size = max(width, height) * 1.2
             # Area light power falls with the square of the distance: scale it with the framing.
-            light_data.energy = 150.0 * power * distance**2
+            light_data.energy = 15.0 * power * distance**2
             light = _ensure_object(scene, name, light_data)
             light.location = centre + direction.normalized() * distance * 1.1
             _look_at(light, centre)

@@ -160,11 +160,13 @@ def _transfer_units(
         from ..core.faces import transfer
     except ImportError as error:
         raise HeadError(
-            f"{head.name!r} has no ARKit shape keys and the transfer from the reference head is not available "
+            f"{head.name!r} has no ARKit shape keys and the transfer from the reference is not available "
             f"({error}); give the head ARKit-named keys or build from a folder of viseme OBJ files."
         ) from error
     if not hasattr(transfer, "transfer_units"):
-        raise HeadError(f"{head.name!r} has no ARKit shape keys and the transfer is not available in this build.")
+        raise HeadError(
+            f"{head.name!r} has no ARKit shape keys and the transfer is not available in this build."
+        )
     objects = [head, *parts]
     local = [_basis_coordinates(obj) for obj in objects]
     world = [_to_world(obj, coordinates) for obj, coordinates in zip(objects, local, strict=True)]
@@ -276,7 +278,7 @@ def _unit_sets(
         found = ", ".join(sorted(own[head.name])) or "none"
         raise HeadError(
             f"{head.name!r} lacks ARKit shape keys (found: {found}); it needs at least jawOpen, mouthClose, "
-            "mouthFunnel, mouthPucker and 20 units. Use source 'auto' to transfer them from the reference head."
+            "mouthFunnel, mouthPucker and 20 units. Use source 'auto' to transfer them from the reference."
         )
     if source in ("auto", "reference"):
         head_units = reference_units(head, reference)

@@ -104,6 +104,10 @@ TURKISH = {
         "Konuşma WAV dosyasının kaydedileceği yer (boş: kayıtlı .blend dosyasının yanındaki bir klasör)"
     ),
     "Render Engine": "Oluşturma Motoru",
+    # engine names are proper names, as in Blender's own Turkish UI
+    "EEVEE": "EEVEE",
+    "Cycles": "Cycles",
+    "Workbench": "Workbench",
     "The engine that renders the video": "Videoyu oluşturan motor",
     "EEVEE where OpenGL is available, Cycles otherwise": "OpenGL varsa EEVEE, yoksa Cycles",
     "Fast, needs OpenGL": "Hızlı, OpenGL gerektirir",

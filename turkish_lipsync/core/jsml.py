@@ -77,6 +77,7 @@ _SPECIAL = re.compile(r"[<&]")
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_.\-]*")
 _SPACE = re.compile(r"\s*")
 _ENTITY = re.compile(r"&(#[0-9]{1,8}|#[xX][0-9A-Fa-f]{1,8}|[A-Za-z][A-Za-z0-9]{0,31});")
+_UNQUOTED_VALUE = re.compile(r"[^\s>/\"'<=]+")
 _NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)")
 
 
@@ -304,7 +305,7 @@ class _Parser:
             if "<" in raw:
                 raise self.error("'<' inside an attribute value; write &lt;", start)
             return self.decode_entities(raw, start + 1), end + 1
-        match = re.compile(r"[^\s>/\"'<=]+").match(source, start)
+        match = _UNQUOTED_VALUE.match(source, start)
         if not match:
             raise self.error('an attribute without a value; write NAME="value"', start)
         return self.decode_entities(match.group(), start), match.end()

@@ -245,7 +245,13 @@ def _ordinal(word: str) -> str:
 _SEPARATOR_WORDS = {".": "decimal_point", ",": "decimal_comma", "/": "fraction"}
 _PLAIN_WORD = re.compile("[abcçdefgğhıijklmnoöprsştuüvyz]+")
 _COMBINING = re.compile("[\u0300-\u036f\u1ab0-\u1aff\u1dc0-\u1dff\u20d0-\u20ff\ufe20-\ufe2f]")
-_THOUSANDS = re.compile(r"[0-9]{1,3}(?:\.[0-9]{3})+")
+# An integer (with "." between thousands, Turkish style) and an optional decimal part after ","; or a
+# decimal with one "." that is no thousands separator (3.5, but 1.000 is a thousand).
+_DECIMAL_COMMA = re.compile(
+    r"(?P<integer>[0-9]{1,3}(?:\.[0-9]{3})+|[0-9]+)(?:(?P<separator>,)(?P<fraction>[0-9]+))?"
+)
+_DECIMAL_POINT = re.compile(r"(?P<integer>[0-9]+)(?P<separator>\.)(?P<fraction>[0-9]+)")
+
 _DATE = re.compile(r"([0-9]{1,2})[./]([0-9]{1,2})[./]([0-9]{4})")
 _TIME = re.compile(r"([0-9]{1,2}):([0-9]{2})")
 
@@ -259,37 +265,36 @@ def _number_words(number: str, positions: list[int]) -> list[tuple[str, int]]:
         for index in range(1, date.lastindex + 1):
             words.extend(_integer_words(date.group(index), positions[date.start(index) : date.end(index)]))
         return words
-    integer, separator, fraction = number, "", ""
-    comma = number.rfind(",")
-    if comma >= 0:
-        integer, separator, fraction = number[:comma], ",", number[comma + 1 :]
-    if _THOUSANDS.fullmatch(integer):
+    decimal = _DECIMAL_COMMA.fullmatch(number) or _DECIMAL_POINT.fullmatch(number)
+    if not decimal:
+        return _grouped_number_words(number, positions)
+    integer, separator, fraction = (
+        decimal.group("integer"),
+        decimal.group("separator"),
+        decimal.group("fraction"),
+    )
+    if "." in integer:  # thousands separators: 1.000.000
         kept = [index for index, char in enumerate(integer) if char != "."]
         words = _integer_words(integer.replace(".", ""), [positions[index] for index in kept])
-    elif integer.count(".") == 1 and not separator:
-        integer, separator, fraction = integer.partition(".")
-        words = _integer_words(integer, positions[: len(integer)])
-    elif not integer.isdigit():
-        # Separators in no known format (192.168.1.1, 1/2, 3:2): read the groups one by one.
-        words = []
-        start = 0
-        for part in re.split(r"([.,:/])", number):
-            if part in (".", ",", "/"):
-                name = tables.words[_SEPARATOR_WORDS[part]]
-                words.append((name, positions[start]))
-            elif part == ":":
-                pass
-            elif part:
-                words.extend(_integer_words(part, positions[start : start + len(part)]))
-            start += len(part)
-        return words
     else:
         words = _integer_words(integer, positions[: len(integer)])
     if separator:
-        name = tables.words["decimal_comma" if separator == "," else "decimal_point"]
         separator_index = len(integer)
-        words.append((name, positions[separator_index]))
+        words.append((tables.words[_SEPARATOR_WORDS[separator]], positions[separator_index]))
         words.extend(_fraction_words(fraction, positions[separator_index + 1 :]))
+    return words
+
+
+def _grouped_number_words(number: str, positions: list[int]) -> list[tuple[str, int]]:
+    """Separators in no known format (192.168.1.1, 1/2, 3:2): the digit groups one by one."""
+    words: list[tuple[str, int]] = []
+    start = 0
+    for part in re.split(r"([.,:/])", number):
+        if part in _SEPARATOR_WORDS:
+            words.append((_tables().words[_SEPARATOR_WORDS[part]], positions[start]))
+        elif part and part != ":":
+            words.extend(_integer_words(part, positions[start : start + len(part)]))
+        start += len(part)
     return words
 
 
@@ -368,8 +373,16 @@ class _RunNormalizer:
             for match in _token_pattern().finditer(self.text)
         ]
         index = 0
-        while index < len(tokens):
-            index = self.token(tokens, index)
+        count = len(tokens)
+        while index < count:
+            kind = tokens[index].kind
+            if kind == "space":
+                index += 1
+            elif kind == "word":
+                self.word(tokens[index])
+                index += 1
+            else:
+                index = self.token(tokens, index)
 
     def token(self, tokens: list[_Token], index: int) -> int:
         token = tokens[index]
@@ -503,9 +516,14 @@ class _RunNormalizer:
 
     def word(self, token: _Token) -> None:
         text = token.text
-        if _PLAIN_WORD.fullmatch(text):  # the common case: already lowercase Turkish
-            self.output.append(SpokenWord(text, tuple(self.offsets[token.start : token.end]), self.style))
-            return
+        # The common case: Turkish letters, not all capitals (so no acronym), one letter per letter.
+        if len(text) > 1 and not _is_upper_letter(text[-1]):
+            lowered = text if text.islower() else turkish_lower(text)
+            if len(lowered) == len(text) and _PLAIN_WORD.fullmatch(lowered):
+                self.output.append(
+                    SpokenWord(lowered, tuple(self.offsets[token.start : token.end]), self.style)
+                )
+                return
         base = text
         for apostrophe in _APOSTROPHES:
             base = base.split(apostrophe)[0]

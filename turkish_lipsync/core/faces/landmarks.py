@@ -408,7 +408,10 @@ class _FaceReader:
 
     def mouth_corners(self, mouth_row: int, mid: int) -> dict[str, np.ndarray]:
         """Follow the crease between the lips sideways from the midline until it fades: the mouth corners."""
-        reference = np.median(self.groove[mouth_row - 1 : mouth_row + 2, mid - 2 : mid + 3].max(0))
+        # A gap between parted lips is far deeper than the crease near the corners: cap the reference.
+        reference = min(
+            np.median(self.groove[mouth_row - 1 : mouth_row + 2, mid - 2 : mid + 3].max(0)), 0.006 * self.size
+        )
         steps = self.pixels(0.16)
         corners = {}
         for name, direction in (("mouth_corner_left", 1), ("mouth_corner_right", -1)):
@@ -445,13 +448,15 @@ class _FaceReader:
             outer = self.follow_crease(
                 outer_row, mid + direction * int(outer_column), direction, threshold, steps
             )
-            if abs(outer[1] - inner[1]) < self.pixels(0.07):
-                # Closed, smooth eyes (a low-poly mask): no opening to read the corners from. An eye is
-                # about half as wide as the distance between the eye centres, centred on its socket.
-                centre_row = top + int(np.median(rows))
-                centre = abs(first + int(np.median(columns)) - mid)
-                inner = (centre_row, mid + direction * int(round(0.5 * centre)))
-                outer = (centre_row, mid + direction * int(round(1.5 * centre)))
+            if socket[seed] < 0.01 * self.size or abs(outer[1] - inner[1]) < self.pixels(0.07):
+                # Closed, smooth eyes (a low-poly mask): no opening or crease to read the corners from.
+                # Faces put the eye centres about a fifth of the face's width either side of the middle,
+                # and an eye is about as wide as the distance from its centre to the middle.
+                row = top + int(seed[0])
+                covered = np.flatnonzero(self.valid[row])
+                centre = 0.2 * (covered[-1] - covered[0])
+                inner = (row, mid + direction * int(round(0.5 * centre)))
+                outer = (row, mid + direction * int(round(1.5 * centre)))
             points[f"eye_inner_{side}"] = self._surface_near(*inner)
             points[f"eye_outer_{side}"] = self._surface_near(*outer)
             centre_column = (inner[1] + outer[1]) // 2

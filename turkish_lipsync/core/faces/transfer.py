@@ -27,7 +27,7 @@ FALLOFF_NEAR = 0.05
 FALLOFF_FAR = 0.15
 
 # A similarity fit that leaves landmarks this far off (fraction of the face size) calls for the warp.
-WARP_RESIDUAL = 0.03
+WARP_RESIDUAL = 0.02
 
 
 # ---------------------------------------------------------------- registration
@@ -66,10 +66,11 @@ def rigid_fit(before: np.ndarray, after: np.ndarray) -> tuple[np.ndarray, np.nda
 class ThinPlateWarp:
     """A smooth 3D warp that moves each source landmark exactly onto its target (kernel |r|, affine part)."""
 
-    def __init__(self, source: np.ndarray, target: np.ndarray) -> None:
+    def __init__(self, source: np.ndarray, target: np.ndarray, smoothing: float = 0.0) -> None:
         self.source = np.asarray(source, np.float64)
         count = len(self.source)
         kernel = np.linalg.norm(self.source[:, None] - self.source[None], axis=2)
+        kernel += smoothing * np.eye(count)  # > 0: follow the landmarks loosely, as their placing is rough
         affine = np.hstack((np.ones((count, 1)), self.source))
         system = np.zeros((count + 4, count + 4))
         system[:count, :count] = kernel
@@ -262,6 +263,10 @@ def find_parts(vertices: np.ndarray, polygons, landmarks: Mapping[str, np.ndarra
 
 # ---------------------------------------------------------------- the transfer
 
+# What the last transfer_units call fitted (scale, landmark residual as a fraction of the face, warped),
+# for benchmarks and reports.
+_last_fit: dict = {}
+
 
 @functools.lru_cache(maxsize=4)
 def _reference_landmarks_of(reference) -> dict[str, np.ndarray]:
@@ -312,13 +317,21 @@ def transfer_units(
     face_size = float(np.linalg.norm(np.ptp(target_points, axis=0)))
     residual = float(np.sqrt(((placed_landmarks - target_points) ** 2).sum(1).mean()))
     use_warp = warp == "thin_plate" or (warp == "auto" and residual > WARP_RESIDUAL * face_size)
+    _last_fit.update(scale=scale, residual=residual / face_size, warped=use_warp)
     if warp not in ("auto", "similarity", "thin_plate"):
         raise ValueError(f"warp must be 'auto', 'similarity' or 'thin_plate', not {warp!r}")
 
     reference_vertices = np.asarray(reference.vertices, np.float64)
     placed = scale * reference_vertices @ rotation.T + translation
     if use_warp:
-        placed = ThinPlateWarp(placed_landmarks, target_points)(placed)
+        # Landmarks that coincide on the reference (the inner lips of a closed mouth) would make the
+        # warp singular: keep the first of each group.
+        distinct = [0]
+        for index in range(1, len(names)):
+            gaps = np.linalg.norm(placed_landmarks[distinct] - placed_landmarks[index], axis=1)
+            if gaps.min() > 1e-3 * face_size:
+                distinct.append(index)
+        placed = ThinPlateWarp(placed_landmarks[distinct], target_points[distinct])(placed)
     turn = scale * rotation  # deltas follow the global rotation and scale only
 
     reference_triangles = triangulate(reference.polygons)

@@ -146,7 +146,8 @@ def speech_range(samples: np.ndarray, rate: int) -> tuple[int, int]:
     count = samples.size // frame
     if count == 0:
         return 0, samples.size
-    energy = np.sqrt(np.mean(samples[: count * frame].astype(np.float64).reshape(count, frame) ** 2, axis=1))
+    blocks = samples[: count * frame].reshape(count, frame)
+    energy = np.sqrt(np.einsum("ij,ij->i", blocks, blocks) / frame)
     loud = np.percentile(energy, 95)
     voiced = np.flatnonzero(energy > max(loud * 10 ** (-SILENCE_DB / 20), 1e-4))
     if voiced.size == 0:
@@ -157,19 +158,20 @@ def speech_range(samples: np.ndarray, rate: int) -> tuple[int, int]:
 
 def speech_features(samples: np.ndarray, rate: int) -> tuple[np.ndarray, np.ndarray]:
     """MFCC 1..12 per 10 ms frame (each normalised over the signal) and whether each frame is voiced."""
-    window = int(round(FRAME_SECONDS * rate))
-    hop = int(round(HOP_SECONDS * rate))
+    window, hop = frame_sizes(rate)
     size = 1 << int(np.ceil(np.log2(window)))
     filters = _mel_filters(rate, size)
     transform = _dct_matrix(MEL_BANDS, CEPSTRA)[1:]
     taper = np.hanning(window)
-    padded = np.concatenate((samples.astype(np.float64), np.zeros(window)))
     count = max(1, 1 + (samples.size - 1) // hop)
     features = np.empty((count, CEPSTRA - 1))
     energy = np.empty(count)
     for begin in range(0, count, _FEATURE_BLOCK):
         frames = np.arange(begin, min(begin + _FEATURE_BLOCK, count))
-        rows = padded[frames[:, None] * hop + np.arange(window)[None, :]] * taper
+        # Only this block's samples are copied (zero-padded past the end), not the whole signal.
+        piece = samples[begin * hop : frames[-1] * hop + window].astype(np.float64)
+        piece = np.pad(piece, (0, (frames.size - 1) * hop + window - piece.size))
+        rows = piece[(frames - begin)[:, None] * hop + np.arange(window)[None, :]] * taper
         power = np.abs(np.fft.rfft(rows, size, axis=1)) ** 2
         features[frames] = np.log(power @ filters.T + 1e-10) @ transform.T
         energy[frames] = np.sqrt(np.mean(rows**2, axis=1))
@@ -177,6 +179,11 @@ def speech_features(samples: np.ndarray, rate: int) -> tuple[np.ndarray, np.ndar
     features /= features.std(axis=0) + 1e-8
     voiced = energy > max(np.percentile(energy, 95) * 10 ** (-SILENCE_DB / 20), 1e-4)
     return features, voiced
+
+
+def frame_sizes(rate: int) -> tuple[int, int]:
+    """Samples per analysis window and per hop (the hop is whole samples, so its seconds are hop / rate)."""
+    return int(round(FRAME_SECONDS * rate)), int(round(HOP_SECONDS * rate))
 
 
 def _mel_filters(rate: int, size: int) -> np.ndarray:
@@ -321,10 +328,10 @@ def align_recording(synthesis: Synthesis, path: str | Path) -> tuple[TimeWarp, S
     matched = np.bincount(path_x[both], weights=path_y[both], minlength=len(x))[knots] / weights[knots]
     knots = np.concatenate(([0], knots, [len(x) - 1]))
     matched = np.maximum.accumulate(np.concatenate(([0.0], matched, [len(y) - 1.0])))
-    centre = FRAME_SECONDS / 2
+    window, hop = frame_sizes(rate)
     warp = TimeWarp(
-        synthetic=synthetic_begin / rate + centre + HOP_SECONDS * knots,
-        recorded=recorded_begin / rate + centre + HOP_SECONDS * matched,
+        synthetic=(synthetic_begin + window / 2 + hop * knots) / rate,
+        recorded=(recorded_begin + window / 2 + hop * matched) / rate,
         recording_duration=recorded.size / rate,
     )
     samples = np.clip(np.round(recorded * 32767), -32768, 32767).astype(np.int16)

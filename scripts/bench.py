@@ -1,0 +1,328 @@
+"""Benchmarks: speed, memory and scale of the whole pipeline. Prints one JSON object.
+
+    .venv/bin/python scripts/bench.py [--runs 3] [--render-frames 3] [--no-render]
+
+Every figure is the median of --runs runs, each run in a fresh process (so peak memory is that run's own);
+comparisons are ratios measured inside one run. Heads: the default (reference) head and a 20,000+ vertex head
+(the reference head subdivided, so it has no keys and no reference vertex order: keys must be transferred).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+CORPUS = ROOT / "examples" / "corpus_tr.txt"
+TEN_MINUTE_WORDS = 1500
+FPS = 25
+PLAYBACK_FRAMES = 500
+SLOW_KEYFRAME_SUBSET = 2000  # per-key keyframe_insert is timed on this many keys, then scaled per key
+
+
+def ten_minute_text() -> str:
+    """About 1,500 words of real Turkish sentences (the corpus, repeated in a shuffled order)."""
+    import random
+
+    sentences = [line.strip() for line in CORPUS.read_text(encoding="utf-8").splitlines() if line.strip()]
+    chosen, words, generator = [], 0, random.Random(7)
+    while words < TEN_MINUTE_WORDS:
+        order = sentences[:]
+        generator.shuffle(order)
+        for sentence in order:
+            chosen.append(sentence)
+            words += len(sentence.split())
+            if words >= TEN_MINUTE_WORDS:
+                break
+    return "\n".join(chosen)
+
+
+# ---------------------------------------------------------------- one run, inside a fresh process
+
+
+def _fresh_scene():
+    import bpy
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    scene.render.fps = FPS
+    return bpy.context
+
+
+def _dense_head(context):
+    """The reference head with its skin subdivided once (over 20,000 vertices), marked as a foreign head."""
+    import bmesh
+
+    from turkish_lipsync.blender import heads
+
+    objects = heads.create_reference_head(context, name="Dense_Head")
+    head = objects["head"]
+    mesh = bmesh.new()
+    mesh.from_mesh(head.data)
+    bmesh.ops.subdivide_edges(mesh, edges=mesh.edges[:], cuts=1, use_grid_fill=True)
+    mesh.to_mesh(head.data)
+    mesh.free()
+    for obj in objects.values():
+        obj.pop(heads.REFERENCE_PART_PROPERTY, None)
+    return head
+
+
+def run_end_to_end(head_kind: str) -> dict:
+    """Text to a speaking head, no render: parse, speak, time, build keys, key them, place the sound."""
+    context = _fresh_scene()
+    from turkish_lipsync.blender import heads, keyframes, pipeline, sequencer, shapekeys
+    from turkish_lipsync.core.speech import synthesize_timeline, write_wav
+    from turkish_lipsync.core.tracks import weight_tracks
+    from turkish_lipsync.core.utterance import build_utterance
+
+    text = ten_minute_text()
+    head = heads.create_reference_head(context)["head"] if head_kind == "default" else _dense_head(context)
+    stages = {}
+    started = time.perf_counter()
+    utterance = build_utterance(text)
+    stages["parse_s"] = time.perf_counter() - started
+    mark = time.perf_counter()
+    timeline, synthesis = synthesize_timeline(utterance, "phone")
+    stages["speech_and_timeline_s"] = time.perf_counter() - mark
+    mark = time.perf_counter()
+    tracks = weight_tracks(timeline, FPS)
+    stages["tracks_s"] = time.perf_counter() - mark
+    mark = time.perf_counter()
+    report = shapekeys.build_shape_keys(head)
+    stages["shape_keys_s"] = time.perf_counter() - mark
+    mark = time.perf_counter()
+    written = keyframes.write_weight_tracks(pipeline.head_objects(head), tracks, 1, "TR_bench")
+    stages["keyframes_s"] = time.perf_counter() - mark
+    mark = time.perf_counter()
+    with tempfile.TemporaryDirectory() as folder:
+        wav = Path(folder) / "speech.wav"
+        write_wav(wav, synthesis)
+        sequencer.place_speech_strip(context.scene, wav, 1, timeline.duration)
+    stages["sound_s"] = time.perf_counter() - mark
+    total = time.perf_counter() - started
+    speech_minutes = timeline.duration / 60
+    return {
+        "end_to_end_s": total,
+        "speech_minutes": speech_minutes,
+        "s_per_minute_of_speech": total / speech_minutes,
+        "words": len(utterance.words),
+        "phones": len(timeline.phones),
+        "keyframes": sum(w.key_count for w in written),
+        "vertices": len(head.data.vertices),
+        "key_source": report.source,
+        "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+        **stages,
+    }
+
+
+def run_keyframes() -> dict:
+    """Our bulk writer against Blender's per-key keyframe_insert on the same tracks."""
+    context = _fresh_scene()
+    from turkish_lipsync.blender import heads, keyframes, pipeline, shapekeys
+    from turkish_lipsync.core.speech import synthesize_timeline
+    from turkish_lipsync.core.tracks import weight_tracks
+    from turkish_lipsync.core.utterance import build_utterance
+
+    head = heads.create_reference_head(context)["head"]
+    shapekeys.build_shape_keys(head)
+    timeline, _ = synthesize_timeline(build_utterance(ten_minute_text()), "phone")
+    tracks = weight_tracks(timeline, FPS)
+    started = time.perf_counter()
+    written = keyframes.write_weight_tracks([head], tracks, 1, "TR_bench")
+    fast_seconds = time.perf_counter() - started
+    fast_keys = sum(w.key_count for w in written)
+
+    keyframes.remove_weight_tracks(pipeline.head_objects(head))
+    blocks = head.data.shape_keys.key_blocks
+    subset = [
+        (blocks[t.name], frame, value)
+        for t in tracks.tracks
+        if t.name in blocks
+        for frame, value in zip(t.frames, t.values, strict=True)
+    ][:SLOW_KEYFRAME_SUBSET]
+    started = time.perf_counter()
+    for block, frame, value in subset:
+        block.value = value
+        block.keyframe_insert("value", frame=frame + 1)
+    slow_seconds = time.perf_counter() - started
+    per_key_fast = fast_seconds / fast_keys
+    per_key_slow = slow_seconds / len(subset)
+    return {
+        "keyframe_writer_s": fast_seconds,
+        "keyframe_writer_keys": fast_keys,
+        "keyframe_insert_s_per_key": per_key_slow,
+        "keyframe_insert_subset_keys": len(subset),
+        "keyframe_speedup": per_key_slow / per_key_fast,
+    }
+
+
+def run_build() -> dict:
+    """The 43 keys from a head's own ARKit keys, and by transfer, on the 20,000+ vertex head."""
+    context = _fresh_scene()
+    from turkish_lipsync.blender import shapekeys
+
+    head = _dense_head(context)
+    started = time.perf_counter()
+    transferred = shapekeys.build_shape_keys(head, source="transfer", arkit_keys=True)
+    transfer_seconds = time.perf_counter() - started
+    # The head now carries the 52 ARKit units: hand them over as if an artist had made them, and rebuild.
+    head.data.pop(shapekeys.BUILT_ARKIT_PROPERTY, None)
+    started = time.perf_counter()
+    own = shapekeys.build_shape_keys(head, source="arkit")
+    own_seconds = time.perf_counter() - started
+    return {
+        "transfer_build_s": transfer_seconds,
+        "shape_keys_build_s": own_seconds,
+        "build_vertices": len(head.data.vertices),
+        "transfer_source": transferred.source,
+        "own_source": own.source,
+    }
+
+
+def run_playback() -> dict:
+    """scene.frame_set plus the evaluated mesh, over 500 animated frames of the 20,000+ vertex head."""
+    import numpy as np
+
+    context = _fresh_scene()
+    from turkish_lipsync.blender import keyframes, pipeline, shapekeys
+    from turkish_lipsync.core.speech import synthesize_timeline
+    from turkish_lipsync.core.tracks import weight_tracks
+    from turkish_lipsync.core.utterance import build_utterance
+
+    head = _dense_head(context)
+    shapekeys.build_shape_keys(head, source="transfer")
+    timeline, _ = synthesize_timeline(build_utterance(ten_minute_text()), "phone")
+    keyframes.write_weight_tracks(pipeline.head_objects(head), weight_tracks(timeline, FPS), 1, "TR_bench")
+    scene = context.scene
+    coordinates = np.empty(len(head.data.vertices) * 3, dtype=np.float32)
+    depsgraph = context.evaluated_depsgraph_get()
+    animated = sum(1 for block in head.data.shape_keys.key_blocks if block.name.startswith("TR_"))
+    started = time.perf_counter()
+    for frame in range(1, PLAYBACK_FRAMES + 1):
+        scene.frame_set(frame)
+        head.evaluated_get(depsgraph).data.vertices.foreach_get("co", coordinates)
+    seconds = time.perf_counter() - started
+    return {
+        "playback_fps": PLAYBACK_FRAMES / seconds,
+        "playback_vertices": len(head.data.vertices),
+        "playback_keys": animated,
+    }
+
+
+def run_render(frames: int) -> dict:
+    """Cycles on the CPU at 640x640 with the demo's settings: seconds per frame."""
+    context = _fresh_scene()
+    from turkish_lipsync.blender import pipeline
+
+    source = (ROOT / "examples" / "demo.jsml").read_text(encoding="utf-8")
+    head_name = pipeline.build_keys(context, None)
+    head = context.scene.objects[head_name]
+    result = pipeline.generate(context, head, source, timing="phone")
+    context.scene.frame_end = result.frame_start + frames - 1
+    with tempfile.TemporaryDirectory() as folder:
+        rendered = pipeline.render_video(
+            context, head, str(Path(folder) / "bench.mp4"), engine="CYCLES", resolution=(640, 640)
+        )
+    return {"render_s_per_frame": rendered.seconds / rendered.frame_count, "render_frames": frames}
+
+
+# ---------------------------------------------------------------- the driver
+
+
+def _in_fresh_process(part: str, *arguments: str) -> dict:
+    command = [sys.executable, __file__, "--part", part, *arguments]
+    result = subprocess.run(command, capture_output=True, text=True, cwd=ROOT)
+    if result.returncode != 0:
+        raise SystemExit(f"benchmark part {part} failed:\n{result.stderr[-3000:]}")
+    return json.loads(result.stdout.strip().splitlines()[-1])
+
+
+def _median_of(runs: list[dict]) -> dict:
+    merged = {}
+    for key, value in runs[0].items():
+        values = [run[key] for run in runs]
+        merged[key] = statistics.median(values) if isinstance(value, int | float) else value
+    return merged
+
+
+def _machine() -> str:
+    cpu = next(
+        (
+            line.split(":", 1)[1].strip()
+            for line in Path("/proc/cpuinfo").read_text().splitlines()
+            if line.startswith("model name")
+        ),
+        platform.processor() or "unknown CPU",
+    )
+    memory_gib = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 2**30
+    return f"{os.cpu_count()} cores, {cpu}, {memory_gib:.0f} GiB, {platform.system()} {platform.release()}"
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--runs", type=int, default=3)
+    parser.add_argument("--render-frames", type=int, default=3)
+    parser.add_argument("--no-render", action="store_true")
+    parser.add_argument("--part", help=argparse.SUPPRESS)
+    parser.add_argument("--head", default="default", help=argparse.SUPPRESS)
+    args = parser.parse_args()
+
+    if args.part:
+        parts = {
+            "end_to_end": lambda: run_end_to_end(args.head),
+            "keyframes": run_keyframes,
+            "build": run_build,
+            "playback": run_playback,
+            "render": lambda: run_render(args.render_frames),
+        }
+        print(json.dumps(parts[args.part]()))
+        return 0
+
+    import bpy
+
+    runs = max(1, args.runs)
+    default = _median_of([_in_fresh_process("end_to_end", "--head", "default") for _ in range(runs)])
+    dense = _median_of([_in_fresh_process("end_to_end", "--head", "dense") for _ in range(runs)])
+    keyframe = _median_of([_in_fresh_process("keyframes") for _ in range(runs)])
+    build = _median_of([_in_fresh_process("build") for _ in range(runs)])
+    playback = _median_of([_in_fresh_process("playback") for _ in range(runs)])
+    result = {
+        "machine": _machine(),
+        "blender": bpy.app.version_string,
+        "runs": runs,
+        "end_to_end_s_10min": default["end_to_end_s"] * 10 / default["speech_minutes"],
+        "end_to_end_s_per_minute_of_speech": default["s_per_minute_of_speech"],
+        "end_to_end_s_10min_dense_head": dense["end_to_end_s"] * 10 / dense["speech_minutes"],
+        "keyframe_speedup": keyframe["keyframe_speedup"],
+        "shape_keys_build_s": build["shape_keys_build_s"],
+        "transfer_build_s": build["transfer_build_s"],
+        "playback_fps": playback["playback_fps"],
+        "peak_rss_mb": max(default["peak_rss_mb"], dense["peak_rss_mb"]),
+        "end_to_end_default_head": default,
+        "end_to_end_dense_head": dense,
+        "keyframes": keyframe,
+        "build": build,
+        "playback": playback,
+    }
+    if not args.no_render:
+        render = _median_of(
+            [_in_fresh_process("render", "--render-frames", str(args.render_frames)) for _ in range(runs)]
+        )
+        result["render_s_per_frame"] = render["render_s_per_frame"]
+    print(json.dumps(result, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,96 @@
+"""Registering the Blender layer: everything appears, everything goes, the Turkish UI covers it all."""
+
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+from turkish_lipsync import blender  # noqa: E402
+from turkish_lipsync.blender import operators, panel, preferences, properties, translations  # noqa: E402
+
+OPERATOR_IDS = ("build_shape_keys", "generate", "render")
+
+
+def _registered_types() -> set[str]:
+    return {name for name in dir(bpy.types) if "TURKISH_LIPSYNC" in name or "turkish_lipsync" in name}
+
+
+def test_register_and_unregister_twice_leave_nothing_behind():
+    before = _registered_types()
+    for _ in range(2):
+        blender.register()
+        try:
+            assert hasattr(bpy.context.scene, "turkish_lipsync")
+            for operator in OPERATOR_IDS:
+                assert hasattr(bpy.ops.turkish_lipsync, operator)
+                assert "REGISTER" in getattr(bpy.types, f"TURKISH_LIPSYNC_OT_{operator}").bl_options
+                assert "UNDO" in getattr(bpy.types, f"TURKISH_LIPSYNC_OT_{operator}").bl_options
+            assert panel.VIEW3D_PT_turkish_lipsync.is_registered
+            assert panel.VIEW3D_PT_turkish_lipsync.bl_category == "Lip Sync"
+            assert preferences.TurkishLipSyncPreferences.is_registered
+        finally:
+            blender.unregister()
+        assert not hasattr(bpy.types.Scene, "turkish_lipsync")
+        assert _registered_types() == before
+
+
+def test_settings_default_to_the_documented_modes():
+    blender.register()
+    try:
+        settings = bpy.context.scene.turkish_lipsync
+        assert (settings.timing, settings.motion, settings.interpolation) == ("phone", "natural", "AUTO")
+        assert settings.render_engine == "AUTO"
+        assert settings.emotion_strength == pytest.approx(1.0)
+        assert settings.rate == pytest.approx(1.0)
+    finally:
+        blender.unregister()
+
+
+def test_preferences_belong_to_the_package_blender_enables():
+    assert preferences.ADDON_PACKAGE == "turkish_lipsync"
+    # Installed as an extension the package is bl_ext.<repository>.turkish_lipsync.
+    installed = "bl_ext.user_default.turkish_lipsync.turkish_lipsync.blender"
+    package = installed.removesuffix(".blender").removesuffix(".turkish_lipsync")
+    assert package == "bl_ext.user_default.turkish_lipsync"
+
+
+def _ui_texts() -> set[str]:
+    """Every label, tooltip and enum item a user sees in the panel, operators and preferences."""
+    texts = {panel.VIEW3D_PT_turkish_lipsync.bl_label, panel.VIEW3D_PT_turkish_lipsync.bl_category}
+    texts |= {"Head", "Speech", "Render"}
+    for cls in operators.CLASSES:
+        texts |= {cls.bl_label, cls.__doc__}
+    for cls in (properties.TurkishLipSyncSettings, preferences.TurkishLipSyncPreferences):
+        for prop in cls.bl_rna.properties:
+            if prop.identifier in ("rna_type", "name", "bl_idname"):
+                continue
+            texts |= {prop.name, prop.description}
+            if prop.type == "ENUM":
+                for item in prop.enum_items:
+                    texts |= {item.name, item.description}
+    return {text for text in texts if text}
+
+
+def test_every_ui_text_has_a_turkish_translation():
+    blender.register()
+    try:
+        missing = sorted(_ui_texts() - set(translations.TURKISH))
+    finally:
+        blender.unregister()
+    assert missing == []
+
+
+def test_poll_messages_are_translated():
+    import inspect
+    import re
+
+    source = inspect.getsource(operators)
+    messages = re.findall(r'poll_message_set\("([^"]+)"\)', source)
+    assert len(messages) >= 5
+    assert [m for m in messages if m not in translations.TURKISH] == []
+
+
+def test_turkish_table_is_registered_under_the_tr_locale():
+    table = translations.translation_table()
+    assert set(table) == {"tr_TR"}
+    assert table["tr_TR"][("Operator", "Generate Animation")] == "Animasyonu Üret"
+    assert table["tr_TR"][("*", "Speaking Rate")] == "Konuşma Hızı"

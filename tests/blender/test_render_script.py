@@ -1,0 +1,147 @@
+"""scripts/render.py end to end, as a pipeline runs it: MP4 with sound, a .blend, a second run on it."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+bpy = pytest.importorskip("bpy")
+av = pytest.importorskip("av")
+soundfile = pytest.importorskip("soundfile")
+
+from turkish_lipsync.blender import compat, keyframes, sequencer  # noqa: E402
+
+REPOSITORY = Path(__file__).resolve().parents[2]
+SCRIPT = REPOSITORY / "scripts" / "render.py"
+SENTENCE = "Şu köşe yaz köşesi"
+
+
+def _run(*arguments: str) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, str(SCRIPT), *arguments], capture_output=True, text=True, timeout=600, check=False
+    )
+
+
+def _our_key_names(obj) -> set[str]:
+    return {k.name for k in obj.data.shape_keys.key_blocks if k.name.startswith("TR_")}
+
+
+def _snapshot() -> dict:
+    """Everything in the open file that is not ours: it must survive a second run unchanged."""
+    objects = {}
+    for obj in bpy.data.objects:
+        keys = getattr(obj.data, "shape_keys", None)
+        user_keys = (
+            tuple((k.name, round(k.value, 6)) for k in keys.key_blocks if not k.name.startswith("TR_"))
+            if keys is not None
+            else ()
+        )
+        objects[obj.name] = (obj.type, tuple(round(x, 6) for x in obj.location), user_keys)
+    actions = {}
+    for action in bpy.data.actions:
+        curves = tuple(
+            (fc.data_path, fc.array_index, tuple(tuple(round(c, 5) for c in p.co) for p in fc.keyframe_points))
+            for fc in compat.all_action_fcurves(action)
+            if not keyframes.is_our_curve(fc.data_path)
+        )
+        if curves:
+            actions[action.name] = curves
+    strips = compat.sequencer_strips(bpy.context.scene, create=False) or []
+    other_strips = sorted((s.name, s.channel, s.frame_start) for s in strips if s.name != "TR_speech")
+    return {"objects": objects, "actions": actions, "strips": other_strips, "texts": sorted(bpy.data.texts.keys())}
+
+
+@pytest.fixture(scope="module")
+def first_run(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("render_script")
+    out, blend = folder / "x.mp4", folder / "x.blend"
+    result = _run(
+        "--text", SENTENCE, "--out", str(out), "--save-blend", str(blend),
+        "--resolution", "64x36", "--samples", "1", "--engine", "cycles",
+    )  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    return folder, out, blend, result.stdout
+
+
+def test_the_video_has_sound_and_lasts_as_long_as_the_speech(first_run):
+    folder, out, _, _ = first_run
+    wavs = list((folder / "lipsync_audio").glob("*.wav"))
+    assert len(wavs) == 1
+    speech_seconds = soundfile.info(str(wavs[0])).duration
+    with av.open(str(out)) as container:
+        video, audio = container.streams.video[0], container.streams.audio[0]
+        video_seconds = float(video.duration * video.time_base)
+        audio_seconds = float(audio.duration * audio.time_base)
+        assert (video.codec_context.name, audio.codec_context.name) == ("h264", "aac")
+    assert abs(video_seconds - speech_seconds) <= 1 / 25
+    assert abs(audio_seconds - speech_seconds) <= 1 / 25
+
+
+def test_the_saved_blend_holds_keys_curves_and_the_speech(first_run):
+    _, _, blend, _ = first_run
+    bpy.ops.wm.open_mainfile(filepath=str(blend))
+    head = bpy.data.objects["TR_Head"]
+    names = _our_key_names(head)
+    assert len({n for n in names if n.startswith(("TR_viseme_", "TR_emotion_")) and "release" not in n}) == 43
+    action = head.data.shape_keys.animation_data.action
+    assert action.name == "TR_şu köşe yaz köşesi"
+    curves = [fc for fc in compat.all_action_fcurves(action) if keyframes.is_our_curve(fc.data_path)]
+    assert len(curves) > 5 and all(len(fc.keyframe_points) >= 2 for fc in curves)
+    scene = bpy.context.scene
+    wav = sequencer.speech_wav_of(scene)
+    assert wav is not None and wav.is_file()
+    assert not Path(scene[sequencer.SPEECH_PATH_PROPERTY]).is_absolute()  # moves with the .blend
+    if compat.HAS_AUDIO:
+        assert sequencer.speech_strip(scene) is not None
+    assert scene.camera is not None
+
+
+def test_a_second_run_on_the_saved_blend_changes_only_ours(first_run, tmp_path):
+    _, _, blend, _ = first_run
+    bpy.ops.wm.open_mainfile(filepath=str(blend))
+    # The user's own work in the file: an animated object, a key and its curve on the head, a text.
+    bpy.ops.mesh.primitive_cube_add(location=(2.0, 0.0, 0.0))
+    cube = bpy.context.active_object
+    cube.name = "UserCube"
+    cube.keyframe_insert("location", frame=5)
+    head = bpy.data.objects["TR_Head"]
+    smile = head.shape_key_add(name="MySmile")
+    smile.value = 0.3
+    smile.keyframe_insert("value", frame=12)
+    bpy.data.texts.new("notes").write("benim notlarım")
+    edited = tmp_path / "edited.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(edited))
+    before = _snapshot()
+
+    second = tmp_path / "second.blend"
+    result = _run("--head", str(edited), "--text", "merhaba", "--save-blend", str(second), "--no-render")
+    assert result.returncode == 0, result.stderr
+
+    bpy.ops.wm.open_mainfile(filepath=str(second))
+    assert _snapshot() == before
+    head = bpy.data.objects["TR_Head"]
+    paths = {fc.data_path for fc in compat.all_action_fcurves(head.data.shape_keys.animation_data.action)}
+    assert 'key_blocks["MySmile"].value' in paths
+    assert any(keyframes.is_our_curve(p) for p in paths)
+    strips = compat.sequencer_strips(bpy.context.scene, create=False)
+    if compat.HAS_AUDIO:
+        assert [s.name for s in strips].count("TR_speech") == 1
+
+
+@pytest.mark.parametrize(
+    ("arguments", "message"),
+    [
+        (("--text", "<SENT><HAPPY>merhaba</SENT>", "--no-render"), "JSML error at line 1"),
+        (("--text", "merhaba"), "--out OUT.mp4 is required"),
+        (("--text", "merhaba", "--no-render", "--head", "/nonexistent/head.obj"), "does not exist"),
+        (("--text", "merhaba", "--no-render", "--resolution", "big"), "is not WIDTHxHEIGHT"),
+        (("--jsml", "a.jsml", "--text", "merhaba"), "not allowed with"),
+    ],
+)
+def test_errors_are_one_clear_line_and_a_nonzero_exit(arguments, message):
+    result = _run(*arguments)
+    assert result.returncode != 0
+    assert "Traceback" not in result.stderr
+    error_lines = [line for line in result.stderr.splitlines() if line.startswith("render.py: error:")]
+    assert len(error_lines) == 1 and message in error_lines[0], result.stderr
