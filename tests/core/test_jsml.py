@@ -185,7 +185,7 @@ def test_empty_text_parses_to_nothing() -> None:
         ('<SAD COLOR="blue">x</SAD>', 1, 6, "no attribute COLOR"),
         ("<SAD WEIGHT>x</SAD>", 1, 6, "has no value"),
         ("3 < 4", 1, 3, "&lt;"),
-        ("Ali & Veli", 1, 5, "&amp;"),
+        ("<SENT>Ali & Veli</SENT>", 1, 11, "&amp;"),
         ("&nbsp;", 1, 1, "unknown entity"),
         ("&#0;", 1, 1, "not a valid character"),
         ("<SENT", 1, 1, "not closed by '>'"),
@@ -228,3 +228,10 @@ def test_one_megabyte_of_markup_parses() -> None:
     assert sum(run.style.emotion == "happy" for run in runs(items)) == count
     last = runs(items)[-1]
     assert source[last.offsets[-1]] == last.text[-1]
+
+
+def test_plain_text_may_use_a_bare_ampersand_but_markup_may_not():
+    (run,) = [item for item in parse_jsml("Ali & Veli") if isinstance(item, TextRun)]
+    assert run.text == "Ali & Veli"
+    with pytest.raises(MarkupError, match="&amp;"):
+        parse_jsml("<SENT>Ali & Veli</SENT>")

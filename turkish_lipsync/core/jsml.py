@@ -120,6 +120,8 @@ class _Open:
 class _Parser:
     def __init__(self, source: str) -> None:
         self.source = source
+        # Plain text (no markup at all) may use '&' as a word ("Ali & Veli"); inside markup it must be &amp;.
+        self.plain_text = "<" not in source
         self.items: list[TextRun | Pause] = []
         self.stack: list[_Open] = []
         self.text_parts: list[str] = []
@@ -186,6 +188,8 @@ class _Parser:
 
     def entity(self, index: int) -> tuple[str, int]:
         match = _ENTITY.match(self.source, index)
+        if not match and self.plain_text:
+            return "&", index + 1
         if not match:
             raise self.error("a '&' that does not start an entity; write &amp; for a literal '&'", index)
         name = match.group(1)

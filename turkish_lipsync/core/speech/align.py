@@ -23,6 +23,8 @@ from .base import PhoneEvent, SpeechEngine, Synthesis
 
 # Shortest span a letter may get (seconds): keeps spans positive where the engine gives two phones one onset.
 MINIMUM_SPAN = 0.001
+# eSpeak NG reports some phones with no duration (an l swallowed between vowel and s: nasılsın).
+SILENT_PHONE = 0.005
 # A word the engine did not voice at all gets at most this long per letter after the previous word.
 UNVOICED_LETTER = 0.05
 
@@ -162,7 +164,8 @@ def phone_letter_spans(
         realised = align_word(word.text, symbols, letter_symbols, costs)
         first = word.first_letter
         for position, phones in enumerate(realised):
-            if phones:
+            # A phone the engine reports with (almost) no duration is treated like a dropped letter.
+            if phones and events[phones[-1]].end - events[phones[0]].start >= SILENT_PHONE:
                 starts[first + position] = events[phones[0]].start
                 ends[first + position] = events[phones[-1]].end
                 for phone in phones:
