@@ -1,6 +1,5 @@
 """Render set-up (camera, lights, engines, MP4 output) and a short Cycles render checked with PyAV."""
 
-import math
 
 import numpy as np
 import pytest
@@ -108,7 +107,7 @@ def test_short_cycles_render_has_video_and_audio_of_the_speech_length(tmp_path):
     wav = tmp_path / "speech.wav"
     soundfile.write(str(wav), (0.3 * np.sin(2 * np.pi * 200 * t)).astype(np.float32), rate)
     sequencer.place_speech_strip(scene, wav, 1, speech_seconds)
-    frame_count = math.ceil(speech_seconds * 25)
+    frame_count = round(speech_seconds * 25)
     assert (scene.frame_start, scene.frame_end) == (1, frame_count)
 
     result = pipeline.render_video(

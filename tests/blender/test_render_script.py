@@ -27,6 +27,10 @@ def _our_key_names(obj) -> set[str]:
     return {k.name for k in obj.data.shape_keys.key_blocks if k.name.startswith("TR_")}
 
 
+def _points(fcurve) -> tuple:
+    return tuple(tuple(round(c, 5) for c in key.co) for key in fcurve.keyframe_points)
+
+
 def _snapshot() -> dict:
     """Everything in the open file that is not ours: it must survive a second run unchanged."""
     objects = {}
@@ -41,7 +45,7 @@ def _snapshot() -> dict:
     actions = {}
     for action in bpy.data.actions:
         curves = tuple(
-            (fc.data_path, fc.array_index, tuple(tuple(round(c, 5) for c in k.co) for k in fc.keyframe_points))
+            (fc.data_path, fc.array_index, _points(fc))
             for fc in compat.all_action_fcurves(action)
             if not keyframes.is_our_curve(fc.data_path)
         )

@@ -32,7 +32,7 @@ def test_frame_range_covers_the_speech_at_a_fractional_rate(tmp_path):
     wav = _wav(tmp_path / "speech.wav", 1.5)
     sequencer.place_speech_strip(scene, wav, 5, 1.5)
     assert scene.frame_start == 5
-    # ceil(1.5 s * 29.97 fps) = 45 frames: 5..49.
+    # 1.5 s * 29.97 fps = 44.96, the nearest whole count is 45 frames: 5..49.
     assert scene.frame_end == 49
     assert sequencer.speech_wav_of(scene) == wav
 

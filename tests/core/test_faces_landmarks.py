@@ -151,6 +151,21 @@ def test_a_ball_is_refused_as_a_head_with_a_reason():
         find_landmarks(vertices * 0.1, faces)
 
 
+def test_a_bigger_piece_without_a_face_does_not_hide_the_head():
+    """A hair cap or helmet with more vertices than the skin: the face is still found on the skin."""
+    head = load_reference_head()
+    ball, ball_faces = icosphere(5)
+    assert len(ball) > len(head.parts["skin"])
+    vertices = np.concatenate((head.vertices, ball * 0.12 + [0.0, 0.05, 0.8]))
+    polygons = [list(quad) for quad in head.polygons] + [
+        list(face + len(head.vertices)) for face in ball_faces
+    ]
+    found = find_landmarks(vertices, polygons)
+    alone = find_landmarks(head.vertices, head.polygons)
+    for name in LANDMARK_NAMES:
+        np.testing.assert_allclose(found[name], alone[name], atol=1e-9)
+
+
 def test_a_mesh_without_faces_is_refused():
     with pytest.raises(HeadError, match="no faces"):
         find_landmarks(np.random.default_rng(0).random((50, 3)), [])

@@ -1,8 +1,10 @@
 """eSpeak NG's Turkish voice, the phone-level timeline and the thesis's word timing (real engine)."""
 
 import ctypes.util
+import subprocess
 import sys
 import wave
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -16,10 +18,12 @@ from turkish_lipsync.core.speech import (
     synthesize_timeline,
     write_wav,
 )
-from turkish_lipsync.core.speech.espeak import DEFAULT_RATE, _load_library, _parameters
+from turkish_lipsync.core.speech.espeak import DEFAULT_RATE, _parameters
 from turkish_lipsync.core.timing import letter_durations, table_timeline
 from turkish_lipsync.core.tracks import thesis_weight_tracks
 from turkish_lipsync.core.utterance import build_utterance
+
+REPOSITORY = Path(__file__).resolve().parents[2]
 
 # Held out: none of these sentences was used while building the letter-to-phone table.
 HELD_OUT = (
@@ -52,12 +56,22 @@ def test_engines_are_registered_by_name_and_made_once():
         get_engine("festival")
 
 
-def test_a_missing_engine_says_how_to_install_it(monkeypatch):
+def test_a_missing_engine_says_how_to_install_it():
     if ctypes.util.find_library("espeak-ng"):
         pytest.skip("a system libespeak-ng is installed, so the engine is never missing here")
-    monkeypatch.setitem(sys.modules, "espeakng_loader", None)  # as if the wheel were not installed
-    with pytest.raises(SpeechEngineError, match=r"pip install espeakng-loader.*apt install libespeak-ng1"):
-        _load_library()
+    # A fresh process (this one has the library loaded already), as if the wheel were not installed.
+    program = (
+        "import sys; sys.modules['espeakng_loader'] = None\n"
+        "from turkish_lipsync.core.speech import synthesize_timeline\n"
+        "from turkish_lipsync.core.utterance import build_utterance\n"
+        "synthesize_timeline(build_utterance('merhaba'))\n"
+    )
+    result = subprocess.run(
+        [sys.executable, "-c", program], cwd=REPOSITORY, capture_output=True, text=True, timeout=60
+    )
+    assert result.returncode != 0
+    assert "SpeechEngineError" in result.stderr
+    assert "pip install espeakng-loader" in result.stderr and "apt install libespeak-ng1" in result.stderr
 
 
 @pytest.mark.parametrize("fps", [24, 25, 30, 60])
@@ -236,3 +250,14 @@ def test_write_wav_writes_mono_16_bit_pcm(tmp_path, spoken):
         )
         samples = np.frombuffer(handle.readframes(handle.getnframes()), "<i2")
     assert np.array_equal(samples, synthesis.samples)
+
+
+def test_a_phone_spoken_without_duration_gets_a_span_like_a_dropped_letter():
+    # eSpeak NG reports the dark l of "nasılsın" with no duration, at the onset of the s after it.
+    utterance = build_utterance("nasılsın")
+    timeline, synthesis = synthesize_timeline(utterance)
+    vowel, l_sound, s_sound = timeline.phones[3:6]
+    assert (vowel.letter, l_sound.letter, s_sound.letter) == ("ı", "l", "s")
+    vowel_phone = next(event for event in synthesis.phone_events if 3 in event.letters)
+    assert vowel.start == vowel_phone.start < l_sound.start < l_sound.end == vowel_phone.end <= s_sound.start
+    assert l_sound.end - l_sound.start >= 0.005

@@ -23,15 +23,20 @@ def _markers_of(head: bpy.types.Object) -> list[bpy.types.Object]:
     return [child for child in head.children if LANDMARK_PROPERTY in child.keys()]
 
 
-def remove_landmark_markers(head: bpy.types.Object) -> int:
-    """Delete the head's markers (and the collection once it is empty); how many were removed."""
+def _delete_markers(head: bpy.types.Object) -> int:
     markers = _markers_of(head)
     for marker in markers:
         bpy.data.objects.remove(marker, do_unlink=True)
+    return len(markers)
+
+
+def remove_landmark_markers(head: bpy.types.Object) -> int:
+    """Delete the head's markers (and the collection once it is empty); how many were removed."""
+    count = _delete_markers(head)
     collection = bpy.data.collections.get(COLLECTION_NAME)
     if collection is not None and not collection.objects and not collection.children:
         bpy.data.collections.remove(collection)
-    return len(markers)
+    return count
 
 
 def _marker_collection(scene: bpy.types.Scene) -> bpy.types.Collection:
@@ -56,7 +61,7 @@ def show_landmark_markers(
 
     Running it again replaces the head's markers. They live in the "TR Landmarks" collection.
     """
-    remove_landmark_markers(head)
+    _delete_markers(head)
     scene = scene or bpy.context.scene
     collection = _marker_collection(scene)
     points = np.array([np.asarray(point, np.float64) for point in landmarks.values()])

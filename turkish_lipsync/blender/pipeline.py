@@ -7,7 +7,6 @@ error leaves the file as it was. Functions take and return names, never keep Ble
 from __future__ import annotations
 
 import dataclasses
-import math
 import re
 import time
 from collections.abc import Callable
@@ -240,7 +239,7 @@ def generate(
     written = keyframes.write_weight_tracks(head_objects(head), tracks, start, action_name)
     progress(0.85, "Placing the speech in the sequencer")
     strip_name = None
-    frame_count = max(1, math.ceil(timeline.duration * fps - 1e-6))
+    frame_count = sequencer.frame_count_for(timeline.duration, fps)
     if wav_path is not None:
         strip_name = sequencer.place_speech_strip(scene, wav_path, start, timeline.duration)
     else:

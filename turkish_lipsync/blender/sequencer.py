@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 import os
 import re
 import tempfile
@@ -22,6 +21,12 @@ SPEECH_PATH_PROPERTY = "turkish_lipsync_speech_wav"
 def scene_fps(scene: bpy.types.Scene) -> float:
     """The real frame rate, fractional rates included (29.97 is fps 30 / fps_base 1.001)."""
     return scene.render.fps / scene.render.fps_base
+
+
+def frame_count_for(seconds: float, fps: float) -> int:
+    """Frames that show the speech: the nearest whole count, so video and audio (with the AAC encoder's
+    padding) both end within a frame of the speech."""
+    return max(1, round(seconds * fps))
 
 
 def _safe_file_stem(name: str) -> str:
@@ -105,7 +110,7 @@ def place_speech_strip(
     """
     if not Path(wav_path).is_file():
         raise AudioError(f"The speech audio {wav_path} does not exist; generate the animation again.")
-    frame_count = max(1, math.ceil(duration_seconds * scene_fps(scene) - 1e-6))
+    frame_count = frame_count_for(duration_seconds, scene_fps(scene))
     if set_frame_range:
         scene.frame_start = int(start_frame)
         scene.frame_end = int(start_frame) + frame_count - 1

@@ -239,9 +239,43 @@ def find_landmarks(vertices: np.ndarray, polygons) -> dict[str, np.ndarray]:
     vertices = np.asarray(vertices, np.float64)
     if vertices.ndim != 2 or vertices.shape[1] != 3 or len(vertices) < 4:
         raise HeadError("The head mesh has too few vertices to find a face on; import a head mesh.")
+    if not np.isfinite(vertices).all():
+        raise HeadError("The head mesh has vertices at infinite or undefined positions; clean up the mesh.")
     triangles = triangulate(polygons)
+    if triangles.size and (triangles.min() < 0 or triangles.max() >= len(vertices)):
+        raise HeadError("The head mesh has polygons that refer to missing vertices; clean up the mesh.")
     head = find_head_region(vertices, triangles)
-    skin = largest_piece(len(vertices), triangles, head)
+    # The skin is normally the biggest piece; a hair or helmet mesh can be bigger, so the next biggest
+    # pieces get their turn when no face is found on it.
+    first_error = None
+    for skin in _biggest_pieces(len(vertices), triangles, head):
+        try:
+            return _landmarks_on_piece(vertices, triangles, skin)
+        except HeadError as error:
+            first_error = first_error or error
+    raise first_error
+
+
+def _biggest_pieces(vertex_count: int, triangles: np.ndarray, among: np.ndarray, count: int = 3):
+    """Up to `count` connected pieces among some vertices, biggest first, none under a tenth of the first."""
+    labels = connected_pieces(vertex_count, triangles)
+    used = np.zeros(vertex_count, bool)
+    used[triangles.ravel()] = True
+    keep = np.zeros(vertex_count, bool)
+    keep[among] = True
+    used &= keep
+    if not used.any():
+        raise HeadError("The mesh has no faces: a head needs polygons to find a face on. Import a mesh head.")
+    sizes = np.bincount(labels[used], minlength=vertex_count)
+    order = np.argsort(sizes)[::-1][:count]
+    return [
+        np.flatnonzero(used & (labels == label)) for label in order if sizes[label] >= 0.1 * sizes[order[0]]
+    ]
+
+
+def _landmarks_on_piece(
+    vertices: np.ndarray, triangles: np.ndarray, skin: np.ndarray
+) -> dict[str, np.ndarray]:
     keep = np.zeros(len(vertices), bool)
     keep[skin] = True
     skin_triangles = triangles[keep[triangles].all(1)]
@@ -356,7 +390,10 @@ class _FaceReader:
         strength = self.groove[first:last, max(mid - half, 0) : mid + half + 1]
         score = np.median(np.minimum(strength, 0.02 * self.size), axis=1)
         if score.max() <= 1e-4 * self.size:
-            raise HeadError("No mouth found under the nose (no crease or gap between lips facing -Y).")
+            raise HeadError(
+                "No mouth found under the nose (no crease or gap between lips facing -Y). Turn the head so "
+                "its face looks toward -Y with Z up (Blender's front view), or place the landmark markers."
+            )
         return first + int(np.argmax(score))
 
     def midline(self, nose_row: int, mouth_row: int, mid: int) -> dict[str, np.ndarray]:
@@ -431,7 +468,10 @@ class _FaceReader:
             first, last = max(min(near, far), 0), max(near, far)
             socket = bowl[top:bottom, first : last + 1]
             if socket.size == 0 or socket.max() <= 0.002 * self.size:
-                raise HeadError(f"No {side} eye found beside the nose (no socket where an eye should be).")
+                raise HeadError(
+                    f"No {side} eye found beside the nose (no socket where an eye should be). "
+                    "Turn the head so its face looks toward -Y with Z up, or place the landmark markers."
+                )
             seed = np.unravel_index(np.argmax(socket), socket.shape)
             window = recess[top:bottom, first : last + 1]
             blob = _grow_blob(window > min(0.015 * self.size, 0.5 * window[seed]), seed)

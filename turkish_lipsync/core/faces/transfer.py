@@ -130,30 +130,45 @@ def _triangles_around(vertex_count: int, triangles: np.ndarray) -> np.ndarray:
 def closest_points(points: np.ndarray, vertices: np.ndarray, triangles: np.ndarray):
     """(triangle index, barycentric weights (P, 3), distance) of the closest surface point to each point.
 
-    The search looks at the triangles around the nearest vertex and its neighbours, which holds the
-    closest point on any mesh whose triangles are not far bigger than the distances involved.
+    The search looks at the triangles around the nearest vertex and its neighbours. Where two sheets
+    of surface nearly touch (eyelid and socket) it can pick the other sheet, a fraction of a millimetre
+    further away, whose deltas are the same.
     """
     points = np.asarray(points, np.float64)
     used = np.unique(triangles)
     nearest = used[_nearest_vertex(points, vertices[used])]
-    candidates = _triangles_around(len(vertices), triangles)[nearest]  # (P, K)
     best_distance = np.full(len(points), np.inf)
     best_triangle = np.zeros(len(points), np.int64)
     best_weights = np.zeros((len(points), 3))
+    candidates = _triangles_around(len(vertices), triangles)[nearest]
+    _search(
+        points,
+        vertices,
+        triangles,
+        candidates,
+        np.arange(len(points)),
+        best_distance,
+        best_triangle,
+        best_weights,
+    )
+    return best_triangle, best_weights, best_distance
+
+
+def _search(points, vertices, triangles, candidates, rows_of, best_distance, best_triangle, best_weights):
+    """Keep, for each point, the closest of its candidate triangles (columns of `candidates`)."""
     for column in range(candidates.shape[1]):
         triangle = candidates[:, column]
         valid = triangle >= 0
         if not valid.any():
             continue
-        rows = np.flatnonzero(valid)
-        corners = vertices[triangles[triangle[rows]]]
+        rows = rows_of[valid]
+        corners = vertices[triangles[triangle[valid]]]
         weights, distance = _closest_on_triangles(points[rows], corners)
         better = distance < best_distance[rows]
         chosen = rows[better]
         best_distance[chosen] = distance[better]
-        best_triangle[chosen] = triangle[rows][better]
+        best_triangle[chosen] = triangle[valid][better]
         best_weights[chosen] = weights[better]
-    return best_triangle, best_weights, best_distance
 
 
 def _closest_on_triangles(points: np.ndarray, corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -263,10 +278,6 @@ def find_parts(vertices: np.ndarray, polygons, landmarks: Mapping[str, np.ndarra
 
 # ---------------------------------------------------------------- the transfer
 
-# What the last transfer_units call fitted (scale, landmark residual as a fraction of the face, warped),
-# for benchmarks and reports.
-_last_fit: dict = {}
-
 
 @functools.lru_cache(maxsize=4)
 def _reference_landmarks_of(reference) -> dict[str, np.ndarray]:
@@ -298,6 +309,8 @@ def transfer_units(
     similarity fit leaves the landmarks more than a few percent of the face apart). reference_landmarks
     default to find_landmarks on the reference, the convention the target's landmarks follow.
     """
+    if warp not in ("auto", "similarity", "thin_plate"):
+        raise ValueError(f"warp must be 'auto', 'similarity' or 'thin_plate', not {warp!r}")
     target_vertices = np.asarray(target_vertices, np.float64)
     target_triangles = triangulate(target_polygons)
     if reference_landmarks is None:
@@ -317,9 +330,6 @@ def transfer_units(
     face_size = float(np.linalg.norm(np.ptp(target_points, axis=0)))
     residual = float(np.sqrt(((placed_landmarks - target_points) ** 2).sum(1).mean()))
     use_warp = warp == "thin_plate" or (warp == "auto" and residual > WARP_RESIDUAL * face_size)
-    _last_fit.update(scale=scale, residual=residual / face_size, warped=use_warp)
-    if warp not in ("auto", "similarity", "thin_plate"):
-        raise ValueError(f"warp must be 'auto', 'similarity' or 'thin_plate', not {warp!r}")
 
     reference_vertices = np.asarray(reference.vertices, np.float64)
     placed = scale * reference_vertices @ rotation.T + translation

@@ -168,11 +168,9 @@ def phone_letter_spans(
             if phones and events[phones[-1]].end - events[phones[0]].start >= SILENT_PHONE:
                 starts[first + position] = events[phones[0]].start
                 ends[first + position] = events[phones[-1]].end
-                for phone in phones:
-                    number = numbers[phone]
-                    linked[number] = replace(
-                        linked[number], letters=(*linked[number].letters, first + position)
-                    )
+            for phone in phones:
+                number = numbers[phone]
+                linked[number] = replace(linked[number], letters=(*linked[number].letters, first + position))
         _place_dropped_letters(starts, ends, first, word.letter_count, costs.dropped_share)
     _place_unvoiced_words(utterance, synthesis, starts, ends)
     starts, ends = _ordered_positive(starts, ends)

@@ -190,18 +190,28 @@ def _load_library() -> tuple[ctypes.CDLL, str | None, str]:
         except OSError:
             continue
     problems.append("no system libespeak-ng was found")
-    raise SpeechEngineError(f"eSpeak NG is not available: {'; '.join(problems)}. To fix it, {INSTALL_HINT}.")
+    raise SpeechEngineError(
+        f"eSpeak NG is not available: {'; '.join(problems)}. To fix it, {INSTALL_HINT}, then restart."
+    )
 
 
 _LIBRARY: _Library | None = None
+_LIBRARY_FAILURE: SpeechEngineError | None = None
 _LIBRARY_LOCK = threading.Lock()
 
 
 def _library() -> _Library:
-    global _LIBRARY
+    """The process's one initialised library; a failed initialisation is remembered, never retried."""
+    global _LIBRARY, _LIBRARY_FAILURE
     with _LIBRARY_LOCK:
+        if _LIBRARY_FAILURE is not None:
+            raise _LIBRARY_FAILURE
         if _LIBRARY is None:
-            _LIBRARY = _Library()
+            try:
+                _LIBRARY = _Library()
+            except SpeechEngineError as error:
+                _LIBRARY_FAILURE = error
+                raise
         return _LIBRARY
 
 

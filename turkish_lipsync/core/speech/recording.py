@@ -4,7 +4,7 @@ The recording is read (WAV through the stdlib, FLAC/OGG and float WAV through so
 mono and resampled to the synthesis rate. Both signals are trimmed to their speech, described by
 MFCCs (numpy only) and aligned by dynamic time warping. The DTW is multi-resolution (solve at half the
 frame rate, then refine in a band around that path, as FastDTW does) so its memory grows with the
-length of the audio, not with its square: a 10-minute text needs a few megabytes, not tens of GB.
+length of the audio, not with its square: 10 minutes take about 20 MB instead of some 30 GB.
 No DTW library is used: the ones that install cleanly either hold the full cost matrix (dtw-python)
 or bring numba and librosa into a Blender extension; the recurrence below is 40 lines of numpy.
 """
@@ -25,6 +25,7 @@ MAX_LENGTH_RATIO = 3.0  # recordings this many times longer or shorter than the 
 FRAME_SECONDS = 0.025
 HOP_SECONDS = 0.010
 MEL_BANDS = 40
+MEL_TOP_HERTZ = 7600.0
 CEPSTRA = 13  # MFCC 1..12 are used (c0, the loudness, differs between voices)
 SILENCE_DB = 35.0  # frames this far below the loud frames count as silence at the ends
 DTW_RADIUS = 12  # frames of slack around the coarse path at each resolution
@@ -156,11 +157,16 @@ def speech_range(samples: np.ndarray, rate: int) -> tuple[int, int]:
     return max(0, voiced[0] * frame - margin), min(samples.size, (voiced[-1] + 1) * frame + margin)
 
 
-def speech_features(samples: np.ndarray, rate: int) -> tuple[np.ndarray, np.ndarray]:
-    """MFCC 1..12 per 10 ms frame (each normalised over the signal) and whether each frame is voiced."""
+def speech_features(
+    samples: np.ndarray, rate: int, top_hertz: float = MEL_TOP_HERTZ
+) -> tuple[np.ndarray, np.ndarray]:
+    """MFCC 1..12 per 10 ms frame (each normalised over the signal) and whether each frame is voiced.
+
+    top_hertz: highest frequency described; both signals of an alignment must use the same one.
+    """
     window, hop = frame_sizes(rate)
     size = 1 << int(np.ceil(np.log2(window)))
-    filters = _mel_filters(rate, size)
+    filters = _mel_filters(rate, size, top_hertz)
     transform = _dct_matrix(MEL_BANDS, CEPSTRA)[1:]
     taper = np.hanning(window)
     count = max(1, 1 + (samples.size - 1) // hop)
@@ -186,14 +192,14 @@ def frame_sizes(rate: int) -> tuple[int, int]:
     return int(round(FRAME_SECONDS * rate)), int(round(HOP_SECONDS * rate))
 
 
-def _mel_filters(rate: int, size: int) -> np.ndarray:
+def _mel_filters(rate: int, size: int, top_hertz: float) -> np.ndarray:
     def to_mel(hertz):
         return 2595 * np.log10(1 + np.asarray(hertz) / 700)
 
     def to_hertz(mel):
         return 700 * (10 ** (np.asarray(mel) / 2595) - 1)
 
-    edges = to_hertz(np.linspace(to_mel(60.0), to_mel(min(7600.0, 0.45 * rate)), MEL_BANDS + 2))
+    edges = to_hertz(np.linspace(to_mel(60.0), to_mel(min(top_hertz, 0.45 * rate)), MEL_BANDS + 2))
     bins = np.fft.rfftfreq(size, 1 / rate)
     lower, centre, upper = edges[:-2, None], edges[1:-1, None], edges[2:, None]
     rising = (bins[None, :] - lower) / (centre - lower)
@@ -297,9 +303,11 @@ def _copy_overlap(target: np.ndarray, target_low: int, source: np.ndarray, sourc
 def align_recording(synthesis: Synthesis, path: str | Path) -> tuple[TimeWarp, Synthesis]:
     """The warp from synthetic to recorded time, and the recording as a Synthesis with warped events."""
     path = Path(path)
-    recorded, rate = read_audio(path)
-    recorded = resample(recorded, rate, synthesis.sample_rate)
+    recorded, recorded_rate = read_audio(path)
+    recorded = resample(recorded, recorded_rate, synthesis.sample_rate)
     rate = synthesis.sample_rate
+    # A telephone-quality recording has nothing above its Nyquist frequency: describe both up to there.
+    top_hertz = min(MEL_TOP_HERTZ, 0.45 * recorded_rate)
     synthetic = synthesis.samples.astype(np.float32) / 32768
     recorded_begin, recorded_end = speech_range(recorded, rate)
     synthetic_begin, synthetic_end = speech_range(synthetic, rate)
@@ -314,8 +322,8 @@ def align_recording(synthesis: Synthesis, path: str | Path) -> tuple[TimeWarp, S
             f"takes about {(synthetic_end - synthetic_begin) / rate:.1f} s to say (more than "
             f"{MAX_LENGTH_RATIO:g} times apart); check that the recording reads exactly this text"
         )
-    x, x_voiced = speech_features(synthetic[synthetic_begin:synthetic_end], rate)
-    y, y_voiced = speech_features(recorded[recorded_begin:recorded_end], rate)
+    x, x_voiced = speech_features(synthetic[synthetic_begin:synthetic_end], rate, top_hertz)
+    y, y_voiced = speech_features(recorded[recorded_begin:recorded_end], rate, top_hertz)
     path_x, path_y = dtw_path(x, y)
     # Silence matches silence at no cost, so the path through a pause is arbitrary: only matches of voiced
     # frames become knots of the warp, each synthetic frame taking the mean recording frame matched to it,
