@@ -91,11 +91,17 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
     parser.add_argument("--rebuild-keys", action="store_true", help="rebuild the TR_* keys even if present")
     parser.add_argument("--no-render", action="store_true", help="only animate (and save with --save-blend)")
     parser.add_argument("--samples", type=_positive, help="render samples per pixel (default 16)")
+    parser.add_argument(
+        "--still", type=Path, help="also render one frame to this PNG (widest mouth by default)"
+    )
+    parser.add_argument("--still-frame", type=int, help="the frame for --still")
     arguments = parser.parse_args(argv)
     if not arguments.no_render and arguments.out is None:
         parser.error("--out OUT.mp4 is required unless --no-render is given")
     if arguments.out is not None and arguments.out.suffix.lower() != ".mp4":
         parser.error(f"--out {arguments.out} must end in .mp4")
+    if arguments.still is not None and arguments.still.suffix.lower() != ".png":
+        parser.error(f"--still {arguments.still} must end in .png")
     if arguments.save_blend is not None and arguments.save_blend.suffix.lower() != ".blend":
         parser.error(f"--save-blend {arguments.save_blend} must end in .blend")
     if arguments.head is not None and not arguments.head.is_file():
@@ -209,6 +215,17 @@ def run(arguments: argparse.Namespace) -> None:
             f"({rendered.seconds / max(1, rendered.frame_count):.2f} s/frame) to {rendered.path}",
             flush=True,
         )
+    if arguments.still is not None:
+        still = pipeline.render_still(
+            context,
+            bpy.data.objects[head_name],
+            str(arguments.still),
+            frame=arguments.still_frame,
+            engine=arguments.engine,
+            samples=arguments.samples,
+            resolution=arguments.resolution,
+        )
+        print(f"Rendered the still {still}", flush=True)
     if arguments.save_blend is not None:
         arguments.save_blend.parent.mkdir(parents=True, exist_ok=True)
         sequencer.relate_speech_to(scene, arguments.save_blend)

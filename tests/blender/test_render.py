@@ -1,6 +1,5 @@
 """Render set-up (camera, lights, engines, MP4 output) and a short Cycles render checked with PyAV."""
 
-
 import numpy as np
 import pytest
 
@@ -126,3 +125,15 @@ def test_short_cycles_render_has_video_and_audio_of_the_speech_length(tmp_path):
     assert frames == frame_count
     assert abs(_stream_seconds(video) - speech_seconds) <= one_frame
     assert abs(_stream_seconds(audio) - speech_seconds) <= one_frame
+
+
+def test_a_still_goes_to_png_and_the_video_settings_stay(tmp_path):
+    scene = bpy.context.scene
+    face = _face()
+    render.configure_output(scene, tmp_path / "video.mp4", (48, 32))
+    still = str(tmp_path / "still.png")
+    path = pipeline.render_still(bpy.context, face, still, frame=1, engine="CYCLES", samples=1)
+    assert path.endswith("still.png")
+    assert (tmp_path / "still.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert scene.render.image_settings.file_format == "FFMPEG"
+    assert scene.render.filepath.endswith("video.mp4")

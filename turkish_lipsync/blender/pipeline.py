@@ -319,3 +319,57 @@ def render_video(
         camera_added=framed["camera"],
         lights_added=framed["lights"],
     )
+
+
+def widest_mouth_frame(head: bpy.types.Object) -> int | None:
+    """The frame where the open-mouth viseme peaks: a telling still of the speech (None without keys)."""
+    key = getattr(head.data, "shape_keys", None)
+    action = key.animation_data.action if key is not None and key.animation_data else None
+    if action is None:
+        return None
+    wanted = keyframes.curve_data_path("TR_viseme_a")
+    for fcurve in compat.all_action_fcurves(action):
+        if fcurve.data_path == wanted and len(fcurve.keyframe_points):
+            best = max(fcurve.keyframe_points, key=lambda point: point.co[1])
+            return round(best.co[0])
+    return None
+
+
+def render_still(
+    context: bpy.types.Context,
+    head: bpy.types.Object | None,
+    out_path: str,
+    *,
+    frame: int | None = None,
+    engine: str = "AUTO",
+    samples: int | None = None,
+    resolution: tuple[int, int] | None = None,
+) -> str:
+    """One frame to PNG (for READMEs and checks), framed and lit like the video; returns the path."""
+    scene = context.scene
+    path = Path(bpy.path.abspath(out_path))
+    path.parent.mkdir(parents=True, exist_ok=True)
+    chosen = render.choose_engine(engine)
+    render.frame_face(scene, head_objects(head) if head is not None else [])
+    render.configure_engine(scene, chosen, samples)
+    if resolution is not None:
+        scene.render.resolution_x, scene.render.resolution_y = resolution
+    settings = scene.render.image_settings
+    saved = (scene.render.filepath, settings.file_format, scene.frame_current)
+    if frame is None:
+        frame = (widest_mouth_frame(head) if head is not None else None) or scene.frame_current
+    try:
+        compat.set_image_output(settings, "PNG")
+        scene.render.filepath = str(path)
+        scene.frame_set(int(frame))
+        bpy.ops.render.render(write_still=True, scene=scene.name)
+    finally:
+        scene.render.filepath = saved[0]
+        if saved[1] == "FFMPEG":
+            compat.set_video_output(settings)
+        else:
+            settings.file_format = saved[1]
+        scene.frame_set(saved[2])
+    if not path.is_file():
+        raise render.RenderError(f"Blender did not write {path}; see the console for the render error.")
+    return str(path)
