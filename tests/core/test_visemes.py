@@ -5,8 +5,8 @@ from turkish_lipsync.core.utterance import build_utterance
 from turkish_lipsync.core.visemes import viseme_for_letter, viseme_names
 
 THESIS_MODELS = (
-    "a bpa cjae dta fvae gkya la ma na ra sza ta e bpe dte gkye le me ne re sze I Ii o bpo cjo do fvo gkyo lo mo"
-    " no ro szto oi u neutral"
+    "a bpa cjae dta fvae gkya la ma na ra sza ta e bpe dte gkye le me ne re sze"
+    " I Ii o bpo cjo do fvo gkyo lo mo no ro szto oi u neutral"
 ).split()
 
 

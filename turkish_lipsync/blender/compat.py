@@ -144,3 +144,12 @@ def set_image_output(image_settings, file_format: str = "PNG") -> None:
     if hasattr(image_settings, "media_type"):
         image_settings.media_type = "IMAGE"
     image_settings.file_format = file_format
+
+
+# ---------------------------------------------------------------- materials
+
+
+def enable_material_nodes(material: bpy.types.Material) -> None:
+    """Give a material its node tree; from 5.0 on every material has one and use_nodes is deprecated."""
+    if VERSION < (5, 0, 0):
+        material.use_nodes = True

@@ -9,6 +9,7 @@ import numpy as np
 
 from ..core.errors import HeadError
 from ..core.faces.reference import ReferenceHead, load_reference_head
+from . import compat
 
 # Custom property on objects made by create_reference_head: which part of the reference they are.
 REFERENCE_PART_PROPERTY = "tr_reference_part"
@@ -41,7 +42,7 @@ def _material(name: str) -> bpy.types.Material:
     material = bpy.data.materials.new(material_name)
     material.diffuse_color = color  # Workbench and the viewport
     material.roughness = roughness
-    material.use_nodes = True
+    compat.enable_material_nodes(material)
     shader = next((node for node in material.node_tree.nodes if node.type == "BSDF_PRINCIPLED"), None)
     if shader is not None:
         shader.inputs["Base Color"].default_value = color

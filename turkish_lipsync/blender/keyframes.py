@@ -122,6 +122,11 @@ def write_weight_tracks(
         compat.assign_action(key, action, KEY_ID_TYPE)
         channels = compat.action_channels(action, key, KEY_ID_TYPE, create=True)
         _remove_our_curves(channels)
+        # Our keys without a track in this utterance rest at zero (no stale weight from an earlier run).
+        keyed = {track.name for track in available}
+        for block in key.key_blocks:
+            if block.name.startswith(OUR_PREFIX) and block.name not in keyed:
+                block.value = 0.0
         key_count = 0
         for track in available:
             frames = np.asarray(track.frames, dtype=np.float64) + float(start_frame)

@@ -7,14 +7,13 @@ import os
 import bpy
 from bpy.props import StringProperty
 
+# Read by the speech engine: a libespeak-ng to load instead of the bundled one, and its data folder.
+from ..core.speech.espeak import DATA_ENVIRONMENT_VARIABLE, LIBRARY_ENVIRONMENT_VARIABLE
+
 # The extension's package: "bl_ext.<repo>.turkish_lipsync" when installed, "turkish_lipsync" in a checkout.
 ADDON_PACKAGE = (__package__ or "").removesuffix(".blender").removesuffix(
     ".turkish_lipsync"
 ) or "turkish_lipsync"
-
-# Read by the speech engine: a libespeak-ng to load instead of the bundled one, and its data folder.
-LIBRARY_ENVIRONMENT_VARIABLE = "TURKISH_LIPSYNC_ESPEAK_LIBRARY"
-DATA_ENVIRONMENT_VARIABLE = "TURKISH_LIPSYNC_ESPEAK_DATA"
 
 
 class TurkishLipSyncPreferences(bpy.types.AddonPreferences):

@@ -21,8 +21,8 @@ CAMERA_NAME = "TR_camera"
 LIGHT_NAMES = ("TR_key_light", "TR_fill_light", "TR_rim_light")
 WORLD_NAME = "TR_world"
 CAMERA_LENS_MM = 70.0
-FACE_MARGIN = 1.3  # frame this much more than the moving part of the face (forehead, chin, ears)
-FACE_RAISE = 0.06  # of the face height: eyes nearer the upper third, less neck
+FACE_MARGIN = 1.12  # frame this much more than the moving part of the face (forehead, chin, ears)
+FACE_RAISE = 0.1  # of the face height: eyes nearer the upper third, less neck
 PROBE_ENVIRONMENT_VARIABLE = "TURKISH_LIPSYNC_PROBE_OPENGL"
 
 

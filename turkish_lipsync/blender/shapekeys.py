@@ -420,6 +420,7 @@ def _write_keys(obj: bpy.types.Object, deltas_by_key: dict[str, np.ndarray], *, 
         block = blocks.get(key_name)
         if block is None:
             block = obj.shape_key_add(name=key_name, from_mix=False)
+            block.value = 0.0  # Blender 5.0 adds new keys at full weight
         block.relative_key = shape_keys.reference_key
         block.data.foreach_set("co", basis + deltas.astype(np.float32).ravel())
     built_arkit = sorted(name for name in deltas_by_key if not name.startswith(OWNED_KEY_PREFIX))

@@ -52,7 +52,9 @@ def _add_source_arguments(parser: argparse.ArgumentParser) -> None:
     source.add_argument("--text", help="JSML or plain text given on the command line")
     parser.add_argument("--timing", choices=TIMINGS, default="phone")
     parser.add_argument("--fps", type=float, default=25.0)
-    parser.add_argument("--audio", type=Path, metavar="RECORDING", help="a recording of the same text to align")
+    parser.add_argument(
+        "--audio", type=Path, metavar="RECORDING", help="a recording of the same text to align"
+    )
 
 
 def read_source(file: Path | None, text: str | None) -> str:
@@ -125,7 +127,9 @@ def timeline_as_dict(timeline: Timeline, fps: float) -> dict:
             }
             for p in timeline.phones
         ],
-        "words": [{"start": round(w.start, 4), "end": round(w.end, 4), "text": w.text} for w in timeline.words],
+        "words": [
+            {"start": round(w.start, 4), "end": round(w.end, 4), "text": w.text} for w in timeline.words
+        ],
         "emotions": [
             {"start": round(e.start, 4), "end": round(e.end, 4), "emotion": e.emotion, "weight": e.weight}
             for e in timeline.emotions

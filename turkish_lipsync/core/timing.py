@@ -129,7 +129,9 @@ def build_timeline(
             emotions.append(EmotionSpan(span.start, span.end, *current))
         previous = current
     emphases = tuple(
-        (span.start, span.end) for word, span in zip(utterance.words, words, strict=True) if word.style.emphasis
+        (span.start, span.end)
+        for word, span in zip(utterance.words, words, strict=True)
+        if word.style.emphasis
     )
     return Timeline(
         phones=phones,

@@ -30,9 +30,9 @@ def weight_tracks(
 def thesis_weight_tracks(timeline: Timeline, fps: float, emotion_strength: float = 1.0) -> WeightTracks:
     """The thesis's weighted morphing (eq. 5.3, 5.4), one key per letter onset.
 
-    Lips morph linearly from letter to letter at weight (1 - w); the emotion of each letter's word is keyed at w,
-    so consecutive words in different emotions cross-fade over the letters between them. The face starts and
-    ends on the neutral model.
+    Lips morph linearly from letter to letter at weight (1 - w); the emotion of each letter's word is keyed
+    at w, so consecutive words in different emotions cross-fade over the letters between them. The face
+    starts and ends on the neutral model.
     """
     phones = timeline.phones
     word_weight = _word_emotion_weights(timeline, emotion_strength)

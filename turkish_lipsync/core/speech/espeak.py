@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import ctypes
 import ctypes.util
+import os
 import threading
 from bisect import bisect_right
 from dataclasses import dataclass
@@ -171,9 +172,24 @@ class _Library:
         return self.collector
 
 
+# Paths a user chose (the add-on's preferences set them): they win over the wheel and the system library.
+LIBRARY_ENVIRONMENT_VARIABLE = "TURKISH_LIPSYNC_ESPEAK_LIBRARY"
+DATA_ENVIRONMENT_VARIABLE = "TURKISH_LIPSYNC_ESPEAK_DATA"
+
+
 def _load_library() -> tuple[ctypes.CDLL, str | None, str]:
-    """The espeakng-loader wheel's library and data, else the system's libespeak-ng."""
+    """The user's chosen library, else the espeakng-loader wheel's library and data, else the system's."""
     problems = []
+    chosen_library = os.environ.get(LIBRARY_ENVIRONMENT_VARIABLE)
+    chosen_data = os.environ.get(DATA_ENVIRONMENT_VARIABLE) or None
+    if chosen_library:
+        try:
+            return ctypes.CDLL(chosen_library), chosen_data, f"chosen {chosen_library}"
+        except OSError as error:
+            raise SpeechEngineError(
+                f"the eSpeak NG library chosen in the preferences ({chosen_library}) does not load: {error}. "
+                "Pick the libespeak-ng file itself, or clear the path to use the bundled engine."
+            ) from None
     try:
         import espeakng_loader
 
