@@ -86,6 +86,9 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
     parser.add_argument("--emotion-strength", type=float, default=1.0, help="0..1 (default 1)")
     parser.add_argument("--rate", type=float, default=1.0, help="speaking-rate multiplier (default 1)")
     parser.add_argument(
+        "--audio", type=Path, help="a recording of the same text (WAV, FLAC, OGG) to use instead of eSpeak"
+    )
+    parser.add_argument(
         "--arkit-keys", action="store_true", help="also keep the 52 ARKit unit keys on the head"
     )
     parser.add_argument("--rebuild-keys", action="store_true", help="rebuild the TR_* keys even if present")
@@ -108,6 +111,8 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
         parser.error(f"--head {arguments.head} does not exist")
     if arguments.jsml is not None and not arguments.jsml.is_file():
         parser.error(f"--jsml {arguments.jsml} does not exist")
+    if arguments.audio is not None and not arguments.audio.is_file():
+        parser.error(f"--audio {arguments.audio} does not exist")
     arguments.engine = arguments.engine.upper()
     return arguments
 
@@ -192,6 +197,7 @@ def run(arguments: argparse.Namespace) -> None:
         motion=arguments.motion,
         emotion_strength=arguments.emotion_strength,
         rate=arguments.rate,
+        recording=str(arguments.audio) if arguments.audio else None,
         audio_folder=audio_folder,
         progress=_print_progress,
     )

@@ -150,3 +150,30 @@ def test_errors_are_one_clear_line_and_a_nonzero_exit(arguments, message):
     assert "Traceback" not in result.stderr
     error_lines = [line for line in result.stderr.splitlines() if line.startswith("render.py: error:")]
     assert len(error_lines) == 1 and message in error_lines[0], result.stderr
+
+
+def test_a_users_recording_replaces_the_synthetic_voice(tmp_path):
+    # The "recording" is the same sentence spoken slower by the engine: a voice of another length.
+    recording = tmp_path / "recording.wav"
+    slower = f'<PROS RATE="-30%">{SENTENCE}</PROS>'
+    made = subprocess.run(
+        [sys.executable, "-m", "turkish_lipsync", "timeline", "--text", slower, "--wav", str(recording)],
+        capture_output=True, text=True, timeout=300, cwd=REPOSITORY, check=False,
+    )  # fmt: skip
+    assert made.returncode == 0, made.stderr
+    recorded_seconds = soundfile.info(str(recording)).duration
+    result = _run(
+        "--text",
+        SENTENCE,
+        "--audio",
+        str(recording),
+        "--no-render",
+        "--save-blend",
+        str(tmp_path / "r.blend"),
+    )
+    assert result.returncode == 0, result.stderr
+    generated = next(line for line in result.stdout.splitlines() if line.startswith("Generated"))
+    seconds = float(generated.split(",")[1].split()[0])
+    assert seconds == pytest.approx(recorded_seconds, abs=0.15)
+    missing = _run("--text", SENTENCE, "--audio", str(tmp_path / "none.wav"), "--no-render")
+    assert missing.returncode != 0 and "--audio" in missing.stderr and "Traceback" not in missing.stderr
