@@ -1,5 +1,7 @@
-"""The three operators on the default head and on the shared heads: results, errors, undo, regenerate."""
+"""The operators on the default head and on the shared heads: results, errors, undo, regenerate."""
 
+import math
+import wave
 from pathlib import Path
 
 import numpy as np
@@ -7,9 +9,15 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
+from mathutils import Matrix  # noqa: E402
+
 from turkish_lipsync import blender  # noqa: E402
-from turkish_lipsync.blender import compat, heads, pipeline, sequencer  # noqa: E402
+from turkish_lipsync.blender import compat, heads, landmarks, pipeline, sequencer  # noqa: E402
+from turkish_lipsync.core.faces.landmarks import LANDMARK_NAMES  # noqa: E402
+from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
 from turkish_lipsync.core.model import EMOTIONS, emotion_key_name, viseme_key_name  # noqa: E402
+from turkish_lipsync.core.speech import synthesize_timeline  # noqa: E402
+from turkish_lipsync.core.utterance import build_utterance  # noqa: E402
 
 # The thesis's 37 models (Table 5.1, Appendix B).
 VISEMES = (
@@ -219,3 +227,297 @@ def test_operators_work_on_the_shared_heads(relative_path):
     assert bpy.ops.turkish_lipsync.generate() == {"FINISHED"}
     assert _our_curves(head)
     assert bpy.context.scene.frame_end > 25
+
+
+# ---------------------------------------------------------------- landmarks
+
+
+def _reference_head():
+    """The default head without keys (cheaper than a build), chosen in the panel."""
+    head = heads.create_reference_head(bpy.context)["head"]
+    _settings().head = head
+    return head
+
+
+def _markers(head) -> dict:
+    return {obj[landmarks.LANDMARK_PROPERTY]: obj for obj in head.children if obj.type == "EMPTY"}
+
+
+def _world_deltas(obj, key_name: str) -> np.ndarray:
+    """A shape key's displacement from the basis in world axes."""
+    blocks = obj.data.shape_keys.key_blocks
+    count = len(obj.data.vertices)
+    basis, shaped = np.empty(count * 3), np.empty(count * 3)
+    obj.data.shape_keys.reference_key.data.foreach_get("co", basis)
+    blocks[key_name].data.foreach_get("co", shaped)
+    return (shaped - basis).reshape(-1, 3) @ np.array(obj.matrix_world)[:3, :3].T
+
+
+def test_show_landmarks_puts_movable_markers_on_the_face_and_clear_removes_them():
+    assert not bpy.ops.turkish_lipsync.show_landmarks.poll()  # no head yet
+    head = _reference_head()
+    assert not bpy.ops.turkish_lipsync.clear_landmarks.poll()  # nothing to clear
+    assert bpy.ops.turkish_lipsync.show_landmarks() == {"FINISHED"}
+    markers = _markers(head)
+    assert set(markers) == set(LANDMARK_NAMES)
+    assert all(marker.name.startswith(landmarks.MARKER_PREFIX) for marker in markers.values())
+    # The reference head sits where MakeHuman's mesh does, so its known landmarks are where the markers are.
+    bpy.context.view_layer.update()
+    for name, point in load_reference_head().landmarks.items():
+        assert np.linalg.norm(np.array(markers[name].matrix_world.translation) - point) < 0.01, name
+    # Showing again replaces the markers instead of adding a second set.
+    assert bpy.ops.turkish_lipsync.show_landmarks() == {"FINISHED"}
+    assert len([obj for obj in bpy.data.objects if obj.type == "EMPTY"]) == len(LANDMARK_NAMES)
+    assert bpy.ops.turkish_lipsync.clear_landmarks.poll()
+    assert bpy.ops.turkish_lipsync.clear_landmarks() == {"FINISHED"}
+    assert _markers(head) == {} and landmarks.read_landmark_markers(head) is None
+    assert landmarks.COLLECTION_NAME not in bpy.data.collections
+
+
+def test_show_landmarks_follows_a_head_whose_transform_turns_and_scales_its_mesh():
+    head = _reference_head()
+    # As an import from a Y-up file in centimetres: the mesh lies on its back, the object stands it up.
+    head.data.transform(Matrix.Rotation(-math.pi / 2, 4, "X") @ Matrix.Scale(100.0, 4))
+    head.rotation_euler.x = math.pi / 2
+    head.scale = (0.01, 0.01, 0.01)
+    bpy.context.view_layer.update()
+    assert bpy.ops.turkish_lipsync.show_landmarks() == {"FINISHED"}
+    read = landmarks.read_landmark_markers(head)
+    to_world = np.array(head.matrix_world)
+    for name, point in load_reference_head().landmarks.items():
+        world = to_world[:3, :3] @ read[name] + to_world[:3, 3]
+        assert np.linalg.norm(world - point) < 0.01, name
+    assert np.abs(read["chin"]).max() > 1.0  # stored in the mesh's own centimetres
+
+
+def test_show_landmarks_on_a_faceless_mesh_is_refused_and_keeps_the_markers():
+    bpy.ops.mesh.primitive_cube_add()
+    cube = bpy.context.active_object
+    _settings().head = cube
+    # Markers placed by hand earlier must survive the failed search.
+    placed = {"nose_tip": np.array([0.0, -1.0, 0.2]), "chin": np.array([0.0, -0.9, -0.6])}
+    landmarks.show_landmark_markers(cube, placed)
+    objects_before = sorted(obj.name for obj in bpy.data.objects)
+    with pytest.raises(RuntimeError, match="No mouth found"):
+        bpy.ops.turkish_lipsync.show_landmarks()
+    assert sorted(obj.name for obj in bpy.data.objects) == objects_before
+    read = landmarks.read_landmark_markers(cube)
+    assert set(read) == set(placed)
+    for name, point in placed.items():
+        np.testing.assert_allclose(read[name], point, atol=1e-6)
+
+
+def test_a_moved_marker_steers_the_transfer():
+    head = _reference_head()
+    _settings().key_source = "transfer"
+    assert bpy.ops.turkish_lipsync.show_landmarks() == {"FINISHED"}
+    assert bpy.ops.turkish_lipsync.build_shape_keys() == {"FINISHED"}
+    as_found = _world_deltas(head, viseme_key_name("a"))
+    assert np.abs(as_found).max() > 0.002  # the transfer opened the mouth
+
+    # The user drags the left mouth corner 1 cm outward and builds again.
+    bpy.context.view_layer.update()
+    corner = _markers(head)["mouth_corner_left"]
+    before = landmarks.read_landmark_markers(head)["mouth_corner_left"]
+    world = corner.matrix_world.copy()
+    world.translation.x += 0.01
+    corner.matrix_world = world
+    np.testing.assert_allclose(
+        landmarks.read_landmark_markers(head)["mouth_corner_left"], before + [0.01, 0.0, 0.0], atol=1e-6
+    )
+    assert bpy.ops.turkish_lipsync.build_shape_keys() == {"FINISHED"}
+    moved = _world_deltas(head, viseme_key_name("a"))
+    assert np.abs(moved - as_found).max() > 1e-4  # the registration used the moved marker
+    assert set(_markers(head)) == set(LANDMARK_NAMES)  # building keeps the markers for the next build
+
+
+# ---------------------------------------------------------------- shape-key sources and empowered emotions
+
+
+def _write_obj(path: Path, vertices: np.ndarray) -> None:
+    """An OBJ in its usual Y-up axes, as Blender's exporter writes a Z-up mesh (x, z, -y)."""
+    rows = np.stack([vertices[:, 0], vertices[:, 2], -vertices[:, 1]], axis=1)
+    np.savetxt(path, rows, fmt="v %.6f %.6f %.6f")
+
+
+def _basis(obj) -> np.ndarray:
+    flat = np.empty(len(obj.data.vertices) * 3)
+    obj.data.vertices.foreach_get("co", flat)
+    return flat.reshape(-1, 3)
+
+
+def _key_coordinates(obj) -> dict[str, np.ndarray]:
+    result = {}
+    for block in obj.data.shape_keys.key_blocks:
+        flat = np.empty(len(obj.data.vertices) * 3)
+        block.data.foreach_get("co", flat)
+        result[block.name] = flat
+    return result
+
+
+def test_obj_folder_source_reads_the_thesis_models(tmp_path):
+    head = _reference_head()
+    basis = _basis(head)
+    folder = tmp_path / "models"
+    folder.mkdir()
+    _write_obj(folder / "Neutral.obj", basis)
+    for viseme in VISEMES:
+        if viseme != "neutral":
+            _write_obj(folder / f"{viseme}.obj", basis + ([0.0, 0.0, -0.005] if viseme == "a" else 0.0))
+    settings = _settings()
+    settings.key_source = "obj_folder"
+    assert not bpy.ops.turkish_lipsync.build_shape_keys.poll()  # no folder chosen yet
+    settings.obj_folder = str(folder)
+    assert bpy.ops.turkish_lipsync.build_shape_keys() == {"FINISHED"}
+    keys = _key_coordinates(head)
+    reference = keys[head.data.shape_keys.reference_key.name].reshape(-1, 3)
+    np.testing.assert_allclose(
+        keys[viseme_key_name("a")].reshape(-1, 3) - reference, [[0, 0, -0.005]] * len(basis), atol=2e-6
+    )
+    np.testing.assert_allclose(keys[viseme_key_name("e")].reshape(-1, 3), reference, atol=2e-6)
+    assert {emotion_key_name(e) for e in EMOTIONS} <= set(keys)
+
+
+def test_a_bad_obj_folder_changes_nothing_not_even_a_new_head(tmp_path):
+    (tmp_path / "a.obj").write_text("v 0 0 0\n")  # no Neutral.obj
+    settings = _settings()
+    settings.key_source = "obj_folder"
+    settings.obj_folder = str(tmp_path)
+    with pytest.raises(RuntimeError, match="no Neutral.obj"):
+        bpy.ops.turkish_lipsync.build_shape_keys()
+    # No head was chosen: the reference head made for the build is gone again with its meshes.
+    assert len(bpy.data.objects) == 0 and len(bpy.data.meshes) == 0
+    assert settings.head is None
+
+
+def test_own_arkit_source_refuses_a_head_without_them_and_changes_nothing():
+    settings = _settings()
+    settings.key_source = "arkit"
+    assert not bpy.ops.turkish_lipsync.build_shape_keys.poll()  # the reference head would have none
+    settings.key_source = "auto"
+    head = _default_head_with_keys()
+    before = _key_coordinates(head)
+    settings.key_source = "arkit"
+    assert bpy.ops.turkish_lipsync.build_shape_keys.poll()
+    with pytest.raises(RuntimeError, match="lacks ARKit shape keys"):
+        bpy.ops.turkish_lipsync.build_shape_keys()
+    after = _key_coordinates(head)
+    assert list(after) == list(before)
+    assert all(np.array_equal(after[name], before[name]) for name in before)
+
+
+def test_empowered_emotions_are_rho_times_the_plain_ones():
+    head = _default_head_with_keys()
+    happy = emotion_key_name("happy")
+    plain = _world_deltas(head, happy)
+    plain_viseme = _world_deltas(head, viseme_key_name("a"))
+    assert np.abs(plain).max() > 0.001
+    settings = _settings()
+    settings.empowered = True
+    assert settings.rho == pytest.approx(3.0)  # the thesis's constant is the default
+    assert bpy.ops.turkish_lipsync.build_shape_keys() == {"FINISHED"}
+    np.testing.assert_allclose(_world_deltas(head, happy), 3.0 * plain, atol=1e-5)
+    np.testing.assert_allclose(_world_deltas(head, viseme_key_name("a")), plain_viseme, atol=1e-6)
+    settings.rho = 2.0
+    assert bpy.ops.turkish_lipsync.build_shape_keys() == {"FINISHED"}
+    np.testing.assert_allclose(_world_deltas(head, happy), 2.0 * plain, atol=1e-5)
+
+
+# ---------------------------------------------------------------- the user's own recording
+
+
+LEAD_IN = 0.6  # seconds of silence before the recorded speech
+
+
+@pytest.fixture(scope="module")
+def recording(tmp_path_factory):
+    """'merhaba dünya' read slower by eSpeak NG after a silence: a stand-in for the user's voice."""
+    slow = build_utterance('<PROS RATE="-30%">merhaba dünya</PROS>')
+    _, synthesis = synthesize_timeline(slow)
+    voice = synthesis.samples.astype(np.int16)
+    silence = np.zeros(int(LEAD_IN * synthesis.sample_rate), np.int16)
+    path = tmp_path_factory.mktemp("recording") / "okuma.wav"
+    with wave.open(str(path), "wb") as handle:
+        handle.setnchannels(1)
+        handle.setsampwidth(2)
+        handle.setframerate(synthesis.sample_rate)
+        handle.writeframes(np.concatenate((silence, voice, silence[: len(silence) // 2])).tobytes())
+    return path
+
+
+def _first_open_mouth_frame(head) -> float:
+    """The first frame where a viseme other than neutral is keyed above one half."""
+    frames = [
+        point.co[0]
+        for fcurve in _our_curves(head)
+        if fcurve.data_path.startswith('key_blocks["TR_viseme_')
+        and viseme_key_name("neutral") not in fcurve.data_path
+        for point in fcurve.keyframe_points
+        if point.co[1] > 0.5
+    ]
+    return min(frames)
+
+
+def test_generate_follows_the_users_recording_and_uses_it_as_the_sound(recording, tmp_path):
+    head = _default_head_with_keys()
+    _speak("merhaba dünya")
+    settings = _settings()
+    settings.audio_folder = str(tmp_path)
+    assert bpy.ops.turkish_lipsync.generate() == {"FINISHED"}
+    synthetic_start = _first_open_mouth_frame(head)
+    settings.recording = str(recording)
+    assert bpy.ops.turkish_lipsync.generate() == {"FINISHED"}
+    # The mouth waits for the recorded voice, which starts after the silence.
+    assert synthetic_start < 1 + 0.3 * 25
+    assert _first_open_mouth_frame(head) > 1 + (LEAD_IN - 0.2) * 25
+    # The sound is the recording: its length, placed once.
+    scene = bpy.context.scene
+    with wave.open(str(recording), "rb") as handle:
+        recorded_seconds = handle.getnframes() / handle.getframerate()
+    with wave.open(str(sequencer.speech_wav_of(scene)), "rb") as handle:
+        assert handle.getnframes() / handle.getframerate() == pytest.approx(recorded_seconds, abs=0.02)
+    assert scene.frame_end - scene.frame_start + 1 == pytest.approx(recorded_seconds * 25, abs=1)
+    if compat.HAS_AUDIO:
+        assert [s.name for s in compat.sequencer_strips(scene)] == [sequencer.SPEECH_STRIP_NAME]
+
+
+def test_a_missing_recording_is_reported_and_changes_nothing(tmp_path):
+    head = _default_head_with_keys()
+    _speak("merhaba")
+    settings = _settings()
+    settings.recording = str(tmp_path / "yok.wav")
+    settings.timing = "table"
+    assert not bpy.ops.turkish_lipsync.generate.poll()  # mean durations cannot follow a voice
+    settings.timing = "phone"
+    scene = bpy.context.scene
+    scene.frame_end = 99
+    actions_before = len(bpy.data.actions)
+    with pytest.raises(RuntimeError, match="does not exist"):
+        bpy.ops.turkish_lipsync.generate()
+    assert scene.frame_end == 99
+    assert len(bpy.data.actions) == actions_before
+    assert _our_curves(head) == []
+    assert sequencer.speech_wav_of(scene) is None
+
+
+def test_panel_texts_are_translated():
+    import inspect
+    import re
+
+    from turkish_lipsync.blender import panel, translations
+
+    source = inspect.getsource(panel)
+    texts = re.findall(r'(?:text|heading)="([^"]+)"', source)
+    assert "Head" in texts
+    assert [text for text in texts if text not in translations.TURKISH] == []
+
+
+def test_undo_takes_the_landmark_markers_back():
+    head = _reference_head()
+    bpy.ops.ed.undo_push(message="before landmarks")
+    assert bpy.ops.turkish_lipsync.show_landmarks("EXEC_DEFAULT", True) == {"FINISHED"}
+    assert len(_markers(bpy.data.objects[head.name])) == len(LANDMARK_NAMES)
+    bpy.ops.ed.undo()
+    head = bpy.data.objects["TR_Head"]
+    assert _markers(head) == {}
+    assert not [obj for obj in bpy.data.objects if obj.name.startswith(landmarks.MARKER_PREFIX)]

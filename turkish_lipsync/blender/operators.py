@@ -5,9 +5,11 @@ from __future__ import annotations
 import contextlib
 
 import bpy
+import numpy as np
 
-from ..core.errors import LipSyncError
-from . import pipeline
+from ..core.errors import HeadError, LipSyncError
+from ..core.faces.landmarks import find_landmarks, triangulate_loops
+from . import landmarks, pipeline
 from .preferences import ADDON_PACKAGE, export_engine_paths
 
 
@@ -53,6 +55,41 @@ def _in_object_mode(cls, context) -> bool:
     return True
 
 
+def _head_chosen(cls, context) -> bool:
+    if chosen_head(context) is None:
+        cls.poll_message_set("Choose the head object in the Lip Sync panel")
+        return False
+    return True
+
+
+def head_landmarks(head: bpy.types.Object) -> dict[str, np.ndarray]:
+    """The face landmarks found on the head's rest shape, in the head's own coordinates.
+
+    The finder needs the face toward -Y with Z up, which holds in the world (the head's transform may turn
+    it), so it runs on world coordinates; the markers are children of the head and take local ones.
+    """
+    mesh = head.data
+    source = mesh.shape_keys.reference_key.data if mesh.shape_keys is not None else mesh.vertices
+    local = np.empty(len(mesh.vertices) * 3, np.float64)
+    source.foreach_get("co", local)
+    local = local.reshape(-1, 3)
+    loops = np.empty(len(mesh.loops), np.int64)
+    starts = np.empty(len(mesh.polygons), np.int64)
+    totals = np.empty(len(mesh.polygons), np.int64)
+    mesh.loops.foreach_get("vertex_index", loops)
+    mesh.polygons.foreach_get("loop_start", starts)
+    mesh.polygons.foreach_get("loop_total", totals)
+    if len(totals) == 0:
+        raise HeadError(f"{head.name!r} has no faces; a head needs a surface to find a face on.")
+    matrix = np.array(head.matrix_world, np.float64)
+    linear, offset = matrix[:3, :3], matrix[:3, 3]
+    if abs(np.linalg.det(linear)) < 1e-12:
+        raise HeadError(f"{head.name!r} has a zero scale; fix its scale, then show the landmarks again.")
+    found = find_landmarks(local @ linear.T + offset, triangulate_loops(loops, starts, totals))
+    to_local = np.linalg.inv(linear)
+    return {name: (np.asarray(point, np.float64) - offset) @ to_local.T for name, point in found.items()}
+
+
 class TURKISH_LIPSYNC_OT_build_shape_keys(bpy.types.Operator):
     """Build the Turkish viseme and emotion shape keys on the head (the reference head when none is chosen)"""
 
@@ -62,16 +99,33 @@ class TURKISH_LIPSYNC_OT_build_shape_keys(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context) -> bool:
-        return _in_object_mode(cls, context)
+        if not _in_object_mode(cls, context):
+            return False
+        settings = settings_of(context)
+        if settings.key_source == "obj_folder" and not settings.obj_folder:
+            cls.poll_message_set("Choose the folder of OBJ models in the Lip Sync panel")
+            return False
+        if settings.key_source == "arkit" and chosen_head(context) is None:
+            cls.poll_message_set("Choose a head with its own ARKit shape keys (the reference head has none)")
+            return False
+        return True
 
     def execute(self, context):
         settings = settings_of(context)
         head = chosen_head(context)
         head_name = head.name if head is not None else None
+        from_folder = settings.key_source == "obj_folder"
         try:
             with progress_reporter(context, "Build shape keys") as progress:
                 head_name = pipeline.build_keys(
-                    context, head, arkit_keys=settings.arkit_keys, progress=progress
+                    context,
+                    head,
+                    arkit_keys=settings.arkit_keys,
+                    source=settings.key_source,
+                    obj_folder=bpy.path.abspath(settings.obj_folder) if from_folder else None,
+                    empowered=settings.empowered,
+                    rho=settings.rho,
+                    progress=progress,
                 )
         except LipSyncError as error:
             self.report({"ERROR"}, str(error))
@@ -106,6 +160,9 @@ class TURKISH_LIPSYNC_OT_generate(bpy.types.Operator):
         if settings.source_kind == "FILE" and not settings.file_path:
             cls.poll_message_set("Choose the JSML file to speak in the Lip Sync panel")
             return False
+        if settings.recording and settings.timing == "table":
+            cls.poll_message_set("Table timing cannot follow a recording: choose Phone or Word timing")
+            return False
         return True
 
     def execute(self, context):
@@ -127,6 +184,7 @@ class TURKISH_LIPSYNC_OT_generate(bpy.types.Operator):
                     emotion_strength=settings.emotion_strength,
                     rate=settings.rate,
                     interpolation=settings.interpolation,
+                    recording=bpy.path.abspath(settings.recording) if settings.recording else None,
                     audio_folder=settings.audio_folder,
                     package=ADDON_PACKAGE,
                     progress=progress,
@@ -140,6 +198,57 @@ class TURKISH_LIPSYNC_OT_generate(bpy.types.Operator):
             f"{result.phone_count} phones keyed over {result.duration:.2f} s "
             f"(frames {result.frame_start}-{result.frame_end})",
         )
+        return {"FINISHED"}
+
+
+class TURKISH_LIPSYNC_OT_show_landmarks(bpy.types.Operator):
+    """Find the face landmarks on the head and show them as markers to move where they are off"""
+
+    bl_idname = "turkish_lipsync.show_landmarks"
+    bl_label = "Show Landmarks"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context) -> bool:
+        return _in_object_mode(cls, context) and _head_chosen(cls, context)
+
+    def execute(self, context):
+        head = chosen_head(context)
+        context.view_layer.update()  # the head's matrix_world is stale right after a transform change
+        try:
+            found = head_landmarks(head)
+        except LipSyncError as error:
+            self.report({"ERROR"}, str(error))
+            return {"CANCELLED"}
+        markers = landmarks.show_landmark_markers(head, found, scene=context.scene)
+        settings_of(context).head = head
+        self.report(
+            {"INFO"},
+            f"{len(markers)} landmark markers on {head.name}: move any that are off, then build the keys",
+        )
+        return {"FINISHED"}
+
+
+class TURKISH_LIPSYNC_OT_clear_landmarks(bpy.types.Operator):
+    """Remove the head's landmark markers: the next build finds the landmarks automatically again"""
+
+    bl_idname = "turkish_lipsync.clear_landmarks"
+    bl_label = "Clear Landmarks"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context) -> bool:
+        if not (_in_object_mode(cls, context) and _head_chosen(cls, context)):
+            return False
+        if landmarks.read_landmark_markers(chosen_head(context)) is None:
+            cls.poll_message_set("The head has no landmark markers")
+            return False
+        return True
+
+    def execute(self, context):
+        head = chosen_head(context)
+        count = landmarks.remove_landmark_markers(head)
+        self.report({"INFO"}, f"Removed {count} landmark markers from {head.name}")
         return {"FINISHED"}
 
 
@@ -182,7 +291,13 @@ class TURKISH_LIPSYNC_OT_render(bpy.types.Operator):
         return {"FINISHED"}
 
 
-CLASSES = (TURKISH_LIPSYNC_OT_build_shape_keys, TURKISH_LIPSYNC_OT_generate, TURKISH_LIPSYNC_OT_render)
+CLASSES = (
+    TURKISH_LIPSYNC_OT_build_shape_keys,
+    TURKISH_LIPSYNC_OT_show_landmarks,
+    TURKISH_LIPSYNC_OT_clear_landmarks,
+    TURKISH_LIPSYNC_OT_generate,
+    TURKISH_LIPSYNC_OT_render,
+)
 
 
 def register() -> None:

@@ -1,4 +1,4 @@
-"""The Lip Sync tab in the 3D Viewport's sidebar: head, text, timing, motion, render."""
+"""The Lip Sync tab in the 3D Viewport's sidebar: head and keys, text and recording, timing, render."""
 
 from __future__ import annotations
 
@@ -19,7 +19,19 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
 
         column = layout.column(heading="Head")
         column.prop(settings, "head")
+        column.prop(settings, "key_source")
+        if settings.key_source == "obj_folder":
+            column.prop(settings, "obj_folder")
         column.prop(settings, "arkit_keys")
+        column.prop(settings, "empowered")
+        row = column.row()
+        row.active = settings.empowered
+        row.prop(settings, "rho")
+        if settings.key_source in ("auto", "transfer"):
+            # The landmarks register the reference head onto this one; the user may correct them first.
+            row = column.row(align=True)
+            row.operator("turkish_lipsync.show_landmarks", icon="EMPTY_DATA")
+            row.operator("turkish_lipsync.clear_landmarks", icon="X", text="")
         column.operator("turkish_lipsync.build_shape_keys", icon="SHAPEKEY_DATA")
 
         layout.separator()
@@ -29,6 +41,7 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
             column.prop(settings, "text")
         else:
             column.prop(settings, "file_path")
+        column.prop(settings, "recording")
         column.prop(settings, "timing")
         column.prop(settings, "rate")
         column.prop(settings, "emotion_strength")

@@ -81,21 +81,46 @@ def require_head(name: str | None) -> bpy.types.Object:
 
 
 def build_keys(
-    context: bpy.types.Context, head: bpy.types.Object | None, *, arkit_keys: bool = False, progress=None
+    context: bpy.types.Context,
+    head: bpy.types.Object | None,
+    *,
+    arkit_keys: bool = False,
+    progress=None,
+    source: str = "auto",
+    obj_folder: str | None = None,
+    empowered: bool = False,
+    rho: float = 3.0,
 ) -> str:
     """Build (or rebuild) the TR_* shape keys on head, creating the reference head when head is None.
 
-    Returns the head's name.
+    source, obj_folder, empowered and rho go to shapekeys.build_shape_keys. A reference head created here
+    is removed again when the build fails, so a failure leaves the file as it was. Returns the head's name.
     """
     progress = progress or _no_progress
     from . import heads, shapekeys  # the faces helper's modules
 
+    created: list[bpy.types.Object] = []
     if head is None:
         progress(0.05, "Creating the reference head")
-        head = heads.create_reference_head(context)["head"]
+        parts = heads.create_reference_head(context)
+        head, created = parts["head"], list(parts.values())
     progress(0.2, f"Building shape keys on {head.name}")
-    options = {"arkit_keys": True} if arkit_keys else {}
-    shapekeys.build_shape_keys(head, **options)
+    try:
+        shapekeys.build_shape_keys(
+            head,
+            source=source,
+            obj_folder=obj_folder or None,
+            empowered=empowered,
+            rho=rho,
+            arkit_keys=arkit_keys,
+        )
+    except LipSyncError:
+        for obj in created:
+            mesh = obj.data
+            bpy.data.objects.remove(obj, do_unlink=True)
+            if mesh is not None and mesh.users == 0:
+                bpy.data.meshes.remove(mesh)
+        raise
     progress(1.0, "Shape keys built")
     return head.name
 

@@ -77,10 +77,58 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
         default="AUTO",
         description="Interpolation of the shape-key keyframes",
     )
+    key_source: EnumProperty(
+        name="Shape-Key Source",
+        items=(
+            (
+                "auto",
+                "Auto",
+                "The head's own ARKit keys if it has them, else transferred from the reference head",
+            ),
+            ("arkit", "Own ARKit Keys", "Build from the head's own ARKit-named shape keys (jawOpen, ...)"),
+            (
+                "transfer",
+                "Transfer from Reference",
+                "Carry the reference head's face units over, registered with the face landmarks",
+            ),
+            (
+                "obj_folder",
+                "Folder of OBJ Models",
+                "The thesis's way: one homeomorphic OBJ model per viseme (a.obj, bpa.obj, ..., Neutral.obj)",
+            ),
+        ),
+        default="auto",
+        description="What the mouth shapes and emotions are built from",
+    )
+    obj_folder: StringProperty(
+        name="OBJ Folder",
+        subtype="DIR_PATH",
+        description="The head's OBJ models, same vertices in the same order (a.obj, ..., Neutral.obj)",
+    )
+    empowered: BoolProperty(
+        name="Empowered Emotions",
+        default=False,
+        description="Store the emotions exaggerated by the empowering constant (thesis eq. 5.2), "
+        "so a small emotion weight still shows beside the moving lips",
+    )
+    rho: FloatProperty(
+        name="Empowering Constant",
+        default=3.0,
+        min=1.0,
+        max=10.0,
+        soft_max=5.0,
+        description="How many times stronger the empowered emotions are (ρ in the thesis, which uses 3)",
+    )
     arkit_keys: BoolProperty(
         name="Keep ARKit Keys",
         default=False,
         description="Also keep the 52 ARKit face-unit shape keys the mouth shapes are built from",
+    )
+    recording: StringProperty(
+        name="Own Recording",
+        subtype="FILE_PATH",
+        description="Your own recording of the same text (WAV, FLAC, OGG): the mouth follows it and it "
+        "becomes the sound (empty: the synthetic voice)",
     )
     audio_folder: StringProperty(
         name="Audio Folder",

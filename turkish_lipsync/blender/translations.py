@@ -18,6 +18,8 @@ TURKISH = {
     "Build Shape Keys": "Şekil Anahtarlarını Oluştur",
     "Generate Animation": "Animasyonu Üret",
     "Render Video": "Videoyu Oluştur",
+    "Show Landmarks": "Yüz İşaretlerini Göster",
+    "Clear Landmarks": "Yüz İşaretlerini Temizle",
     "Build the Turkish viseme and emotion shape keys on the head (the reference head when none is chosen)": (
         "Kafaya Türkçe vizem ve duygu şekil anahtarlarını kurar (kafa seçilmemişse referans kafayı ekler)"
     ),
@@ -26,6 +28,12 @@ TURKISH = {
     ),
     "Render the frame range to an MP4 with the speech, adding a camera and lights on the face if missing": (
         "Sahnenin kare aralığını konuşmayla birlikte MP4 olarak oluşturur; eksikse yüze kamera ve ışık ekler"
+    ),
+    "Find the face landmarks on the head and show them as markers to move where they are off": (
+        "Kafadaki yüz işaretlerini bulur ve yanlış olanları taşıyabilmeniz için işaretçi olarak gösterir"
+    ),
+    "Remove the head's landmark markers: the next build finds the landmarks automatically again": (
+        "Kafanın yüz işaretçilerini kaldırır: sonraki oluşturma yüz işaretlerini yeniden kendiliğinden bulur"
     ),
     # poll messages
     "Switch to Object Mode first": "Önce Nesne Kipine geçin",
@@ -43,6 +51,16 @@ TURKISH = {
     "Choose the head (to frame a camera on it) or add a camera": (
         "Kafayı seçin (kamera ona göre yerleştirilir) ya da bir kamera ekleyin"
     ),
+    "Choose the folder of OBJ models in the Lip Sync panel": (
+        "Dudak Senkronu panelinde OBJ modellerinin klasörünü seçin"
+    ),
+    "Choose a head with its own ARKit shape keys (the reference head has none)": (
+        "Kendi ARKit şekil anahtarları olan bir kafa seçin (referans kafada bunlar yok)"
+    ),
+    "Table timing cannot follow a recording: choose Phone or Word timing": (
+        "Tablo zamanlaması bir kayda uyamaz: Ses ya da Sözcük zamanlamasını seçin"
+    ),
+    "The head has no landmark markers": "Kafada yüz işaretçisi yok",
     # properties
     "The head mesh that speaks; its teeth, tongue and eyes follow it": (
         "Konuşan kafa ağı; dişleri, dili ve gözleri onu izler"
@@ -98,6 +116,44 @@ TURKISH = {
     "Keep ARKit Keys": "ARKit Anahtarlarını Tut",
     "Also keep the 52 ARKit face-unit shape keys the mouth shapes are built from": (
         "Ağız şekillerinin kurulduğu 52 ARKit yüz birimi şekil anahtarını da tutar"
+    ),
+    "Shape-Key Source": "Şekil Anahtarı Kaynağı",
+    "What the mouth shapes and emotions are built from": "Ağız şekillerinin ve duyguların neyden kurulacağı",
+    "Auto": "Otomatik",
+    "The head's own ARKit keys if it has them, else transferred from the reference head": (
+        "Varsa kafanın kendi ARKit anahtarları, yoksa referans kafadan aktarılanlar"
+    ),
+    "Own ARKit Keys": "Kendi ARKit Anahtarları",
+    "Build from the head's own ARKit-named shape keys (jawOpen, ...)": (
+        "Kafanın kendi ARKit adlı şekil anahtarlarından kurar (jawOpen, ...)"
+    ),
+    "Transfer from Reference": "Referanstan Aktar",
+    "Carry the reference head's face units over, registered with the face landmarks": (
+        "Referans kafanın yüz birimlerini yüz işaretleriyle hizalayarak bu kafaya aktarır"
+    ),
+    "Folder of OBJ Models": "OBJ Modelleri Klasörü",
+    "The thesis's way: one homeomorphic OBJ model per viseme (a.obj, bpa.obj, ..., Neutral.obj)": (
+        "Tezin yolu: her vizem için bir homeomorfik OBJ modeli (a.obj, bpa.obj, ..., Neutral.obj)"
+    ),
+    "OBJ Folder": "OBJ Klasörü",
+    "The head's OBJ models, same vertices in the same order (a.obj, ..., Neutral.obj)": (
+        "Kafanın OBJ modelleri; aynı köşeler, aynı sırada (a.obj, ..., Neutral.obj)"
+    ),
+    "Empowered Emotions": "Güçlendirilmiş Duygular",
+    "Store the emotions exaggerated by the empowering constant (thesis eq. 5.2), "
+    "so a small emotion weight still shows beside the moving lips": (
+        "Duyguları güçlendirme katsayısıyla abartılmış olarak saklar (tez denklem 5.2); böylece küçük bir "
+        "duygu ağırlığı da hareket eden dudakların yanında görünür"
+    ),
+    "Empowering Constant": "Güçlendirme Katsayısı",
+    "How many times stronger the empowered emotions are (ρ in the thesis, which uses 3)": (
+        "Güçlendirilmiş duyguların kaç kat daha güçlü olduğu (tezdeki ρ; tez 3 kullanır)"
+    ),
+    "Own Recording": "Kendi Kaydınız",
+    "Your own recording of the same text (WAV, FLAC, OGG): the mouth follows it and it "
+    "becomes the sound (empty: the synthetic voice)": (
+        "Aynı metni okuduğunuz kendi kaydınız (WAV, FLAC, OGG): ağız ona uyar ve ses olarak o "
+        "kullanılır (boş: yapay ses)"
     ),
     "Audio Folder": "Ses Klasörü",
     "Where the speech WAV is saved (empty: a folder next to the saved .blend file)": (
