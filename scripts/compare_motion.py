@@ -33,6 +33,7 @@ def _arguments(argv: list[str]) -> argparse.Namespace:
     parser.add_argument("--timing", choices=("phone", "word", "table"), default="phone")
     parser.add_argument("--engine", default="auto", help="auto, EEVEE, CYCLES or WORKBENCH")
     parser.add_argument("--resolution", default="1280x540", help="WIDTHxHEIGHT of the whole video")
+    parser.add_argument("--samples", type=int, default=8, help="render samples per pixel (Cycles, EEVEE)")
     parser.add_argument("--save-blend", type=Path, help="also save the scene")
     parser.add_argument("--no-render", action="store_true", help="build the scene and print the report only")
     parser.add_argument("--format", choices=("text", "json"), default="text", help="of the quality report")
@@ -98,7 +99,7 @@ def main(argv: list[str]) -> int:
             return 0
         width, height = (int(part) for part in args.resolution.lower().split("x"))
         engine = render.choose_engine(args.engine.upper())
-        render.configure_engine(scene, engine)
+        render.configure_engine(scene, engine, args.samples)
         render.configure_output(scene, args.out, (width, height))
         print(f"Rendering {scene.frame_end - scene.frame_start + 1} frames with {engine} ...", flush=True)
         bpy.ops.render.render(animation=True, scene=scene.name)
