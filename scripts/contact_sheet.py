@@ -2,7 +2,8 @@
 
     .venv/bin/python scripts/contact_sheet.py --out out/contact_sheet.png [--head PATH] [--tile 160]
 
-Cycles on the CPU (works headless everywhere); each tile is labelled by a text object in the scene.
+Cycles on the CPU (works headless everywhere, about a minute for the sheet); each tile frames the face from
+the brows to below the chin and is labelled on a dark bar under the chin by a text object in the scene.
 """
 
 from __future__ import annotations
@@ -23,50 +24,90 @@ from turkish_lipsync.core.errors import LipSyncError  # noqa: E402
 from turkish_lipsync.core.faces.recipes import VISEME_NAMES  # noqa: E402
 from turkish_lipsync.core.model import EMOTIONS, emotion_key_name, viseme_key_name  # noqa: E402
 
+TILE_ASPECT = 1.2  # tiles are taller than wide: a face, with a label bar under the chin
+BACKGROUND = (0.35, 0.37, 0.4)
+LABEL_BAR_COLOUR = (0.0, 0.0, 0.0)  # black stays black under any view transform
+
+
+LABEL_BAR = 0.16  # share of a tile's height kept below the chin for its label
+
 
 def _setup_scene(head: bpy.types.Object, tile: int) -> None:
+    """Camera on the face from brows to chin, a dark bar under the chin with the key's name on it."""
     scene = bpy.context.scene
     scene.render.engine = "CYCLES"
     scene.cycles.device = "CPU"
     scene.cycles.samples = 8
-    scene.render.resolution_x = scene.render.resolution_y = tile
+    scene.render.resolution_x = tile
+    scene.render.resolution_y = round(tile * TILE_ASPECT)
     scene.render.film_transparent = False
     world = bpy.data.worlds.new("TR_ContactWorld")
-    world.color = (0.35, 0.37, 0.4)
+    world.color = BACKGROUND
     scene.world = world
     matrix = np.array(head.matrix_world)
     box = np.array([tuple(c) for c in head.bound_box]) @ matrix[:3, :3].T + matrix[:3, 3]
     lower, upper = box.min(axis=0), box.max(axis=0)
-    centre = (lower + upper) / 2
     height = float(upper[2] - lower[2])
-    face = np.array([centre[0], lower[1], lower[2] + 0.45 * height])  # the chin-to-eyes band
+    # The face band of a head-and-neck crop: from above the brows (71 % up) down to below the chin (12 %).
+    face_top, face_bottom = lower[2] + 0.71 * height, lower[2] + 0.12 * height
+    view_height = (face_top - face_bottom) / (1 - LABEL_BAR)
+    centre_z = face_top - view_height / 2
     camera_data = bpy.data.cameras.new("TR_ContactCamera")
     camera_data.type = "ORTHO"
-    camera_data.ortho_scale = 0.55 * height
+    camera_data.sensor_fit = "VERTICAL"
+    camera_data.ortho_scale = view_height
     camera = bpy.data.objects.new("TR_ContactCamera", camera_data)
-    camera.location = (face[0], face[1] - 3 * height, face[2])
+    centre_x = float(lower[0] + upper[0]) / 2
+    camera.location = (centre_x, float(lower[1]) - 3 * height, centre_z)
     camera.rotation_euler = (math.pi / 2, 0, 0)
     scene.collection.objects.link(camera)
     scene.camera = camera
-    for name, energy, offset in (("key", 4.0, (-1, -2, 1.2)), ("fill", 1.5, (1.5, -2, 0.2))):
+    for name, energy, offset in (("key", 4.0, (-1, -2, 1.6)), ("fill", 1.5, (1.5, -2, 0.2))):
         light_data = bpy.data.lights.new(f"TR_Contact_{name}", "SUN")
         light_data.energy = energy
         light = bpy.data.objects.new(light_data.name, light_data)
-        direction = -np.array(offset, dtype=float)
-        light.rotation_euler = _aim(direction)
+        light.rotation_euler = _aim(-np.array(offset, dtype=float))
         scene.collection.objects.link(light)
+    # The label bar sits between the camera and the head, so it hides the neck and never the chin.
+    bar_height = LABEL_BAR * view_height
+    bar_front = float(lower[1]) - 1.5 * height
+    bar_z = centre_z - view_height / 2 + bar_height / 2
+    bar_mesh = bpy.data.meshes.new("TR_ContactLabelBar")
+    half_width, half_height = view_height, bar_height / 2
+    bar_mesh.from_pydata(
+        [(-half_width, 0, -half_height), (half_width, 0, -half_height), (half_width, 0, half_height),
+         (-half_width, 0, half_height)],
+        [],
+        [(0, 1, 2, 3)],
+    )  # fmt: skip
+    bar = bpy.data.objects.new("TR_ContactLabelBar", bar_mesh)
+    bar.location = (centre_x, bar_front, bar_z)
+    bar_mesh.materials.append(_emission_material("TR_ContactLabelBar", LABEL_BAR_COLOUR, 1.0))
+    scene.collection.objects.link(bar)
     label_data = bpy.data.curves.new("TR_ContactLabel", "FONT")
-    label_data.size = 0.05 * height
+    label_data.size = 0.62 * bar_height
     label_data.align_x = "CENTER"
+    label_data.align_y = "CENTER"
+    label_data.materials.append(_emission_material("TR_ContactLabel", (1.0, 0.92, 0.45), 1.0))
     label = bpy.data.objects.new("TR_ContactLabel", label_data)
-    label.location = (face[0], face[1] - 2 * height, face[2] - 0.24 * height)
+    label.location = (centre_x, bar_front - 0.01 * height, bar_z)
     label.rotation_euler = (math.pi / 2, 0, 0)
-    material = bpy.data.materials.new("TR_ContactLabel")
-    compat.enable_material_nodes(material)
-    shader = next(n for n in material.node_tree.nodes if n.type == "BSDF_PRINCIPLED")
-    shader.inputs["Base Color"].default_value = (1, 1, 0.2, 1)
-    label_data.materials.append(material)
     scene.collection.objects.link(label)
+
+
+def _emission_material(name: str, colour: tuple[float, float, float], strength: float) -> bpy.types.Material:
+    """A flat, unlit colour: labels read the same whatever the lights do."""
+    material = bpy.data.materials.new(name)
+    compat.enable_material_nodes(material)
+    nodes = material.node_tree.nodes
+    for node in list(nodes):
+        nodes.remove(node)
+    emission = nodes.new("ShaderNodeEmission")
+    emission.inputs["Color"].default_value = (*colour, 1.0)
+    emission.inputs["Strength"].default_value = strength
+    output = nodes.new("ShaderNodeOutputMaterial")
+    material.node_tree.links.new(emission.outputs["Emission"], output.inputs["Surface"])
+    return material
 
 
 def _aim(direction: np.ndarray) -> tuple[float, float, float]:
@@ -89,7 +130,9 @@ def render_contact_sheet(out: Path, head_path: Path | None, tile: int, columns: 
     keys = [viseme_key_name(v) for v in VISEME_NAMES] + [emotion_key_name(e) for e in EMOTIONS]
     objects = [bpy.data.objects[name] for name in report.objects]
     rows = math.ceil(len(keys) / columns)
-    sheet = np.zeros((rows * tile, columns * tile, 4), dtype=np.float32)
+    tile_height = round(tile * TILE_ASPECT)
+    sheet = np.empty((rows * tile_height, columns * tile, 4), dtype=np.float32)
+    sheet[...] = (*LABEL_BAR_COLOUR, 1.0)  # empty cells: the labels' dark bar
     with tempfile.TemporaryDirectory() as folder:
         for index, key in enumerate(keys):
             for obj in objects:
@@ -99,12 +142,15 @@ def render_contact_sheet(out: Path, head_path: Path | None, tile: int, columns: 
             bpy.context.scene.render.filepath = str(Path(folder) / f"{index}.png")
             bpy.ops.render.render(write_still=True)
             image = bpy.data.images.load(bpy.context.scene.render.filepath)
-            pixels = np.array(image.pixels[:], dtype=np.float32).reshape(tile, tile, 4)
+            pixels = np.empty(tile * tile_height * 4, dtype=np.float32)
+            image.pixels.foreach_get(pixels)
+            pixels = pixels.reshape(tile_height, tile, 4)
             bpy.data.images.remove(image)
             row, column = divmod(index, columns)
-            sheet[(rows - 1 - row) * tile : (rows - row) * tile, column * tile : (column + 1) * tile] = pixels
+            top = (rows - 1 - row) * tile_height
+            sheet[top : top + tile_height, column * tile : (column + 1) * tile] = pixels
             print(f"{index + 1}/{len(keys)} {key}", flush=True)
-    result = bpy.data.images.new("TR_ContactSheet", columns * tile, rows * tile, alpha=True)
+    result = bpy.data.images.new("TR_ContactSheet", columns * tile, rows * tile_height, alpha=True)
     result.pixels.foreach_set(sheet.ravel())
     out.parent.mkdir(parents=True, exist_ok=True)
     result.filepath_raw = str(out)

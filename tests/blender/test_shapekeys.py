@@ -10,6 +10,12 @@ bpy = pytest.importorskip("bpy")
 from turkish_lipsync.blender import heads, shapekeys  # noqa: E402
 from turkish_lipsync.core.errors import HeadError  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
+from turkish_lipsync.core.model import (  # noqa: E402
+    EMOTIONS,
+    emotion_key_name,
+    emotion_release_key_name,
+    viseme_key_name,
+)
 
 HEADS = Path(__file__).resolve().parents[2].parent / "shared" / "heads"
 
@@ -220,3 +226,45 @@ def test_a_fresh_build_rests_at_zero_so_the_face_stays_neutral():
     matrix = np.array(objects["head"].matrix_world)
     rest = basis @ matrix[:3, :3].T + matrix[:3, 3]
     np.testing.assert_allclose(_evaluated(objects["head"]), rest, atol=1e-6)
+
+
+@pytest.fixture
+def fresh_default_head():
+    """A default head built anew (tests above reset the scene, which removes the module fixture's objects)."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    objects = heads.create_reference_head(bpy.context)
+    return objects, shapekeys.build_shape_keys(objects["head"])
+
+
+def test_every_emotion_moves_the_upper_face_visibly(fresh_default_head):
+    """The upper face carries the emotion (the mouth part is released under visemes): a few mm at weight 1."""
+    objects, _ = fresh_default_head
+    measures = Measures()
+    reference = load_reference_head()
+    rest = reference.vertices[reference.parts["skin"]]
+    upper_face = rest[:, 2] > rest[measures.landmark["nose_tip"], 2]
+    neutral, _ = _pose(objects, "")
+    for emotion in EMOTIONS:
+        skin, _ = _pose(objects, emotion_key_name(emotion))
+        moved = np.linalg.norm(skin - neutral, axis=1)[upper_face].max()
+        assert moved > 4e-3, (emotion, moved)
+
+
+def test_bilabials_close_under_every_emotion_with_its_mouth_release(fresh_default_head):
+    """Issue 6's promise: the emotion at full weight plus its mouth release never stops a closure."""
+    objects, _ = fresh_default_head
+    measures = Measures()
+    for viseme in ("bpa", "bpe", "bpo", "ma", "me", "mo"):
+        for emotion in EMOTIONS:
+            keys = {
+                viseme_key_name(viseme): 1.0,
+                emotion_key_name(emotion): 1.0,
+                emotion_release_key_name(emotion): 1.0,
+            }
+            for obj in objects.values():
+                for block in obj.data.shape_keys.key_blocks[1:]:
+                    block.value = keys.get(block.name, 0.0)
+            bpy.context.view_layer.update()
+            skin = _evaluated(objects["head"])
+            assert measures.lip_distance(skin) < 1e-3, (viseme, emotion)
+            assert measures.lip_gap(skin) < 1e-3, (viseme, emotion)

@@ -60,7 +60,21 @@ def test_bad_recipe_files_name_the_file(tmp_path):
     with pytest.raises(DataError, match="visemes.toml"):
         load_recipes(visemes, tmp_path / "missing.toml")
     good = (load_recipes.__globals__["VISEMES_FILE"]).read_text(encoding="utf-8")
-    visemes.write_text(good.replace("mouthPress = 0.3 }", "mouthPres = 0.3 }", 1), encoding="utf-8")
+    visemes.write_text(good.replace("mouthPress = ", "mouthPres = ", 1), encoding="utf-8")
     emotions = load_recipes.__globals__["EMOTIONS_FILE"]
     with pytest.raises(DataError, match=r"visemes.toml.*'mouthPres' is not one of the 52 ARKit units"):
         load_recipes(visemes, emotions)
+
+
+def test_rounded_vowels_are_narrow_and_s_z_show_the_teeth():
+    """o, ö, u/ü draw the corners in by more than 1 cm; ı, i, s/z part the lips over nearly closed teeth."""
+    head = load_reference_head()
+    deltas = key_deltas(head.units, len(head.vertices))
+    neutral = _mouth_width(np.zeros_like(head.vertices))
+    for viseme in ("o", "oi", "u"):
+        assert _mouth_width(deltas[f"TR_viseme_{viseme}"]) < neutral - 0.01, viseme
+    upper, lower = head.landmark_vertices["upper_lip_inner"], head.landmark_vertices["lower_lip_inner"]
+    for viseme in ("I", "Ii", "sza", "sze"):
+        shape = head.vertices + deltas[f"TR_viseme_{viseme}"]
+        assert shape[upper, 2] - shape[lower, 2] > 0.004, viseme  # lips parted 4 mm or more
+        assert np.abs(deltas[f"TR_viseme_{viseme}"][head.parts["lower_teeth"], 2]).max() < 0.002, viseme

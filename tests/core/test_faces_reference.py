@@ -53,3 +53,16 @@ def test_landmarks_are_mirror_pairs():
         assert landmarks[left][0] > 0
         np.testing.assert_allclose(landmarks[left] * [-1, 1, 1], landmarks[right], atol=1e-6)
     assert abs(landmarks["nose_tip"][0]) < 1e-9 and abs(landmarks["chin"][0]) < 1e-9
+
+
+def test_blinks_move_only_their_own_eye():
+    """faceunits01's blink targets also nudge vertices inside the nose; the reference keeps the eye only."""
+    head = load_reference_head()
+    landmarks = head.landmarks
+    for side, sign in (("left", 1), ("right", -1)):
+        blink = np.linalg.norm(head.units[f"eyeBlink{side.title()}"], axis=1)
+        centre = (landmarks[f"eye_inner_{side}"] + landmarks[f"eye_outer_{side}"]) / 2
+        away = np.linalg.norm(head.vertices - centre, axis=1) > 0.036
+        assert blink.max() > 0.01  # the lid still closes
+        assert blink[away].max() == 0.0
+        assert blink[head.vertices[:, 0] * sign <= 0].max() == 0.0  # nothing on the other side

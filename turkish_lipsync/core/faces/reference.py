@@ -23,6 +23,11 @@ from .arkit_names import ARKIT_UNITS
 
 DATA_FILE = Path(__file__).resolve().parents[3] / "shapekeys" / "reference_head.toml"
 _CACHE_VERSION = "1"
+# faceunits01's eyeBlink targets also move a few vertices inside the nose (up to 8.5 mm, 40-55 mm from the
+# eye); a blink keeps only the motion within this distance of its own eye's centre, fading out over the
+# last few millimetres (the lids reach 33 mm at the nose bridge, the stray vertices start at 39 mm).
+_BLINK_KEEP_RADIUS = 0.030
+_BLINK_FADE_RADIUS = 0.036
 
 
 @dataclass(frozen=True, eq=False)
@@ -193,6 +198,21 @@ def _cached_arrays(settings: dict) -> dict[str, np.ndarray]:
     return arrays
 
 
+def _keep_near_own_eye(
+    unit: str, deltas: np.ndarray, vertices: np.ndarray, landmarks: dict[str, np.ndarray], side: str
+) -> np.ndarray:
+    """A blink unit's deltas masked to its own eye region, so closing one eye moves nothing else."""
+    for name in (f"eye_inner_{side}", f"eye_outer_{side}"):
+        if name not in landmarks:
+            raise DataError(f"{DATA_FILE}: [landmarks] needs {name} to confine {unit} to its eye.")
+    centre = (landmarks[f"eye_inner_{side}"] + landmarks[f"eye_outer_{side}"]) / 2
+    distance = np.linalg.norm(vertices - centre, axis=1)
+    fade = (_BLINK_FADE_RADIUS - distance) / (_BLINK_FADE_RADIUS - _BLINK_KEEP_RADIUS)
+    weight = np.clip(fade, 0.0, 1.0)
+    weight[np.sign(vertices[:, 0]) != np.sign(centre[0])] = 0.0  # never across the midline
+    return (deltas * weight[:, None]).astype(np.float32)
+
+
 @functools.cache
 def load_reference_head() -> ReferenceHead:
     """The reference head (parsed once per process, cached on disk between processes)."""
@@ -209,12 +229,17 @@ def load_reference_head() -> ReferenceHead:
         landmark_vertices[name] = full_to_crop[full_index]
     vertices = arrays["vertices"]
     vertices.setflags(write=False)
+    landmarks = {name: vertices[index].copy() for name, index in landmark_vertices.items()}
+    units = {unit: arrays[f"unit_{unit}"] for unit in ARKIT_UNITS}
+    for side in ("Left", "Right"):
+        unit = f"eyeBlink{side}"
+        units[unit] = _keep_near_own_eye(unit, units[unit], vertices, landmarks, side.lower())
     return ReferenceHead(
         vertices=vertices,
         polygons=arrays["polygons"],
         parts={name[5:]: arrays[name] for name in arrays if name.startswith("part_")},
-        units={unit: arrays[f"unit_{unit}"] for unit in ARKIT_UNITS},
-        landmarks={name: vertices[index].copy() for name, index in landmark_vertices.items()},
+        units=units,
+        landmarks=landmarks,
         landmark_vertices=landmark_vertices,
         source_indices=source_indices,
     )
