@@ -1,15 +1,12 @@
 """The default head, importing heads, finding the head among objects."""
 
-from pathlib import Path
-
 import pytest
 
 bpy = pytest.importorskip("bpy")
 
+from tests.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync.blender import heads  # noqa: E402
 from turkish_lipsync.core.errors import HeadError  # noqa: E402
-
-HEADS = Path(__file__).resolve().parents[2].parent / "shared" / "heads"
 
 
 def test_reference_head_has_parented_parts_with_materials():

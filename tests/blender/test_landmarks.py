@@ -1,12 +1,11 @@
 """Landmark markers in Blender, and the transfer checked against an artist's own mouth-open shape."""
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
 bpy = pytest.importorskip("bpy")
 
+from tests.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync.blender.landmarks import (  # noqa: E402
     COLLECTION_NAME,
     read_landmark_markers,
@@ -17,7 +16,6 @@ from turkish_lipsync.core.faces.landmarks import LANDMARK_NAMES, find_landmarks,
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
 from turkish_lipsync.core.faces.transfer import find_parts, transfer_units  # noqa: E402
 
-HEADS = Path(__file__).resolve().parents[2].parent / "shared" / "heads"
 GLB = HEADS / "makehuman" / "mh_head_expression_units.glb"
 OBJECTS = ("head", "teeth_upper", "teeth_lower", "tongue", "eye_L", "eye_R")
 

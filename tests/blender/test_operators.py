@@ -11,6 +11,7 @@ bpy = pytest.importorskip("bpy")
 
 from mathutils import Matrix  # noqa: E402
 
+from tests.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import compat, heads, landmarks, pipeline, sequencer  # noqa: E402
 from turkish_lipsync.core.faces.landmarks import LANDMARK_NAMES  # noqa: E402
@@ -25,7 +26,6 @@ VISEMES = (
     "lo mo no ro szto oi u neutral"
 ).split()
 
-HEADS = Path(__file__).resolve().parents[2].parent / "shared" / "heads"
 SENTENCE = "Şu köşe yaz köşesi"
 
 

@@ -1,12 +1,11 @@
 """Building the TR_* keys, measured on the evaluated mesh of the default head and on the shared heads."""
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
 bpy = pytest.importorskip("bpy")
 
+from tests.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync.blender import heads, shapekeys  # noqa: E402
 from turkish_lipsync.core.errors import HeadError  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
@@ -16,8 +15,6 @@ from turkish_lipsync.core.model import (  # noqa: E402
     emotion_release_key_name,
     viseme_key_name,
 )
-
-HEADS = Path(__file__).resolve().parents[2].parent / "shared" / "heads"
 
 
 @pytest.fixture(scope="module")

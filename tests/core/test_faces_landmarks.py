@@ -5,6 +5,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tests.heads_on_disk import HEADS, read_obj
 from turkish_lipsync.core.errors import HeadError
 from turkish_lipsync.core.faces.landmarks import (
     LANDMARK_NAMES,
@@ -16,26 +17,11 @@ from turkish_lipsync.core.faces.landmarks import (
 )
 from turkish_lipsync.core.faces.reference import load_reference_head
 
-HEADS = Path(__file__).resolve().parents[2].parent / "shared" / "heads"
-
 # Millimetres the found landmarks may lie from the reference's picked vertices (measured: the midline
 # within 3 mm, the corners of mouth and eyes and the brows within 8 mm, their depth being the larger part).
 MIDLINE_TOLERANCE_MM = 4.0
 CORNER_TOLERANCE_MM = 10.0
 MIDLINE = ("nose_tip", "upper_lip", "lower_lip", "upper_lip_inner", "lower_lip_inner", "chin")
-
-
-def read_obj(path: Path) -> tuple[np.ndarray, list[list[int]]]:
-    """Vertices (converted to Blender axes: Z up, face toward -Y) and polygons of an OBJ file."""
-    vertices, polygons = [], []
-    with open(path, encoding="utf-8") as handle:
-        for line in handle:
-            if line.startswith("v "):
-                vertices.append([float(value) for value in line.split()[1:4]])
-            elif line.startswith("f "):
-                polygons.append([int(corner.split("/")[0]) - 1 for corner in line.split()[1:]])
-    points = np.array(vertices)
-    return np.stack((points[:, 0], -points[:, 2], points[:, 1]), axis=1), polygons
 
 
 def obj_or_skip(relative: str) -> Path:

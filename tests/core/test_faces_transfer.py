@@ -1,10 +1,9 @@
 """Carrying the reference head's 52 ARKit units over to other heads."""
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
+from tests.heads_on_disk import HEADS, read_obj
 from turkish_lipsync.core.errors import HeadError
 from turkish_lipsync.core.faces.arkit_names import ARKIT_UNITS
 from turkish_lipsync.core.faces.landmarks import find_landmarks, triangulate
@@ -18,24 +17,9 @@ from turkish_lipsync.core.faces.transfer import (
     transfer_units,
 )
 
-HEADS = Path(__file__).resolve().parents[2].parent / "shared" / "heads"
-
 
 def relative_error(found: np.ndarray, expected: np.ndarray) -> float:
     return float(np.linalg.norm(found - expected) / np.linalg.norm(expected))
-
-
-def read_obj(path: Path) -> tuple[np.ndarray, list[list[int]]]:
-    """Vertices (converted to Blender axes: Z up, face toward -Y) and polygons of an OBJ file."""
-    vertices, polygons = [], []
-    with open(path, encoding="utf-8") as handle:
-        for line in handle:
-            if line.startswith("v "):
-                vertices.append([float(value) for value in line.split()[1:4]])
-            elif line.startswith("f "):
-                polygons.append([int(corner.split("/")[0]) - 1 for corner in line.split()[1:]])
-    points = np.array(vertices)
-    return np.stack((points[:, 0], -points[:, 2], points[:, 1]), axis=1), polygons
 
 
 @pytest.fixture(scope="module")
