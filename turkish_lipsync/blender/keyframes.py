@@ -82,7 +82,10 @@ def _write_curve(channels: compat.Channels, name: str, frames: np.ndarray, value
     coordinates[1::2] = values
     fcurve.keyframe_points.foreach_set("co", coordinates)
     fcurve.keyframe_points.foreach_set("interpolation", np.full(count, interp, dtype=np.int32))
-    fcurve.update()
+    if interp == INTERPOLATION_VALUES["BEZIER"]:
+        # Only Bezier segments use handles. Tracks come sorted, so linear and constant curves need no
+        # update (sorting and handle recalculation would be 40% of the writing time).
+        fcurve.update()
     return count
 
 
