@@ -27,15 +27,16 @@ from turkish_lipsync.core.syllables import VOWELS, syllabify, syllable_vowel
         # Vowels in a row each make a syllable.
         ("saat", "sa-at"),
         ("şiir", "şi-ir"),
-        # Loanword clusters: at the start they stay together, inside a 3-consonant run "Cr" opens a syllable.
+        # Loanword clusters: at the start they stay together; inside a word only the last consonant opens
+        # the next syllable, as in TDK's and TeX's hyphenation (kont-rol, sant-ral).
         ("tren", "tren"),
         ("spor", "spor"),
         ("strateji", "stra-te-ji"),
         ("psikoloji", "psi-ko-lo-ji"),
-        ("kontrol", "kon-trol"),
-        ("elektrik", "e-lek-trik"),
-        ("endüstri", "en-düs-tri"),
-        ("ekstra", "eks-tra"),
+        ("kontrol", "kont-rol"),
+        ("elektrik", "e-lekt-rik"),
+        ("endüstri", "en-düst-ri"),
+        ("ekstra", "ekst-ra"),
         ("bankta", "bank-ta"),
         # Native suffixes that start with l must not pull a consonant along (not "tür-kler").
         ("türkler", "türk-ler"),
@@ -88,8 +89,7 @@ def test_vowels_and_syllable_vowel() -> None:
 # syllables: for every pair of neighbouring vowels in a word, the boundary between them. TeX places
 # exactly one break in each such gap, except where a pattern forbids it for typographic reasons
 # (2e2cek. keeps the future suffix "-ecek" whole, tu4r4k): there TeX abstains and the gap is not compared.
-# A word agrees when all its compared gaps agree. The one deliberate difference is the loanword rule
-# (kon-trol where TeX has kont-rol): gaps of 3+ consonants ending in "Cr" are counted separately.
+# A word agrees when all its compared gaps agree.
 
 _TURKISH_WORD = re.compile("[abcçdefgğhıijklmnoöprsştuüvyz]+")
 _TEX_PATTERN_PLACES = [
@@ -121,15 +121,11 @@ def _turkish_words() -> list[str]:
     return words
 
 
-def _loanword_gap(consonants: str) -> bool:
-    return len(consonants) >= 3 and consonants[-1] == "r" and consonants[-2] in "bdfgkptv"
-
-
 def test_agrees_with_tex_hyphenation_on_a_large_word_list(tmp_path_factory: pytest.TempPathFactory) -> None:
     hyphenator = _tex_hyphenator(tmp_path_factory)
     words = _turkish_words()
     disagreeing: list[str] = []
-    compared_gaps = abstained_gaps = loanword_gaps = 0
+    compared_gaps = abstained_gaps = 0
     for word in words:
         parts = syllabify(word)
         assert "".join(parts) == word
@@ -145,9 +141,6 @@ def test_agrees_with_tex_hyphenation_on_a_large_word_list(tmp_path_factory: pyte
         agrees = True
         for left, right in zip(nuclei, nuclei[1:], strict=False):
             gap = set(range(left + 1, right + 1))  # break positions between the two vowels
-            if _loanword_gap(word[left + 1 : right]):
-                loanword_gaps += 1
-                continue
             if not tex & gap:
                 abstained_gaps += 1
                 continue
@@ -158,20 +151,7 @@ def test_agrees_with_tex_hyphenation_on_a_large_word_list(tmp_path_factory: pyte
     agreement = 1 - len(disagreeing) / len(words)
     print(
         f"{len(words)} words, {compared_gaps} gaps compared, {abstained_gaps} where TeX abstains, "
-        f"{loanword_gaps} loanword 'Cr' gaps; agreement {agreement:.5f}; disagreeing: {disagreeing[:20]}"
+        f"agreement {agreement:.5f}; disagreeing: {disagreeing[:20]}"
     )
     assert compared_gaps > 100_000
     assert agreement >= 0.999, disagreeing[:50]
-
-
-def test_loanword_rule_is_rare() -> None:
-    """The deliberate difference from TeX (kon-trol, not kont-rol) touches few real words."""
-    words = _turkish_words()
-    touched = [
-        word
-        for word in words
-        if any(_loanword_gap(gap) for gap in re.findall("(?<=[aeıioöuü])[^aeıioöuü]+(?=[aeıioöuü])", word))
-    ]
-    print(f"{len(touched)} of {len(words)} words have a loanword 'Cr' cluster between vowels: {touched[:12]}")
-    assert len(touched) < 0.01 * len(words)
-    assert {"kontrol", "elektrik", "endüstri"} <= set(touched)
