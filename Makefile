@@ -43,5 +43,5 @@ demo: setup
 
 test: setup setup-blender42 $(HYPHENATION)
 	$(VENV)/bin/ruff check . && $(VENV)/bin/ruff format --check .
-	$(VENV)/bin/python -m pytest -q tests
-	$(VENV42)/bin/python -m pytest -q tests/blender
+	$(VENV)/bin/python -m pytest -q -rs tests
+	$(VENV42)/bin/python -m pytest -q -rs tests/blender
