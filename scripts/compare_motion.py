@@ -78,8 +78,8 @@ def main(argv: list[str]) -> int:
             head = parts["head"]
             shapekeys.build_shape_keys(head)
             objects = head_objects(head)
-            width = render.face_bounds(objects)[1][0] - render.face_bounds(objects)[0][0]
-            head.location.x += (position - 0.5) * width * 1.25  # thesis on the left, default on the right
+            # Thesis on the left, default on the right, a little more than a whole head (ears too) apart.
+            head.location.x += (position - 0.5) * head.dimensions.x * 1.1
             context.view_layer.update()
             keyframes.write_weight_tracks(objects, tracks[mode], scene.frame_start, f"TR_compare_{mode}")
             all_objects += objects
