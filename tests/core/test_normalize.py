@@ -205,8 +205,8 @@ def test_punctuation_becomes_pauses() -> None:
         ("clause", table["clause"]),
         ("clause", table["clause"]),
         ("sentence", table["sentence"]),
-        ("sentence", table["sentence"]),
-        ("sentence", table["sentence"]),
+        ("question", table["question"]),
+        ("exclamation", table["exclamation"]),
         ("paragraph", table["paragraph"]),  # "..." then a blank line merge into the longer pause
         ("clause", table["clause"]),
     ]

@@ -261,3 +261,29 @@ def test_a_phone_spoken_without_duration_gets_a_span_like_a_dropped_letter():
     vowel_phone = next(event for event in synthesis.phone_events if 3 in event.letters)
     assert vowel.start == vowel_phone.start < l_sound.start < l_sound.end == vowel_phone.end <= s_sound.start
     assert l_sound.end - l_sound.start >= 0.005
+
+
+def test_a_question_is_spoken_as_a_question():
+    """The written '?' reaches the voice: the pitch rises at the end of a question and falls after a '.'."""
+    question = build_utterance("Yarın geliyor musun?")
+    statement = build_utterance("Yarın geliyor musun.")
+    assert question.words[-1].ending == "?" and statement.words[-1].ending == "."
+
+    def final_rise(synthesis):
+        """Pitch of the last voiced 90 ms over the pitch 90 ms before that (autocorrelation, 30 ms frames)."""
+        samples = synthesis.samples.astype(np.float64)
+        rate = synthesis.sample_rate
+        frame = int(0.03 * rate)
+        pitches = []
+        for start in range(0, len(samples) - frame, frame):
+            piece = samples[start : start + frame] - samples[start : start + frame].mean()
+            if np.sum(piece**2) < 1e6:
+                continue
+            correlation = np.correlate(piece, piece, "full")[frame - 1 :]
+            low, high = int(rate / 350), int(rate / 60)
+            pitches.append(rate / (low + int(np.argmax(correlation[low:high]))))
+        return np.median(pitches[-3:]) / np.median(pitches[-6:-3])
+
+    _, asked = synthesize_timeline(question, "phone")
+    _, told = synthesize_timeline(statement, "phone")
+    assert final_rise(asked) > 1.05 > 1.0 > final_rise(told)

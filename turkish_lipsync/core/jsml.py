@@ -89,7 +89,7 @@ def pause_seconds() -> dict[str, dict[str, float]]:
     result: dict[str, dict[str, float]] = {}
     required = {
         "break_size": ("none", "small", "medium", "large"),
-        "punctuation": ("comma", "clause", "sentence", "paragraph"),
+        "punctuation": ("comma", "clause", "sentence", "question", "exclamation", "paragraph"),
     }
     for section, keys in required.items():
         values = table.get(section)

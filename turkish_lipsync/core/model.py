@@ -107,6 +107,9 @@ class Word:
     syllable_count: int
     style: Style
     pause_before: float = 0.0  # seconds of silence before this word
+    # Punctuation closing the word's phrase where a pause follows: "." "?" "!" "," or "" (none, a BREAK).
+    # The voice needs it: a question rises.
+    ending: str = ""
 
 
 @dataclass(frozen=True)

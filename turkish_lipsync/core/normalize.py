@@ -31,8 +31,8 @@ _PUNCTUATION_PAUSES = {
     ":": "clause",
     "—": "clause",
     ".": "sentence",
-    "?": "sentence",
-    "!": "sentence",
+    "?": "question",
+    "!": "exclamation",
     "…": "sentence",
 }
 

@@ -2,12 +2,24 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from .errors import TextError
 from .jsml import parse_jsml
 from .model import Letter, Pause, SpokenWord, Syllable, Utterance, Word
 from .normalize import normalize
 from .syllables import VOWELS, syllabify, syllable_vowel
 from .visemes import viseme_for_letter
+
+# The punctuation a pause stands for, as the speech engine reads it.
+PAUSE_ENDINGS = {
+    "comma": ",",
+    "clause": ",",
+    "sentence": ".",
+    "paragraph": ".",
+    "question": "?",
+    "exclamation": "!",
+}
 
 
 def build_utterance(source: str) -> Utterance:
@@ -19,6 +31,8 @@ def build_utterance(source: str) -> Utterance:
     for item in normalize(parse_jsml(source)):
         if isinstance(item, Pause):
             pending_pause += item.seconds
+            if words and item.kind in PAUSE_ENDINGS and not words[-1].ending:
+                words[-1] = replace(words[-1], ending=PAUSE_ENDINGS[item.kind])
             continue
         _append_word(item, pending_pause, words, syllables, letters)
         pending_pause = 0.0

@@ -257,6 +257,7 @@ class _Stretch:
     word_count: int
     pause_before: float
     pause_after: float
+    ending: str  # punctuation of the last word ("" where none was written)
     style: Style
 
 
@@ -272,7 +273,16 @@ def _stretches(utterance: Utterance) -> list[_Stretch]:
     stretches = []
     for first, stop in zip(bounds[:-1], bounds[1:], strict=True):
         after = words[stop].pause_before if stop < len(words) else utterance.final_pause
-        stretches.append(_Stretch(first, stop - first, words[first].pause_before, after, words[first].style))
+        stretches.append(
+            _Stretch(
+                first,
+                stop - first,
+                words[first].pause_before,
+                after,
+                words[stop - 1].ending,
+                words[first].style,
+            )
+        )
     return stretches
 
 
@@ -341,7 +351,9 @@ class EspeakEngine(SpeechEngine):
                     chunks.append(np.zeros(silence, np.int16))
                     cursor += silence
                 stretch_words = utterance.words[stretch.first_word : stretch.first_word + stretch.word_count]
-                text, positions = _stretch_text([word.text for word in stretch_words], stretch.pause_after)
+                text, positions = _stretch_text(
+                    [word.text for word in stretch_words], stretch.pause_after, stretch.ending
+                )
                 spoken = library.speak(text, stretch.style)
                 chunks.extend(spoken.chunks)
                 self._collect_events(spoken, positions, stretch, cursor, rate, phones, words)
@@ -380,14 +392,17 @@ class EspeakEngine(SpeechEngine):
                 words.append(WordEvent((offset + sample) / rate, stretch.first_word + word))
 
 
-def _stretch_text(words: list[str], pause_after: float) -> tuple[str, list[int]]:
-    """Plain text of the words and each word's 1-based character position in it."""
+def _stretch_text(words: list[str], pause_after: float, ending: str = "") -> tuple[str, list[int]]:
+    """Plain text of the words and each word's 1-based character position in it.
+
+    The written punctuation ends the text (a question rises); else the pause's length picks "." or ",".
+    """
     positions = []
     position = 1
     for word in words:
         positions.append(position)
         position += len(word) + 1
-    ending = "." if pause_after >= SENTENCE_PAUSE else ("," if pause_after > 0 else "")
+    ending = ending or ("." if pause_after >= SENTENCE_PAUSE else ("," if pause_after > 0 else ""))
     return " ".join(words) + ending, positions
 
 
