@@ -33,11 +33,21 @@ def test_linear_morph_between_consecutive_letters_eq_5_3():
 
 
 def test_emotion_takes_weight_from_the_lips_eq_5_3():
-    timeline, tracks = thesis("<HAPPY WEIGHT='0.4'>elma</HAPPY>")
+    # w = 0.2 (the thesis's constant) x 0.5 (the JSML weight): lips at 1 - w, the empowered emotion
+    # (rho = 3 times the emotion key) at w.
+    timeline, tracks = thesis("<HAPPY WEIGHT='0.5'>elma</HAPPY>")
     names, weights = tracks.sample(np.array([timeline.phones[2].start * 25]))
     row = dict(zip(names, weights[0], strict=True))
-    assert row[viseme_key_name("ma")] == pytest.approx(0.6)
-    assert row[emotion_key_name("happy")] == pytest.approx(0.4)
+    assert row[viseme_key_name("ma")] == pytest.approx(0.9)
+    assert row[emotion_key_name("happy")] == pytest.approx(0.3)
+
+
+def test_the_thesis_figure_5_1_weights_lips_at_80_percent_under_full_emotion():
+    timeline, tracks = thesis("<ANGRY>merhaba</ANGRY>")
+    names, weights = tracks.sample(np.array([timeline.phones[0].start * 25]))
+    row = dict(zip(names, weights[0], strict=True))
+    assert row[viseme_key_name("me")] == pytest.approx(0.8)
+    assert row[emotion_key_name("angry")] == pytest.approx(0.6)
 
 
 def test_emotions_cross_fade_between_words_eq_5_4():
@@ -47,8 +57,8 @@ def test_emotions_cross_fade_between_words_eq_5_4():
     names, weights = tracks.sample(np.array([last_happy, (last_happy + first_sad) / 2, first_sad]))
     happy = weights[:, names.index(emotion_key_name("happy"))]
     sad = weights[:, names.index(emotion_key_name("sad"))]
-    np.testing.assert_allclose(happy, [1.0, 0.5, 0.0])
-    np.testing.assert_allclose(sad, [0.0, 0.5, 1.0])
+    np.testing.assert_allclose(happy, [0.6, 0.3, 0.0])
+    np.testing.assert_allclose(sad, [0.0, 0.3, 0.6])
 
 
 def test_starts_and_ends_on_the_neutral_face():

@@ -108,8 +108,8 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
     empowered: BoolProperty(
         name="Empowered Emotions",
         default=False,
-        description="Store the emotions exaggerated by the empowering constant (thesis eq. 5.2), "
-        "so a small emotion weight still shows beside the moving lips",
+        description="Store the emotion keys exaggerated by the empowering constant (thesis eq. 5.2), for "
+        "keying them by hand; generated animation needs plain keys (its thesis mode empowers by itself)",
     )
     rho: FloatProperty(
         name="Empowering Constant",

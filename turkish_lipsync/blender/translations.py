@@ -140,10 +140,10 @@ TURKISH = {
         "Kafanın OBJ modelleri; aynı köşeler, aynı sırada (a.obj, ..., Neutral.obj)"
     ),
     "Empowered Emotions": "Güçlendirilmiş Duygular",
-    "Store the emotions exaggerated by the empowering constant (thesis eq. 5.2), "
-    "so a small emotion weight still shows beside the moving lips": (
-        "Duyguları güçlendirme katsayısıyla abartılmış olarak saklar (tez denklem 5.2); böylece küçük bir "
-        "duygu ağırlığı da hareket eden dudakların yanında görünür"
+    "Store the emotion keys exaggerated by the empowering constant (thesis eq. 5.2), for "
+    "keying them by hand; generated animation needs plain keys (its thesis mode empowers by itself)": (
+        "Duygu anahtarlarını güçlendirme katsayısıyla abartılmış olarak saklar (tez denklem 5.2); elle "
+        "anahtarlamak içindir. Üretilen animasyon düz anahtarlar ister (tez kipi güçlendirmeyi kendisi yapar)"
     ),
     "Empowering Constant": "Güçlendirme Katsayısı",
     "How many times stronger the empowered emotions are (ρ in the thesis, which uses 3)": (

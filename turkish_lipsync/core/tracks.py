@@ -6,6 +6,8 @@ import math
 
 import numpy as np
 
+from .data import DATA_DIR, load_table, require
+from .errors import DataError
 from .model import Timeline, Track, WeightTracks, emotion_key_name, viseme_key_name
 from .visemes import NEUTRAL
 
@@ -30,12 +32,14 @@ def weight_tracks(
 def thesis_weight_tracks(timeline: Timeline, fps: float, emotion_strength: float = 1.0) -> WeightTracks:
     """The thesis's weighted morphing (eq. 5.3, 5.4), one key per letter onset.
 
-    Lips morph linearly from letter to letter at weight (1 - w); the emotion of each letter's word is keyed
-    at w, so consecutive words in different emotions cross-fade over the letters between them. The face
-    starts and ends on the neutral model.
+    Lips morph linearly from letter to letter at weight (1 - w); the empowered emotion of each letter's word
+    is keyed at w (the emotion key, which holds E - N, at rho * w), so consecutive words in different emotions
+    cross-fade over the letters between them. w is the thesis's constant (shapekeys/motion.toml [thesis])
+    times the JSML weight and the emotion strength. The face starts and ends on the neutral model.
     """
     phones = timeline.phones
-    word_weight = _word_emotion_weights(timeline, emotion_strength)
+    emotion_weight, empowering = _thesis_constants()
+    word_weight = _word_emotion_weights(timeline, emotion_strength * emotion_weight)
     times = [0.0] + [p.start for p in phones] + [max(timeline.duration, phones[-1].end if phones else 0.0)]
     visemes = [NEUTRAL] + [p.viseme for p in phones] + [NEUTRAL]
     emotions = [None] + [word_weight.get(p.word_index) for p in phones] + [None]
@@ -48,7 +52,7 @@ def thesis_weight_tracks(timeline: Timeline, fps: float, emotion_strength: float
         weight = emotion[1] if emotion else 0.0
         values[row, column[viseme_key_name(viseme)]] = 1.0 - weight
         if emotion:
-            values[row, column[emotion_key_name(emotion[0])]] = weight
+            values[row, column[emotion_key_name(emotion[0])]] = weight * empowering
     frames = np.asarray(times) * fps
     tracks = tuple(sparse_track(name, frames, values[:, column[name]]) for name in names)
     return WeightTracks(
@@ -58,6 +62,17 @@ def thesis_weight_tracks(timeline: Timeline, fps: float, emotion_strength: float
         tracks=tracks,
         mode="thesis",
     )
+
+
+def _thesis_constants() -> tuple[float, float]:
+    """(w, rho): the thesis's emotion weight and empowering constant, from shapekeys/motion.toml."""
+    table = require(load_table("motion"), "thesis", dict, "motion")
+    weight, empowering = table.get("emotion_weight"), table.get("empowering")
+    if not isinstance(weight, int | float) or not 0 < weight <= 1:
+        raise DataError(f"{DATA_DIR / 'motion.toml'}: [thesis] emotion_weight must be in (0, 1]")
+    if not isinstance(empowering, int | float) or empowering < 1:
+        raise DataError(f"{DATA_DIR / 'motion.toml'}: [thesis] empowering must be at least 1")
+    return float(weight), float(empowering)
 
 
 def _word_emotion_weights(timeline: Timeline, emotion_strength: float) -> dict[int, tuple[str, float]]:
