@@ -311,7 +311,7 @@ class _FaceReader:
         points = {"nose_tip": self.depth.point(nose_row, mid)}
         points.update(self.midline(nose_row, mouth_row, mid))
         points.update(self.mouth_corners(mouth_row, mid))
-        points.update(self.eyes_and_brows(nose_row, mouth_row, mid))
+        points.update(self.eyes_and_brows(nose_row, mid))
         return points
 
     def nose_tip(self) -> tuple[int, int]:
@@ -456,7 +456,7 @@ class _FaceReader:
             corners[name] = self._surface_near(row, column)
         return corners
 
-    def eyes_and_brows(self, nose_row: int, mouth_row: int, mid: int) -> dict[str, np.ndarray]:
+    def eyes_and_brows(self, nose_row: int, mid: int) -> dict[str, np.ndarray]:
         """The eyes are the sockets on each side above the nose tip; the brows the ridge above them."""
         top = max(nose_row - self.pixels(0.3), 1)
         bottom = nose_row - self.pixels(0.04)
