@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from turkish_lipsync.core.errors import LipSyncError, SpeechEngineError
+from turkish_lipsync.core.errors import LipSyncError, SpeechEngineError, TextError
 from turkish_lipsync.core.model import Style
 from turkish_lipsync.core.speech import (
     Synthesis,
@@ -287,3 +287,13 @@ def test_a_question_is_spoken_as_a_question():
     _, asked = synthesize_timeline(question, "phone")
     _, told = synthesize_timeline(statement, "phone")
     assert final_rise(asked) > 1.05 > 1.0 > final_rise(told)
+
+
+def test_a_text_too_long_to_hold_as_audio_is_refused_before_speaking():
+    from turkish_lipsync.core.speech.timeline import MAX_SPOKEN_LETTERS
+
+    words = MAX_SPOKEN_LETTERS // 5 + 1
+    utterance = build_utterance(" ".join(["kalem"] * words))
+    with pytest.raises(TextError, match="split it into several texts"):
+        synthesize_timeline(utterance, "phone")
+    assert table_timeline(utterance).phones[-1].letter == "m"  # table timing needs no audio: still fine

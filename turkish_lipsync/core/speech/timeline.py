@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..errors import LipSyncError
+from ..errors import LipSyncError, TextError
 from ..model import Timeline, Utterance
 from ..timing import build_timeline, table_timeline
 from .align import phone_letter_spans, word_letter_spans
@@ -12,6 +12,11 @@ from .base import Synthesis, get_engine
 from .recording import align_recording
 
 TIMINGS = ("phone", "word", "table", "recording")
+
+
+# The audio of one utterance is held in memory (about 160 MB an hour, with its working copies several times
+# that): longer texts are refused before the engine starts rather than exhausting memory.
+MAX_SPOKEN_LETTERS = 60_000  # about 90 minutes of speech
 
 
 def synthesize_timeline(
@@ -39,6 +44,12 @@ def synthesize_timeline(
         return table_timeline(utterance), None
     if timing == "recording" and recording is None:
         raise LipSyncError("recording timing needs a recording: give the audio file of the text read aloud")
+    if len(utterance.letters) > MAX_SPOKEN_LETTERS:
+        raise TextError(
+            f"the text has {len(utterance.letters):,} letters to speak, more than the {MAX_SPOKEN_LETTERS:,} "
+            "(about 90 minutes of speech) one utterance may hold: split it into several texts, or use table "
+            "timing, which needs no audio"
+        )
     speech_engine = get_engine(engine)
     synthesis = speech_engine.synthesize(utterance)
     label = timing
