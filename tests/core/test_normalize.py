@@ -105,6 +105,9 @@ def test_turkish_lower_and_upper() -> None:
         ("Sonuç 3.", "sonuç üç |"),
         ("Sıra 3. Sonra", "sıra üç | sonra"),
         ("3. Ekim", "üçüncü ekim"),
+        # A number opening a sentence before any word is an ordinal (a sentence is rarely just "1.").
+        ("1. Dünya Savaşı", "birinci dünya savaşı"),
+        ("Bitti. 2. Madde", "bitti | ikinci madde"),
         ("2024'te 1990'larda", "iki bin yirmi dörtte bin dokuz yüz doksanlarda"),
         ("saat 14:30", "saat on dört otuz"),
         ("25.12.2023", "yirmi beş on iki iki bin yirmi üç"),

@@ -320,6 +320,10 @@ def _token_pattern() -> re.Pattern[str]:
     return _ABBREVIATION_PATTERN
 
 
+# Punctuation after which a new sentence starts.
+_SENTENCE_ENDS = frozenset(".!?…")
+
+
 class _Token(NamedTuple):
     kind: str
     text: str
@@ -456,7 +460,7 @@ class _RunNormalizer:
         if following is not None and following.kind == "other" and following.text in _APOSTROPHES:
             suffix, end = self.suffix_after(tokens, end)
         elif following is not None and following.text == "." and re.fullmatch(r"[0-9]+", token.text):
-            if self._is_ordinal_dot(tokens, end):
+            if self._is_ordinal_dot(tokens, index, end):
                 last_word, last_offset = words[-1]
                 words[-1] = (_ordinal(last_word), last_offset)
                 end += 1  # the dot marks the ordinal; it is no sentence end
@@ -494,15 +498,19 @@ class _RunNormalizer:
                 return position
         return None
 
-    def _is_ordinal_dot(self, tokens: list[_Token], dot: int) -> bool:
-        """A dot after a number is ordinal before a lowercase word or a month ("3. sınıf", "19. yüzyıl")."""
+    def _is_ordinal_dot(self, tokens: list[_Token], number: int, dot: int) -> bool:
+        """A dot after a number is ordinal before a lowercase word or a month ("3. sınıf", "19. yüzyıl"),
+        and before any word when the number opens a sentence ("1. Dünya Savaşı başladı", "2. Madde")."""
         rest = [token for token in tokens[dot + 1 : dot + 3] if token.kind != "space"]
         if not rest or rest[0].kind not in ("word", "abbreviation"):
             return False
         if tokens[dot + 1].kind != "space":
             return False
         first = rest[0].text
-        return first[0].islower() or turkish_lower(first) in self.tables.months
+        if first[0].islower() or turkish_lower(first) in self.tables.months:
+            return True
+        before = next((token for token in reversed(tokens[:number]) if token.kind != "space"), None)
+        return before is None or before.kind == "paragraph" or before.text in _SENTENCE_ENDS
 
     # ------------------------------------------------------------ words
 
