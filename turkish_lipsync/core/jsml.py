@@ -406,37 +406,41 @@ class _Parser:
         return sizes["medium"]
 
     def prosody(self, style: Style, attributes: dict[str, tuple[str, int]]) -> Style:
-        if "RATE" in attributes:
-            value, where = attributes["RATE"]
-            rate = _relative(value, style.rate, _RATE_WORDS, DEFAULT_WORDS_PER_MINUTE)
-            if rate is None or not 0.1 <= rate <= 10:
-                raise self.error(
-                    f"RATE={value!r} is not valid; expected words per minute (175), +20%, -10%, "
-                    "or xslow, slow, medium, fast, xfast, default",
-                    where,
-                )
-            style = replace(style, rate=rate)
-        if "PITCH" in attributes:
-            value, where = attributes["PITCH"]
-            pitch = _relative(value, style.pitch, _PITCH_WORDS, DEFAULT_PITCH_HZ)
-            if pitch is None or not 0.1 <= pitch <= 10:
-                raise self.error(
-                    f"PITCH={value!r} is not valid; expected hertz (120), +20%, -10%, "
-                    "or xlow, low, medium, high, xhigh, default",
-                    where,
-                )
-            style = replace(style, pitch=pitch)
-        if "VOL" in attributes:
-            value, where = attributes["VOL"]
-            volume = _relative(value, style.volume, _VOLUME_WORDS, 1.0)
-            if volume is None or not 0.0 <= volume <= 10:
-                raise self.error(
-                    f"VOL={value!r} is not valid; expected 0.0 to 1.0, +20%, -10%, "
-                    "or silent, xsoft, soft, medium, loud, xloud, default",
-                    where,
-                )
-            style = replace(style, volume=volume)
+        for attribute, (field, words, unit, lowest, expected) in _PROSODY.items():
+            if attribute not in attributes:
+                continue
+            value, where = attributes[attribute]
+            multiplier = _relative(value, getattr(style, field), words, unit)
+            if multiplier is None or not lowest <= multiplier <= 10:
+                raise self.error(f"{attribute}={value!r} is not valid; expected {expected}", where)
+            style = replace(style, **{field: multiplier})
         return style
+
+
+# PROS attribute -> (Style field, named values, one unit as a multiplier, lowest multiplier, expected).
+_PROSODY = {
+    "RATE": (
+        "rate",
+        _RATE_WORDS,
+        DEFAULT_WORDS_PER_MINUTE,
+        0.1,
+        "words per minute (175), +20%, -10%, or xslow, slow, medium, fast, xfast, default",
+    ),
+    "PITCH": (
+        "pitch",
+        _PITCH_WORDS,
+        DEFAULT_PITCH_HZ,
+        0.1,
+        "hertz (120), +20%, -10%, or xlow, low, medium, high, xhigh, default",
+    ),
+    "VOL": (
+        "volume",
+        _VOLUME_WORDS,
+        1.0,
+        0.0,
+        "0.0 to 1.0, +20%, -10%, or silent, xsoft, soft, medium, loud, xloud, default",
+    ),
+}
 
 
 def _relative(value: str, current: float, words: dict[str, float], unit: float) -> float | None:
