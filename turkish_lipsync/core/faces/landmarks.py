@@ -96,17 +96,7 @@ def connected_pieces(vertex_count: int, triangles: np.ndarray) -> np.ndarray:
 
 def largest_piece(vertex_count: int, triangles: np.ndarray, among: np.ndarray | None = None) -> np.ndarray:
     """Vertex indices of the biggest connected piece (by vertex count), optionally among some vertices."""
-    labels = connected_pieces(vertex_count, triangles)
-    used = np.zeros(vertex_count, bool)
-    used[triangles.ravel()] = True
-    if among is not None:
-        keep = np.zeros(vertex_count, bool)
-        keep[among] = True
-        used &= keep
-    if not used.any():
-        raise HeadError("The mesh has no faces: a head needs polygons to find a face on. Import a mesh head.")
-    counts = np.bincount(labels[used], minlength=vertex_count)
-    return np.flatnonzero(used & (labels == np.argmax(counts)))
+    return _biggest_pieces(vertex_count, triangles, among, count=1)[0]
 
 
 # ---------------------------------------------------------------- the head on a body
@@ -256,18 +246,20 @@ def find_landmarks(vertices: np.ndarray, polygons) -> dict[str, np.ndarray]:
     raise first_error
 
 
-def _biggest_pieces(vertex_count: int, triangles: np.ndarray, among: np.ndarray, count: int = 3):
-    """Up to `count` connected pieces among some vertices, biggest first, none under a tenth of the first."""
+def _biggest_pieces(vertex_count: int, triangles: np.ndarray, among: np.ndarray | None, count: int = 3):
+    """Up to `count` connected pieces (among some vertices, or all), biggest first, none under a tenth of
+    the first."""
     labels = connected_pieces(vertex_count, triangles)
     used = np.zeros(vertex_count, bool)
     used[triangles.ravel()] = True
-    keep = np.zeros(vertex_count, bool)
-    keep[among] = True
-    used &= keep
+    if among is not None:
+        keep = np.zeros(vertex_count, bool)
+        keep[among] = True
+        used &= keep
     if not used.any():
         raise HeadError("The mesh has no faces: a head needs polygons to find a face on. Import a mesh head.")
     sizes = np.bincount(labels[used], minlength=vertex_count)
-    order = np.argsort(sizes)[::-1][:count]
+    order = np.argsort(-sizes, kind="stable")[:count]
     return [
         np.flatnonzero(used & (labels == label)) for label in order if sizes[label] >= 0.1 * sizes[order[0]]
     ]
