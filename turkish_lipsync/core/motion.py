@@ -34,13 +34,13 @@ from .model import (
     BROW_RAISE_KEY,
     EMOTIONS,
     Timeline,
-    Track,
     WeightTracks,
     emotion_key_name,
     emotion_release_key_name,
     viseme_key_name,
 )
 from .quality import shape_runs, shown_shapes
+from .tracks import sparse_track
 from .visemes import BILABIAL_VISEMES, LABIODENTAL_VISEMES, NEUTRAL, viseme_names
 
 HARD_TARGETS = BILABIAL_VISEMES | LABIODENTAL_VISEMES
@@ -195,7 +195,8 @@ def natural_weight_tracks(
     if brow_raise and timeline.emphases:
         columns[BROW_RAISE_KEY] = _brow_curve(timeline.emphases, times, params)
 
-    tracks = tuple(linear_sparse_track(name, values) for name, values in columns.items())
+    key_frames = np.arange(frame_count, dtype=np.float64)
+    tracks = tuple(sparse_track(name, key_frames, values) for name, values in columns.items())
     return WeightTracks(
         fps=fps,
         frame_count=frame_count,
@@ -204,17 +205,6 @@ def natural_weight_tracks(
         mode="natural",
         extra={"closure_frames": tuple(closure_frames), "blinks": tuple(blink_spans)},
     )
-
-
-def linear_sparse_track(name: str, values: np.ndarray) -> Track:
-    """A track keyed at integer frames, without the keys that linear interpolation reproduces exactly."""
-    values = np.asarray(values, dtype=np.float64)
-    keep = np.ones(values.size, dtype=bool)
-    if values.size > 2:
-        second_difference = values[:-2] - 2.0 * values[1:-1] + values[2:]
-        keep[1:-1] = np.abs(second_difference) > 1e-9
-    frames = np.flatnonzero(keep).astype(np.float64)
-    return Track(name=name, frames=frames, values=values[keep])
 
 
 # ---------------------------------------------------------------- visemes: co-articulation

@@ -86,7 +86,7 @@ def _word_emotion_weights(timeline: Timeline, emotion_strength: float) -> dict[i
 
 
 def sparse_track(name: str, frames: np.ndarray, values: np.ndarray) -> Track:
-    """A track without the keys linear interpolation would reproduce (the interior of constant runs).
+    """A track without the keys linear interpolation between their neighbours reproduces exactly.
 
     Keys at the same frame keep the last value, so frames are strictly increasing.
     """
@@ -95,7 +95,9 @@ def sparse_track(name: str, frames: np.ndarray, values: np.ndarray) -> Track:
     unique_last = np.append(frames[1:] != frames[:-1], True)
     frames, values = frames[unique_last], values[unique_last]
     if frames.size > 2:
-        flat = np.zeros(frames.size, dtype=bool)
-        flat[1:-1] = (values[1:-1] == values[:-2]) & (values[1:-1] == values[2:])
-        frames, values = frames[~flat], values[~flat]
+        share = (frames[1:-1] - frames[:-2]) / (frames[2:] - frames[:-2])
+        between = values[:-2] + (values[2:] - values[:-2]) * share
+        keep = np.ones(frames.size, dtype=bool)
+        keep[1:-1] = np.abs(values[1:-1] - between) > 1e-9
+        frames, values = frames[keep], values[keep]
     return Track(name=name, frames=frames, values=values)
