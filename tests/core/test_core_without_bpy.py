@@ -18,9 +18,9 @@ import importlib, pkgutil
 import turkish_lipsync.core as core
 for module in pkgutil.walk_packages(core.__path__, 'turkish_lipsync.core.'):
     importlib.import_module(module.name)
-from turkish_lipsync.core.utterance import build_utterance
-from turkish_lipsync.core.timing import table_timeline
-from turkish_lipsync.core.tracks import weight_tracks
+from turkish_lipsync.core.text.utterance import build_utterance
+from turkish_lipsync.core.speech.timing import table_timeline
+from turkish_lipsync.core.motion import weight_tracks
 tracks = weight_tracks(table_timeline(build_utterance('Merhaba, benim adım Erdem.')), 25, mode='thesis')
 print(len(tracks.tracks))
 """

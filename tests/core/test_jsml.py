@@ -5,8 +5,8 @@ from __future__ import annotations
 import pytest
 
 from turkish_lipsync.core.errors import MarkupError
-from turkish_lipsync.core.jsml import parse_jsml, pause_seconds
 from turkish_lipsync.core.model import Pause, Style, TextRun
+from turkish_lipsync.core.text.jsml import parse_jsml, pause_seconds
 
 THESIS_SAMPLE = (
     "<SENT>Animasyon programımız, <SAD>hüzün</SAD>\n"

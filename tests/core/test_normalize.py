@@ -5,9 +5,9 @@ from __future__ import annotations
 import pytest
 
 from turkish_lipsync.core.errors import TextError
-from turkish_lipsync.core.jsml import parse_jsml, pause_seconds
 from turkish_lipsync.core.model import Pause, SpokenWord
-from turkish_lipsync.core.normalize import TURKISH_LETTERS, normalize, turkish_lower, turkish_upper
+from turkish_lipsync.core.text.jsml import parse_jsml, pause_seconds
+from turkish_lipsync.core.text.normalize import TURKISH_LETTERS, normalize, turkish_lower, turkish_upper
 
 
 def spoken(source: str) -> str:

@@ -8,16 +8,15 @@ import numpy as np
 import pytest
 
 from turkish_lipsync.core.model import Phone, Timeline, Track, WeightTracks
-from turkish_lipsync.core.quality import (
+from turkish_lipsync.core.motion.frames import shape_runs, shown_shapes
+from turkish_lipsync.core.motion.quality import (
     REPORT_KEYS,
     compare_modes,
     format_quality,
     quality_report,
-    shape_runs,
-    shown_shapes,
 )
-from turkish_lipsync.core.timing import table_timeline
-from turkish_lipsync.core.utterance import build_utterance
+from turkish_lipsync.core.speech.timing import table_timeline
+from turkish_lipsync.core.text.utterance import build_utterance
 
 
 def test_a_frame_shows_the_viseme_holding_half_its_weight_and_runs_group_them():

@@ -11,6 +11,7 @@ import pytest
 
 from turkish_lipsync.core.errors import LipSyncError, SpeechEngineError, TextError
 from turkish_lipsync.core.model import Style
+from turkish_lipsync.core.motion.thesis import thesis_weight_tracks
 from turkish_lipsync.core.speech import (
     Synthesis,
     engine_names,
@@ -19,9 +20,8 @@ from turkish_lipsync.core.speech import (
     write_wav,
 )
 from turkish_lipsync.core.speech.espeak import DEFAULT_RATE, _parameters
-from turkish_lipsync.core.timing import letter_durations, table_timeline
-from turkish_lipsync.core.tracks import thesis_weight_tracks
-from turkish_lipsync.core.utterance import build_utterance
+from turkish_lipsync.core.speech.timing import letter_durations, table_timeline
+from turkish_lipsync.core.text.utterance import build_utterance
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 
@@ -63,7 +63,7 @@ def test_a_missing_engine_says_how_to_install_it():
     program = (
         "import sys; sys.modules['espeakng_loader'] = None\n"
         "from turkish_lipsync.core.speech import synthesize_timeline\n"
-        "from turkish_lipsync.core.utterance import build_utterance\n"
+        "from turkish_lipsync.core.text.utterance import build_utterance\n"
         "synthesize_timeline(build_utterance('merhaba'))\n"
     )
     result = subprocess.run(

@@ -10,7 +10,7 @@ import soundfile
 from turkish_lipsync.core.errors import AudioError
 from turkish_lipsync.core.speech import read_audio, synthesize_timeline
 from turkish_lipsync.core.speech.recording import dtw_path, resample, speech_features
-from turkish_lipsync.core.utterance import build_utterance
+from turkish_lipsync.core.text.utterance import build_utterance
 
 TEXT = (
     "Kardeşim dün akşam bana uzun bir mektup yazdı. Sonbaharda yapraklar sararır ve ağaçlardan düşer. "

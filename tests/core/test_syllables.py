@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from turkish_lipsync.core.syllables import VOWELS, syllabify, syllable_vowel
+from turkish_lipsync.core.text.syllables import VOWELS, syllabify, syllable_vowel
 
 
 @pytest.mark.parametrize(

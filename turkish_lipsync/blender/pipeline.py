@@ -191,8 +191,8 @@ def compute_tracks(
     recording: str | None = None,
 ):
     """Text to (utterance, timeline, synthesis, tracks): the core's work, no Blender data touched."""
-    from ..core.tracks import weight_tracks
-    from ..core.utterance import build_utterance
+    from ..core.motion import weight_tracks
+    from ..core.text.utterance import build_utterance
 
     if timing not in TIMINGS:
         raise LipSyncError(f"Unknown timing {timing!r}; use one of {', '.join(TIMINGS)}.")

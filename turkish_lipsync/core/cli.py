@@ -72,15 +72,15 @@ def read_source(file: Path | None, text: str | None) -> str:
 
 def _timeline(args: argparse.Namespace):
     from .speech import synthesize_timeline
-    from .utterance import build_utterance
+    from .text.utterance import build_utterance
 
     utterance = build_utterance(read_source(args.file, args.text))
     return synthesize_timeline(utterance, args.timing, recording=args.audio)
 
 
 def _run_syllables(args: argparse.Namespace) -> int:
-    from .normalize import turkish_lower
-    from .syllables import syllabify
+    from .text.normalize import turkish_lower
+    from .text.syllables import syllabify
 
     for word in args.words:
         print("-".join(syllabify(turkish_lower(word))))
@@ -103,7 +103,7 @@ def _run_timeline(args: argparse.Namespace) -> int:
 
 
 def _run_quality(args: argparse.Namespace) -> int:
-    from .quality import compare_modes, format_quality
+    from .motion.quality import compare_modes, format_quality
 
     timeline, _ = _timeline(args)
     report = compare_modes(timeline, args.fps)

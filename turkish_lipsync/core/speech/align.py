@@ -17,9 +17,9 @@ import numpy as np
 from ..data import DATA_DIR, load_table
 from ..errors import DataError
 from ..model import Utterance
-from ..syllables import VOWELS
-from ..timing import letter_durations
+from ..text.syllables import VOWELS
 from .base import PhoneEvent, SpeechEngine, Synthesis
+from .timing import letter_durations
 
 # Shortest span a letter may get (seconds): keeps spans positive where the engine gives two phones one onset.
 MINIMUM_SPAN = 0.001

@@ -6,10 +6,10 @@ from pathlib import Path
 
 from ..errors import LipSyncError, TextError
 from ..model import Timeline, Utterance
-from ..timing import build_timeline, table_timeline
 from .align import phone_letter_spans, word_letter_spans
 from .base import Synthesis, get_engine
 from .recording import align_recording
+from .timing import build_timeline, table_timeline
 
 TIMINGS = ("phone", "word", "table", "recording")
 

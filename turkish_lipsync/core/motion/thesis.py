@@ -1,4 +1,4 @@
-"""Weight tracks: the 37 viseme and 6 emotion shape-key weights over time, at a frame rate."""
+"""The thesis's motion model: linear morphing between letter models with emotion cross-fade (eq. 5.3, 5.4)."""
 
 from __future__ import annotations
 
@@ -6,27 +6,11 @@ import math
 
 import numpy as np
 
-from .data import DATA_DIR, load_table, require
-from .errors import DataError
-from .model import Timeline, Track, WeightTracks, emotion_key_name, viseme_key_name
-from .visemes import NEUTRAL
-
-MOTION_MODES = ("natural", "thesis")
-
-
-def weight_tracks(
-    timeline: Timeline, fps: float, mode: str = "natural", emotion_strength: float = 1.0, **options
-) -> WeightTracks:
-    """The weight tracks of a timeline in the chosen motion model ("natural" is the default)."""
-    if fps <= 0:
-        raise ValueError(f"frame rate must be positive, got {fps}")
-    if mode == "thesis":
-        return thesis_weight_tracks(timeline, fps, emotion_strength)
-    if mode == "natural":
-        from .motion import natural_weight_tracks
-
-        return natural_weight_tracks(timeline, fps, emotion_strength, **options)
-    raise ValueError(f"unknown motion mode {mode!r}; choose one of {', '.join(MOTION_MODES)}")
+from ..data import DATA_DIR, load_table, require
+from ..errors import DataError
+from ..model import Timeline, WeightTracks, emotion_key_name, viseme_key_name
+from ..text.visemes import NEUTRAL
+from .frames import sparse_track
 
 
 def thesis_weight_tracks(timeline: Timeline, fps: float, emotion_strength: float = 1.0) -> WeightTracks:
@@ -83,21 +67,3 @@ def _word_emotion_weights(timeline: Timeline, emotion_strength: float) -> dict[i
             if span.start <= word.start and word.end <= span.end:
                 result[word.index] = (span.emotion, min(1.0, max(0.0, span.weight * emotion_strength)))
     return result
-
-
-def sparse_track(name: str, frames: np.ndarray, values: np.ndarray) -> Track:
-    """A track without the keys linear interpolation between their neighbours reproduces exactly.
-
-    Keys at the same frame keep the last value, so frames are strictly increasing.
-    """
-    frames = np.asarray(frames, dtype=np.float64)
-    values = np.asarray(values, dtype=np.float64)
-    unique_last = np.append(frames[1:] != frames[:-1], True)
-    frames, values = frames[unique_last], values[unique_last]
-    if frames.size > 2:
-        share = (frames[1:-1] - frames[:-2]) / (frames[2:] - frames[:-2])
-        between = values[:-2] + (values[2:] - values[:-2]) * share
-        keep = np.ones(frames.size, dtype=bool)
-        keep[1:-1] = np.abs(values[1:-1] - between) > 1e-9
-        frames, values = frames[keep], values[keep]
-    return Track(name=name, frames=frames, values=values)

@@ -14,10 +14,10 @@ from dataclasses import dataclass
 from functools import cache, cached_property, lru_cache
 from typing import NamedTuple
 
-from .data import DATA_DIR, load_table
-from .errors import DataError, TextError
+from ..data import DATA_DIR, load_table
+from ..errors import DataError, TextError
+from ..model import Pause, SpokenWord, Style, TextRun
 from .jsml import pause_seconds
-from .model import Pause, SpokenWord, Style, TextRun
 
 TURKISH_LETTERS: frozenset[str] = frozenset("abcçdefgğhıijklmnoöprsştuüvyz")
 _VOWELS = frozenset("aeıioöuü")

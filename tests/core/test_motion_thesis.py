@@ -2,9 +2,11 @@ import numpy as np
 import pytest
 
 from turkish_lipsync.core.model import emotion_key_name, viseme_key_name
-from turkish_lipsync.core.timing import table_timeline
-from turkish_lipsync.core.tracks import sparse_track, thesis_weight_tracks, weight_tracks
-from turkish_lipsync.core.utterance import build_utterance
+from turkish_lipsync.core.motion import weight_tracks
+from turkish_lipsync.core.motion.frames import sparse_track
+from turkish_lipsync.core.motion.thesis import thesis_weight_tracks
+from turkish_lipsync.core.speech.timing import table_timeline
+from turkish_lipsync.core.text.utterance import build_utterance
 
 
 def thesis(text, fps=25.0, strength=1.0):

@@ -13,11 +13,12 @@ from turkish_lipsync.core.model import (
     emotion_release_key_name,
     viseme_key_name,
 )
-from turkish_lipsync.core.motion import motion_parameters, natural_weight_tracks
-from turkish_lipsync.core.quality import quality_report, sampled_weights
-from turkish_lipsync.core.timing import table_timeline
-from turkish_lipsync.core.utterance import build_utterance
-from turkish_lipsync.core.visemes import BILABIAL_VISEMES, LABIODENTAL_VISEMES
+from turkish_lipsync.core.motion.frames import sampled_weights
+from turkish_lipsync.core.motion.natural import motion_parameters, natural_weight_tracks
+from turkish_lipsync.core.motion.quality import quality_report
+from turkish_lipsync.core.speech.timing import table_timeline
+from turkish_lipsync.core.text.utterance import build_utterance
+from turkish_lipsync.core.text.visemes import BILABIAL_VISEMES, LABIODENTAL_VISEMES
 
 # Sentences the parameters were not tuned on: many m, b, p, f, v, and rounded vowels after consonants.
 HELD_OUT = (
@@ -188,7 +189,7 @@ def test_tracks_are_sparse_integer_frame_keys_that_reproduce_every_frame():
         assert np.all(track.frames == np.round(track.frames)) and np.all(np.diff(track.frames) > 0)
         assert track.values.min() >= 0 and track.values.max() <= 1 + 1e-12
     # Dense recomputation with every key kept equals the sparse tracks sampled at the frames.
-    from turkish_lipsync.core.motion import viseme_weights
+    from turkish_lipsync.core.motion.natural import viseme_weights
 
     visemes, dense, _ = viseme_weights(timeline, 30, tracks.frame_count)
     for column, viseme in enumerate(visemes):

@@ -1,8 +1,8 @@
 import numpy as np
 import pytest
 
-from turkish_lipsync.core.timing import duration_table, letter_durations, table_timeline
-from turkish_lipsync.core.utterance import build_utterance
+from turkish_lipsync.core.speech.timing import duration_table, letter_durations, table_timeline
+from turkish_lipsync.core.text.utterance import build_utterance
 
 
 def durations_ms(text):

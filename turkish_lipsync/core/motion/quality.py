@@ -24,9 +24,11 @@ import math
 
 import numpy as np
 
-from .model import BLINK_KEYS, BROW_RAISE_KEY, EMOTION_KEY_PREFIX, VISEME_KEY_PREFIX, Timeline, WeightTracks
-from .syllables import VOWELS
-from .visemes import BILABIAL_VISEMES, LABIODENTAL_VISEMES
+from ..model import BLINK_KEYS, BROW_RAISE_KEY, EMOTION_KEY_PREFIX, VISEME_KEY_PREFIX, Timeline, WeightTracks
+from ..text.syllables import VOWELS
+from ..text.visemes import BILABIAL_VISEMES, LABIODENTAL_VISEMES
+from . import weight_tracks
+from .frames import sampled_weights, shape_runs, shown_shapes
 
 CLOSURE_WEIGHT = 0.99
 HARD_TARGETS = BILABIAL_VISEMES | LABIODENTAL_VISEMES
@@ -38,34 +40,6 @@ REPORT_KEYS = (
     "max_frame_jump",
     "max_weight_sum",
 )
-
-
-def shown_shapes(weights: np.ndarray) -> np.ndarray:
-    """Per frame, the column of the viseme holding at least half of the frame's viseme weight; -1: a blend."""
-    weights = np.asarray(weights, dtype=np.float64)
-    if weights.shape[1] == 0:
-        return np.full(weights.shape[0], -1)
-    best = weights.argmax(axis=1)
-    top = weights[np.arange(weights.shape[0]), best]
-    total = weights.sum(axis=1)
-    return np.where((total > 0) & (top >= 0.5 * total), best, -1)
-
-
-def shape_runs(labels: np.ndarray) -> list[tuple[int, int, int]]:
-    """(label, first frame, length) of every run of frames showing the same shape (blends left out)."""
-    runs = []
-    start = 0
-    for frame in range(1, len(labels) + 1):
-        if frame == len(labels) or labels[frame] != labels[start]:
-            if labels[start] >= 0:
-                runs.append((int(labels[start]), start, frame - start))
-            start = frame
-    return runs
-
-
-def sampled_weights(tracks: WeightTracks) -> tuple[tuple[str, ...], np.ndarray]:
-    """Every track's weight at the integer frames 0 .. frame_count - 1."""
-    return tracks.sample(np.arange(tracks.frame_count, dtype=np.float64))
 
 
 def quality_report(timeline: Timeline, tracks: WeightTracks) -> dict:
@@ -197,7 +171,6 @@ def _vowel_peak_mean(
 
 def compare_modes(timeline: Timeline, fps: float, emotion_strength: float = 1.0) -> dict:
     """{"thesis": report, "default": report} for the same timeline."""
-    from .tracks import weight_tracks
 
     return {
         "thesis": quality_report(timeline, weight_tracks(timeline, fps, "thesis", emotion_strength)),

@@ -27,9 +27,9 @@ from functools import cache
 
 import numpy as np
 
-from .data import DATA_DIR, load_table, require
-from .errors import DataError
-from .model import (
+from ..data import DATA_DIR, load_table, require
+from ..errors import DataError
+from ..model import (
     BLINK_KEYS,
     BROW_RAISE_KEY,
     EMOTIONS,
@@ -39,9 +39,8 @@ from .model import (
     emotion_release_key_name,
     viseme_key_name,
 )
-from .quality import shape_runs, shown_shapes
-from .tracks import sparse_track
-from .visemes import BILABIAL_VISEMES, LABIODENTAL_VISEMES, NEUTRAL, viseme_names
+from ..text.visemes import BILABIAL_VISEMES, LABIODENTAL_VISEMES, NEUTRAL, viseme_names
+from .frames import shape_runs, shown_shapes, sparse_track
 
 HARD_TARGETS = BILABIAL_VISEMES | LABIODENTAL_VISEMES
 TABLE = "motion"

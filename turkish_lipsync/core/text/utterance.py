@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from .errors import TextError
+from ..errors import TextError
+from ..model import Letter, Pause, SpokenWord, Syllable, Utterance, Word
 from .jsml import parse_jsml
-from .model import Letter, Pause, SpokenWord, Syllable, Utterance, Word
 from .normalize import normalize
 from .syllables import VOWELS, syllabify, syllable_vowel
 from .visemes import viseme_for_letter

@@ -7,10 +7,10 @@ from functools import cache
 
 import numpy as np
 
-from .data import DATA_DIR, load_table, require
-from .errors import DataError
-from .model import EmotionSpan, Phone, Timeline, Utterance, WordSpan
-from .syllables import VOWELS
+from ..data import DATA_DIR, load_table, require
+from ..errors import DataError
+from ..model import EmotionSpan, Phone, Timeline, Utterance, WordSpan
+from ..text.syllables import VOWELS
 
 SOFT_G = "ğ"
 

@@ -1,0 +1,53 @@
+"""Frame helpers below both motion models and the quality report: sparse tracks, shapes shown per frame."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..model import Track, WeightTracks
+
+
+def sparse_track(name: str, frames: np.ndarray, values: np.ndarray) -> Track:
+    """A track without the keys linear interpolation between their neighbours reproduces exactly.
+
+    Keys at the same frame keep the last value, so frames are strictly increasing.
+    """
+    frames = np.asarray(frames, dtype=np.float64)
+    values = np.asarray(values, dtype=np.float64)
+    unique_last = np.append(frames[1:] != frames[:-1], True)
+    frames, values = frames[unique_last], values[unique_last]
+    if frames.size > 2:
+        share = (frames[1:-1] - frames[:-2]) / (frames[2:] - frames[:-2])
+        between = values[:-2] + (values[2:] - values[:-2]) * share
+        keep = np.ones(frames.size, dtype=bool)
+        keep[1:-1] = np.abs(values[1:-1] - between) > 1e-9
+        frames, values = frames[keep], values[keep]
+    return Track(name=name, frames=frames, values=values)
+
+
+def shown_shapes(weights: np.ndarray) -> np.ndarray:
+    """Per frame, the column of the viseme holding at least half of the frame's viseme weight; -1: a blend."""
+    weights = np.asarray(weights, dtype=np.float64)
+    if weights.shape[1] == 0:
+        return np.full(weights.shape[0], -1)
+    best = weights.argmax(axis=1)
+    top = weights[np.arange(weights.shape[0]), best]
+    total = weights.sum(axis=1)
+    return np.where((total > 0) & (top >= 0.5 * total), best, -1)
+
+
+def shape_runs(labels: np.ndarray) -> list[tuple[int, int, int]]:
+    """(label, first frame, length) of every run of frames showing the same shape (blends left out)."""
+    runs = []
+    start = 0
+    for frame in range(1, len(labels) + 1):
+        if frame == len(labels) or labels[frame] != labels[start]:
+            if labels[start] >= 0:
+                runs.append((int(labels[start]), start, frame - start))
+            start = frame
+    return runs
+
+
+def sampled_weights(tracks: WeightTracks) -> tuple[tuple[str, ...], np.ndarray]:
+    """Every track's weight at the integer frames 0 .. frame_count - 1."""
+    return tracks.sample(np.arange(tracks.frame_count, dtype=np.float64))
