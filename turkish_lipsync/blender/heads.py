@@ -9,7 +9,7 @@ import numpy as np
 
 from ..core.errors import HeadError
 from ..core.faces.reference import ReferenceHead, load_reference_head
-from . import compat
+from . import compat, mesh
 
 # Custom property on objects made by create_reference_head: which part of the reference they are.
 REFERENCE_PART_PROPERTY = "tr_reference_part"
@@ -162,13 +162,6 @@ def _append_blend_objects(path: Path) -> None:
             collection.objects.link(obj)
 
 
-def _world_bounds(obj: bpy.types.Object) -> tuple[np.ndarray, np.ndarray]:
-    matrix = np.array(obj.matrix_world)
-    box = np.array([tuple(corner) for corner in obj.bound_box], dtype=np.float64)
-    world = box @ matrix[:3, :3].T + matrix[:3, 3]
-    return world.min(axis=0), world.max(axis=0)
-
-
 def find_head(objects) -> bpy.types.Object:
     """The head among imported objects: the mesh with the most faces (a whole body counts as the head).
 
@@ -191,13 +184,13 @@ def find_head_parts(head: bpy.types.Object, objects=None) -> list[bpy.types.Obje
         return children
     if objects is None:
         objects = head.users_collection[0].objects if head.users_collection else []
-    lower, upper = _world_bounds(head)
+    lower, upper = mesh.world_bounds(head)
     size = float(np.max(upper - lower))
     parts = []
     for obj in objects:
         if obj is head or obj.type != "MESH" or len(obj.data.vertices) == 0:
             continue
-        obj_lower, obj_upper = _world_bounds(obj)
+        obj_lower, obj_upper = mesh.world_bounds(obj)
         centre = (obj_lower + obj_upper) / 2
         inside = bool(np.all(centre > lower) and np.all(centre < upper))
         if inside and float(np.max(obj_upper - obj_lower)) < 0.5 * size:

@@ -12,10 +12,9 @@ from dataclasses import dataclass
 import bpy
 import numpy as np
 
-from ..core.model import EMOTION_KEY_PREFIX, VISEME_KEY_PREFIX, WeightTracks
+from ..core.model import EMOTION_KEY_PREFIX, OWNED_PREFIX, VISEME_KEY_PREFIX, WeightTracks
 from . import compat
 
-OUR_PREFIX = "TR_"
 ACTION_TAG = "turkish_lipsync_utterance"  # custom property on the actions we create
 KEY_ID_TYPE = "KEY"
 
@@ -35,7 +34,7 @@ class WrittenAction:
 
 
 def is_our_curve(data_path: str) -> bool:
-    return data_path.startswith(f'key_blocks["{OUR_PREFIX}')
+    return data_path.startswith(f'key_blocks["{OWNED_PREFIX}')
 
 
 def curve_data_path(shape_key_name: str) -> str:
@@ -128,7 +127,7 @@ def write_weight_tracks(
         # Our keys without a track in this utterance rest at zero (no stale weight from an earlier run).
         keyed = {track.name for track in available}
         for block in key.key_blocks:
-            if block.name.startswith(OUR_PREFIX) and block.name not in keyed:
+            if block.name.startswith(OWNED_PREFIX) and block.name not in keyed:
                 block.value = 0.0
         key_count = 0
         for track in available:

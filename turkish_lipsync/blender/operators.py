@@ -8,8 +8,8 @@ import bpy
 import numpy as np
 
 from ..core.errors import HeadError, LipSyncError
-from ..core.faces.landmarks import find_landmarks, triangulate_loops
-from . import landmarks, pipeline
+from ..core.faces.landmarks import find_landmarks
+from . import landmarks, mesh, pipeline
 from .preferences import ADDON_PACKAGE, export_engine_paths
 
 
@@ -68,25 +68,11 @@ def head_landmarks(head: bpy.types.Object) -> dict[str, np.ndarray]:
     The finder needs the face toward -Y with Z up, which holds in the world (the head's transform may turn
     it), so it runs on world coordinates; the markers are children of the head and take local ones.
     """
-    mesh = head.data
-    source = mesh.shape_keys.reference_key.data if mesh.shape_keys is not None else mesh.vertices
-    local = np.empty(len(mesh.vertices) * 3, np.float64)
-    source.foreach_get("co", local)
-    local = local.reshape(-1, 3)
-    loops = np.empty(len(mesh.loops), np.int64)
-    starts = np.empty(len(mesh.polygons), np.int64)
-    totals = np.empty(len(mesh.polygons), np.int64)
-    mesh.loops.foreach_get("vertex_index", loops)
-    mesh.polygons.foreach_get("loop_start", starts)
-    mesh.polygons.foreach_get("loop_total", totals)
-    if len(totals) == 0:
+    if len(head.data.polygons) == 0:
         raise HeadError(f"{head.name!r} has no faces; a head needs a surface to find a face on.")
-    matrix = np.array(head.matrix_world, np.float64)
-    linear, offset = matrix[:3, :3], matrix[:3, 3]
-    if abs(np.linalg.det(linear)) < 1e-12:
-        raise HeadError(f"{head.name!r} has a zero scale; fix its scale, then show the landmarks again.")
-    found = find_landmarks(local @ linear.T + offset, triangulate_loops(loops, starts, totals))
-    to_local = np.linalg.inv(linear)
+    to_local = mesh.world_to_local_linear(head, "show the landmarks")
+    found = find_landmarks(mesh.world_rest_coordinates(head), mesh.triangles(head))
+    offset = mesh.world_matrix(head)[:3, 3]
     return {name: (np.asarray(point, np.float64) - offset) @ to_local.T for name, point in found.items()}
 
 

@@ -16,14 +16,13 @@ from pathlib import Path
 import bpy
 
 from ..core.errors import HeadError, LipSyncError, TextError
-from ..core.model import Timeline, Utterance, WeightTracks
+from ..core.model import OWNED_PREFIX, Timeline, Utterance, WeightTracks
 from . import compat, keyframes, render, sequencer
 
 Progress = Callable[[float, str], None]
 TIMINGS = ("phone", "word", "table")
 MOTIONS = ("natural", "thesis")
 INTERPOLATIONS = ("AUTO", "LINEAR", "BEZIER", "CONSTANT")
-ACTION_PREFIX = "TR_"
 
 
 def _no_progress(_fraction: float, _message: str) -> None:
@@ -158,7 +157,7 @@ def read_source(text_name: str = "", file_path: str = "") -> str:
 def action_name_for(utterance: Utterance) -> str:
     """One action per utterance, named after its words (Blender names hold at most 63 bytes)."""
     words = " ".join(word.text for word in utterance.words)
-    name = ACTION_PREFIX + re.sub(r"\s+", " ", words).strip()
+    name = OWNED_PREFIX + re.sub(r"\s+", " ", words).strip()
     while len(name.encode("utf-8")) > 60:
         name = name[:-1]
     return name

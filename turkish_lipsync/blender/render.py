@@ -14,7 +14,7 @@ from mathutils import Vector
 
 from ..core.errors import AudioError, LipSyncError
 from ..core.model import EMOTION_KEY_PREFIX, VISEME_KEY_PREFIX
-from . import compat
+from . import compat, mesh
 
 ENGINES = ("EEVEE", "CYCLES", "WORKBENCH")
 CAMERA_NAME = "TR_camera"
@@ -193,11 +193,6 @@ def mux_audio(video_path: Path, wav_path: Path, start_seconds: float = 0.0) -> N
 # ---------------------------------------------------------------- camera and lights
 
 
-def _world_vertices(obj: bpy.types.Object, coordinates: np.ndarray) -> np.ndarray:
-    matrix = np.array(obj.matrix_world, dtype=np.float64)
-    return coordinates @ matrix[:3, :3].T + matrix[:3, 3]
-
-
 def face_bounds(objects) -> tuple[np.ndarray, np.ndarray]:
     """World-space box of the face: the vertices our viseme and emotion keys move, else the whole mesh."""
     moving_points = []
@@ -206,24 +201,20 @@ def face_bounds(objects) -> tuple[np.ndarray, np.ndarray]:
         if obj is None or obj.type != "MESH" or not len(obj.data.vertices):
             continue
         count = len(obj.data.vertices)
-        rest = np.empty(count * 3)
-        obj.data.vertices.foreach_get("co", rest)
-        rest = rest.reshape(-1, 3)
-        all_points.append(_world_vertices(obj, rest))
+        rest = mesh.read_coordinates(obj.data.vertices, count)
+        all_points.append(mesh.to_world(obj, rest))
         key = obj.data.shape_keys
         if key is None:
             continue
         moved = np.zeros(count, dtype=bool)
-        shape = np.empty(count * 3)
         for block in key.key_blocks:
             if not block.name.startswith((VISEME_KEY_PREFIX, EMOTION_KEY_PREFIX)):
                 continue
-            block.data.foreach_get("co", shape)
-            displacement = np.linalg.norm(shape.reshape(-1, 3) - rest, axis=1)
+            displacement = np.linalg.norm(mesh.read_coordinates(block.data, count) - rest, axis=1)
             # Recipes smear tiny motion over the whole head; the face is where a key really moves.
             moved |= displacement > max(1e-6, 0.1 * float(displacement.max(initial=0.0)))
         if moved.any():
-            moving_points.append(_world_vertices(obj, rest[moved]))
+            moving_points.append(mesh.to_world(obj, rest[moved]))
     points = moving_points or all_points
     if not points:
         raise RenderError("No head mesh to frame: choose a head object with vertices in the Lip Sync panel.")

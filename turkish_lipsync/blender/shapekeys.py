@@ -6,7 +6,6 @@ it was; only the keys this module owns are replaced, so the user's keys, values 
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -14,14 +13,17 @@ import bpy
 import numpy as np
 
 from ..core.errors import HeadError
+from ..core.faces import transfer
 from ..core.faces.arkit_names import ARKIT_UNITS, has_arkit_basis, match_arkit_keys
+from ..core.faces.landmarks import find_landmarks
 from ..core.faces.recipes import VISEME_NAMES, key_deltas, load_recipes
 from ..core.faces.reference import ReferenceHead, load_reference_head
-from ..core.model import EMOTIONS, emotion_key_name, viseme_key_name
+from ..core.model import EMOTIONS, OWNED_PREFIX, emotion_key_name, viseme_key_name
+from . import mesh
 from .heads import find_head_parts, reference_part_of
+from .landmarks import read_landmark_markers
 
 SOURCES = ("auto", "arkit", "reference", "transfer", "obj_folder")
-OWNED_KEY_PREFIX = "TR_"
 # Mesh property listing the ARKit-named keys this module wrote (so a rebuild never touches the user's own).
 BUILT_ARKIT_PROPERTY = "tr_built_arkit_keys"
 _MATCH_GRID = 1e-4  # metres: vertices this close to a reference vertex are that vertex
@@ -36,45 +38,7 @@ class BuildReport:
     keys: tuple[str, ...]  # key names written on the head
     objects: tuple[str, ...]  # every object that received the keys (head first)
     missing_units: tuple[str, ...] = ()  # ARKit units the basis lacked (treated as zero)
-    notes: tuple[str, ...] = ()
-
-
-# ---------------------------------------------------------------- reading meshes
-
-
-def _basis_coordinates(obj: bpy.types.Object) -> np.ndarray:
-    """(N, 3) local coordinates of the shape the keys are relative to (the reference key, else the mesh)."""
-    mesh = obj.data
-    flat = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
-    if mesh.shape_keys is not None:
-        mesh.shape_keys.reference_key.data.foreach_get("co", flat)
-    else:
-        mesh.vertices.foreach_get("co", flat)
-    return flat.reshape(-1, 3).astype(np.float64)
-
-
-def _triangles(obj: bpy.types.Object) -> np.ndarray:
-    mesh = obj.data
-    mesh.calc_loop_triangles()
-    flat = np.empty(len(mesh.loop_triangles) * 3, dtype=np.int32)
-    mesh.loop_triangles.foreach_get("vertices", flat)
-    return flat.reshape(-1, 3)
-
-
-def _world_matrix(obj: bpy.types.Object) -> np.ndarray:
-    return np.array(obj.matrix_world, dtype=np.float64)
-
-
-def _to_world(obj: bpy.types.Object, local: np.ndarray) -> np.ndarray:
-    matrix = _world_matrix(obj)
-    return local @ matrix[:3, :3].T + matrix[:3, 3]
-
-
-def _world_deltas_to_local(obj: bpy.types.Object, deltas: np.ndarray) -> np.ndarray:
-    linear = _world_matrix(obj)[:3, :3]
-    if abs(np.linalg.det(linear)) < 1e-12:
-        raise HeadError(f"Object {obj.name!r} has a zero scale; apply or fix its scale, then build again.")
-    return (deltas.astype(np.float64) @ np.linalg.inv(linear).T).astype(np.float32)
+    warnings: tuple[str, ...] = ()  # what the user must hear about the result (the operator reports them)
 
 
 # ---------------------------------------------------------------- the ARKit basis, by source
@@ -88,19 +52,15 @@ def own_arkit_units(obj: bpy.types.Object) -> dict[str, np.ndarray]:
     blocks = [block for block in shape_keys.key_blocks if block != shape_keys.reference_key]
     built = set(obj.data.get(BUILT_ARKIT_PROPERTY, ()))
     names = [
-        block.name
-        for block in blocks
-        if not block.name.startswith(OWNED_KEY_PREFIX) and block.name not in built
+        block.name for block in blocks if not block.name.startswith(OWNED_PREFIX) and block.name not in built
     ]
     count = len(obj.data.vertices)
     units: dict[str, np.ndarray] = {}
     for unit, key_name in match_arkit_keys(names).items():
         block = shape_keys.key_blocks[key_name]
-        shape = np.empty(count * 3, dtype=np.float32)
-        relative = np.empty(count * 3, dtype=np.float32)
-        block.data.foreach_get("co", shape)
-        block.relative_key.data.foreach_get("co", relative)
-        units[unit] = (shape - relative).reshape(-1, 3)
+        units[unit] = mesh.read_coordinates(block.data, count) - mesh.read_coordinates(
+            block.relative_key.data, count
+        )
     return units
 
 
@@ -120,7 +80,7 @@ def _reference_units_by_position(
 
     Vertices that coincide with reference vertices (in metres, decimetres or centimetres) take their deltas.
     """
-    world = _to_world(obj, _basis_coordinates(obj))
+    world = mesh.world_rest_coordinates(obj)
     reference_keys = _grid_keys(reference.vertices)
     order = np.argsort(reference_keys)
     sorted_keys = reference_keys[order]
@@ -134,9 +94,9 @@ def _reference_units_by_position(
         matched[found] = order[position[found]]
         units = {}
         for unit, deltas in reference.units.items():
-            world_deltas = np.zeros((len(world), 3), dtype=np.float64)
+            world_deltas = np.zeros((len(world), 3), dtype=np.float32)
             world_deltas[found] = deltas[matched[found]] / metres_per_unit
-            units[unit] = _world_deltas_to_local(obj, world_deltas)
+            units[unit] = mesh.world_deltas_to_local(obj, world_deltas)
         return units
     return None
 
@@ -154,56 +114,34 @@ def reference_units(obj: bpy.types.Object, reference: ReferenceHead) -> dict[str
 def _transfer_units(
     head: bpy.types.Object, parts: list[bpy.types.Object], reference: ReferenceHead
 ) -> dict[str, dict[str, np.ndarray]]:
-    """The transfer helper's landmark registration, run in world space over the head and its parts."""
-    try:
-        from ..core.faces import landmarks as landmark_finder
-        from ..core.faces import transfer
-    except ImportError as error:
-        raise HeadError(
-            f"{head.name!r} has no ARKit shape keys and the transfer from the reference is not available "
-            f"({error}); give the head ARKit-named keys or build from a folder of viseme OBJ files."
-        ) from error
-    if not hasattr(transfer, "transfer_units"):
-        raise HeadError(
-            f"{head.name!r} has no ARKit shape keys and the transfer is not available in this build."
-        )
+    """The reference's units carried over by landmark registration, in world space, onto head and parts."""
     objects = [head, *parts]
-    local = [_basis_coordinates(obj) for obj in objects]
-    world = [_to_world(obj, coordinates) for obj, coordinates in zip(objects, local, strict=True)]
+    world = [mesh.world_rest_coordinates(obj) for obj in objects]
     offsets = np.cumsum([0] + [len(points) for points in world])
     all_vertices = np.concatenate(world)
     all_triangles = np.concatenate(
-        [_triangles(obj) + offset for obj, offset in zip(objects, offsets, strict=False)]
+        [mesh.triangles(obj) + offset for obj, offset in zip(objects, offsets, strict=False)]
     )
-    head_triangles = _triangles(head)
+    head_triangles = mesh.triangles(head)
     if len(head_triangles) == 0:
         raise HeadError(f"{head.name!r} has no faces; a head needs a surface to build shape keys on.")
-
-    landmarks = None
-    try:
-        from .landmarks import read_landmark_markers
-
-        markers = read_landmark_markers(head)
-        if markers:
-            landmarks = {
-                name: _to_world(head, np.asarray(p, np.float64)[None])[0] for name, p in markers.items()
-            }
-    except ImportError:
-        pass
-    if landmarks is None:
-        landmarks = landmark_finder.find_landmarks(world[0], head_triangles)
-    target_parts = None
-    if hasattr(transfer, "find_parts"):
-        target_parts = transfer.find_parts(all_vertices, all_triangles, landmarks)
-    elif hasattr(landmark_finder, "find_parts"):
-        target_parts = landmark_finder.find_parts(all_vertices, all_triangles, landmarks)
+    markers = read_landmark_markers(head)
+    if markers:
+        names = list(markers)
+        placed = mesh.to_world(head, np.array([markers[name] for name in names], dtype=np.float32))
+        landmarks = dict(zip(names, placed.astype(np.float64), strict=True))
+    else:
+        landmarks = find_landmarks(world[0], head_triangles)
+    target_parts = transfer.find_parts(all_vertices, all_triangles, landmarks)
     deltas = transfer.transfer_units(
         reference, all_vertices, all_triangles, landmarks, target_parts=target_parts
     )
     result: dict[str, dict[str, np.ndarray]] = {}
     for index, obj in enumerate(objects):
         start, stop = offsets[index], offsets[index + 1]
-        result[obj.name] = {unit: _world_deltas_to_local(obj, d[start:stop]) for unit, d in deltas.items()}
+        result[obj.name] = {
+            unit: mesh.world_deltas_to_local(obj, moved[start:stop]) for unit, moved in deltas.items()
+        }
     return result
 
 
@@ -235,7 +173,7 @@ def obj_folder_keys(head: bpy.types.Object, folder: str | Path) -> dict[str, np.
     if "neutral" not in files:
         raise HeadError(f"{folder} has no Neutral.obj; the visemes are measured against the neutral model.")
     neutral = _read_obj_vertices(files["neutral"])
-    basis = _basis_coordinates(head)
+    basis = mesh.rest_coordinates(head)
     if len(neutral) != len(basis):
         raise HeadError(
             f"{files['neutral']} has {len(neutral)} vertices but {head.name!r} has {len(basis)}; "
@@ -328,77 +266,98 @@ def build_shape_keys(
     if parts is None:
         parts = find_head_parts(head)
     parts = [part for part in parts if part is not head and part.type == "MESH" and len(part.data.vertices)]
-    reference = load_reference_head()
-    recipes = load_recipes()
-    notes: list[str] = []
+    objects = [head, *parts]
+    shaping = _Shaping(load_recipes(), empowered, rho)
 
-    # 1. Compute every array first: nothing is written until all of them exist.
-    planned: dict[str, dict[str, np.ndarray]] = {}
+    # Compute every array first: nothing is written until all of them exist and are sound.
     if source == "obj_folder" or (source == "auto" and obj_folder is not None):
-        obj_keys = obj_folder_keys(head, obj_folder)
-        used_source = "obj_folder"
-        try:
-            _, unit_sets = _unit_sets(head, parts, "auto", reference)
-        except HeadError as error:
-            unit_sets = {}
-            notes.append(f"no ARKit basis for emotions and blinks: {error}")
-        for obj in [head, *parts]:
-            units = unit_sets.get(obj.name, {})
-            count = len(obj.data.vertices)
-            planned[obj.name] = (
-                key_deltas(units, count, recipes=recipes, empowered=empowered, rho=rho) if units else {}
-            )
-            if not units and obj is not head:
-                planned[obj.name] = {}
-        derived = planned[head.name]
-        for key_name, deltas in obj_keys.items():
-            derived[key_name] = deltas * (
-                np.float32(rho) if empowered and key_name.startswith("TR_emotion_") else 1
-            )
-        planned[head.name] = derived
-        for part in parts:  # the models move the head only; parts keep the visemes' names at rest
-            for key_name in obj_keys:
-                planned[part.name].setdefault(key_name, np.zeros((len(part.data.vertices), 3), np.float32))
+        used_source, planned, unit_sets, warnings = _plan_from_obj_folder(head, parts, obj_folder, shaping)
     else:
-        used_source, unit_sets = _unit_sets(head, parts, source, reference)
-        for obj in [head, *parts]:
-            units = unit_sets.get(obj.name, {})
-            planned[obj.name] = key_deltas(
-                units, len(obj.data.vertices), recipes=recipes, empowered=empowered, rho=rho
-            )
+        used_source, unit_sets = _unit_sets(head, parts, source, load_reference_head())
+        planned = {obj.name: shaping.keys(unit_sets.get(obj.name, {}), obj) for obj in objects}
         if arkit_keys:
-            for obj in [head, *parts]:
-                own_names = set(own_arkit_units(obj))
-                units = unit_sets.get(obj.name, {})
-                for unit in ARKIT_UNITS:
-                    if unit not in own_names:
-                        deltas = units.get(unit)
-                        planned[obj.name][unit] = (
-                            deltas
-                            if deltas is not None
-                            else np.zeros((len(obj.data.vertices), 3), np.float32)
-                        )
-    missing = tuple(
-        unit
-        for unit in ARKIT_UNITS
-        if used_source != "obj_folder" and unit not in unit_sets.get(head.name, {})
-    )
-    for obj in [head, *parts]:
-        for key_name, deltas in planned[obj.name].items():
-            if deltas.shape != (len(obj.data.vertices), 3) or not np.isfinite(deltas).all():
-                raise HeadError(f"Key {key_name} for {obj.name!r} came out malformed; nothing was changed.")
+            _plan_arkit_keys(objects, unit_sets, planned)
+        warnings = []
+    missing = () if used_source == "obj_folder" else _missing_units(unit_sets.get(head.name, {}))
+    if missing:
+        warnings.append(_missing_units_warning(head.name, missing))
+    _check_planned(objects, planned)
 
-    # 2. Write.
-    for obj in [head, *parts]:
+    for obj in objects:
         _write_keys(obj, planned[obj.name], arkit_keys=arkit_keys)
     return BuildReport(
         head=head.name,
         source=used_source,
         keys=tuple(planned[head.name]),
-        objects=tuple(obj.name for obj in [head, *parts]),
+        objects=tuple(obj.name for obj in objects),
         missing_units=missing,
-        notes=tuple(notes),
+        warnings=tuple(warnings),
     )
+
+
+@dataclass(frozen=True)
+class _Shaping:
+    """How the recipes turn ARKit units into the TR keys of one build."""
+
+    recipes: object
+    empowered: bool
+    rho: float
+
+    def keys(self, units: dict[str, np.ndarray], obj: bpy.types.Object) -> dict[str, np.ndarray]:
+        count = len(obj.data.vertices)
+        return key_deltas(units, count, recipes=self.recipes, empowered=self.empowered, rho=self.rho)
+
+
+def _plan_from_obj_folder(head, parts, obj_folder, shaping: _Shaping):
+    """Visemes (and emotions) from the thesis's OBJ models; blinks and brows from an ARKit basis if any."""
+    obj_keys = obj_folder_keys(head, obj_folder)
+    warnings: list[str] = []
+    try:
+        _, unit_sets = _unit_sets(head, parts, "auto", load_reference_head())
+    except HeadError as error:
+        unit_sets = {}
+        warnings.append(f"No ARKit basis on {head.name!r} for blinks and brows, so they stay still: {error}")
+    planned = {
+        obj.name: shaping.keys(unit_sets[obj.name], obj) if unit_sets.get(obj.name) else {}
+        for obj in [head, *parts]
+    }
+    emotion_scale = np.float32(shaping.rho) if shaping.empowered else np.float32(1)
+    for key_name, deltas in obj_keys.items():
+        planned[head.name][key_name] = deltas * (emotion_scale if key_name.startswith("TR_emotion_") else 1)
+    for part in parts:  # the models move the head only; parts keep the visemes' names at rest
+        for key_name in obj_keys:
+            planned[part.name].setdefault(key_name, np.zeros((len(part.data.vertices), 3), np.float32))
+    return "obj_folder", planned, unit_sets, warnings
+
+
+def _plan_arkit_keys(objects, unit_sets, planned) -> None:
+    """The 52 units under Apple's names, where an object has no such key of its own."""
+    for obj in objects:
+        own_names = set(own_arkit_units(obj))
+        units = unit_sets.get(obj.name, {})
+        zeros = np.zeros((len(obj.data.vertices), 3), np.float32)
+        for unit in ARKIT_UNITS:
+            if unit not in own_names:
+                planned[obj.name][unit] = units.get(unit, zeros)
+
+
+def _missing_units(units: dict[str, np.ndarray]) -> tuple[str, ...]:
+    return tuple(unit for unit in ARKIT_UNITS if unit not in units)
+
+
+def _missing_units_warning(head_name: str, missing: tuple[str, ...]) -> str:
+    shown = ", ".join(missing[:8]) + (f" and {len(missing) - 8} more" if len(missing) > 8 else "")
+    return (
+        f"{head_name!r} lacks {len(missing)} of the 52 ARKit units ({shown}); the visemes and emotions that "
+        "use them are weaker. Add those keys, or choose the transfer source to carry them over."
+    )
+
+
+def _check_planned(objects, planned) -> None:
+    for obj in objects:
+        for key_name, deltas in planned[obj.name].items():
+            if deltas.shape != (len(obj.data.vertices), 3) or not np.isfinite(deltas).all():
+                raise HeadError(f"Key {key_name} for {obj.name!r} came out malformed; nothing was changed.")
 
 
 def _write_keys(obj: bpy.types.Object, deltas_by_key: dict[str, np.ndarray], *, arkit_keys: bool) -> None:
@@ -411,7 +370,7 @@ def _write_keys(obj: bpy.types.Object, deltas_by_key: dict[str, np.ndarray], *, 
     blocks = shape_keys.key_blocks
     # Drop our own keys that this build does not write (e.g. ARKit keys no longer asked for).
     for block in list(blocks):
-        ours = block.name.startswith(OWNED_KEY_PREFIX) or block.name in previously_built
+        ours = block.name.startswith(OWNED_PREFIX) or block.name in previously_built
         if ours and block.name not in deltas_by_key and block != shape_keys.reference_key:
             obj.shape_key_remove(block)
     basis = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
@@ -423,11 +382,6 @@ def _write_keys(obj: bpy.types.Object, deltas_by_key: dict[str, np.ndarray], *, 
             block.value = 0.0  # Blender 5.0 adds new keys at full weight
         block.relative_key = shape_keys.reference_key
         block.data.foreach_set("co", basis + deltas.astype(np.float32).ravel())
-    built_arkit = sorted(name for name in deltas_by_key if not name.startswith(OWNED_KEY_PREFIX))
+    built_arkit = sorted(name for name in deltas_by_key if not name.startswith(OWNED_PREFIX))
     mesh[BUILT_ARKIT_PROPERTY] = built_arkit if arkit_keys else []
     mesh.update()
-
-
-def owned_key(name: str) -> bool:
-    """True for keys a build writes (TR_*), which a rebuild may replace."""
-    return bool(re.match(OWNED_KEY_PREFIX, name))

@@ -11,8 +11,10 @@ import numpy as np
 
 EMOTIONS: tuple[str, ...] = ("happy", "sad", "angry", "afraid", "surprised", "disgusted")
 
-VISEME_KEY_PREFIX = "TR_viseme_"
-EMOTION_KEY_PREFIX = "TR_emotion_"
+# Every shape key, action and strip the add-on owns starts with this; a rebuild replaces only those.
+OWNED_PREFIX = "TR_"
+VISEME_KEY_PREFIX = OWNED_PREFIX + "viseme_"
+EMOTION_KEY_PREFIX = OWNED_PREFIX + "emotion_"
 # The mouth part of an emotion, stored negated: keyed while a viseme needs the lips, it lets the
 # lips close under any emotion while the upper face keeps the emotion at full strength.
 EMOTION_MOUTH_RELEASE_SUFFIX = "_mouth_release"
