@@ -74,7 +74,7 @@ class Recipes:
         return keys
 
 
-def _expand_units(path: Path, where: str, table: object) -> dict[str, float]:
+def expand_units(path: Path, where: str, table: object) -> dict[str, float]:
     """Validate one units table; a unit without side ("mouthSmile") sets both sides."""
     if not isinstance(table, dict):
         raise DataError(f"{path}: [{where}] units must be a table like {{ jawOpen = 0.3 }}.")
@@ -113,12 +113,12 @@ def _read_section(path: Path, data: dict, section: str, names: tuple[str, ...]) 
         if not isinstance(entry, dict) or "units" not in entry:
             raise DataError(f"{path}: [{section}.{name}] needs a units table.")
         recipes[name] = Recipe(
-            name, str(entry.get("description", "")), _expand_units(path, f"{section}.{name}", entry["units"])
+            name, str(entry.get("description", "")), expand_units(path, f"{section}.{name}", entry["units"])
         )
     return recipes
 
 
-def _load_toml(path: Path) -> dict:
+def read_toml(path: Path) -> dict:
     try:
         with open(path, "rb") as handle:
             return tomllib.load(handle)
@@ -141,8 +141,8 @@ def _default_recipes() -> Recipes:
 
 
 def _read_recipes(visemes_file: Path, emotions_file: Path) -> Recipes:
-    visemes = _read_section(visemes_file, _load_toml(visemes_file), "visemes", VISEME_NAMES)
-    emotions_data = _load_toml(emotions_file)
+    visemes = _read_section(visemes_file, read_toml(visemes_file), "visemes", VISEME_NAMES)
+    emotions_data = read_toml(emotions_file)
     emotions = _read_section(emotions_file, emotions_data, "emotions", EMOTIONS)
     extras = _read_section(emotions_file, emotions_data, "extras", tuple(EXTRA_KEYS))
     return Recipes(visemes=visemes, emotions=emotions, extras=extras)
