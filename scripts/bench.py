@@ -101,7 +101,8 @@ def run_end_to_end(head_kind: str) -> dict:
     utterance = build_utterance(text)
     stages["parse_s"] = time.perf_counter() - started
     mark = time.perf_counter()
-    timeline, synthesis = synthesize_timeline(utterance, "phone")
+    speech = synthesize_timeline(utterance, "phone")
+    timeline, synthesis = speech.timeline, speech.synthesis
     stages["speech_and_timeline_s"] = time.perf_counter() - mark
     mark = time.perf_counter()
     tracks = weight_tracks(timeline, FPS)
@@ -144,7 +145,7 @@ def run_keyframes() -> dict:
 
     head = heads.create_reference_head(context)["head"]
     shapekeys.build_shape_keys(head)
-    timeline, _ = synthesize_timeline(build_utterance(ten_minute_text()), "phone")
+    timeline = synthesize_timeline(build_utterance(ten_minute_text()), "phone").timeline
     tracks = weight_tracks(timeline, FPS)
     started = time.perf_counter()
     written = keyframes.write_weight_tracks([head], tracks, 1, "TR_bench")
@@ -213,7 +214,7 @@ def run_playback() -> dict:
 
     head = _dense_head(context)
     shapekeys.build_shape_keys(head, source="transfer")
-    timeline, _ = synthesize_timeline(build_utterance(ten_minute_text()), "phone")
+    timeline = synthesize_timeline(build_utterance(ten_minute_text()), "phone").timeline
     keyframes.write_weight_tracks(pipeline.head_objects(head), weight_tracks(timeline, FPS), 1, "TR_bench")
     scene = context.scene
     coordinates = np.empty(len(head.data.vertices) * 3, dtype=np.float32)
@@ -237,9 +238,9 @@ def run_render(frames: int) -> dict:
     from turkish_lipsync.blender import pipeline
 
     source = (ROOT / "examples" / "demo.jsml").read_text(encoding="utf-8")
-    head_name = pipeline.build_keys(context, None)
+    head_name = pipeline.build_keys(context, None).head
     head = context.scene.objects[head_name]
-    result = pipeline.generate(context, head, source, timing="phone")
+    result = pipeline.generate(context, head, source)
     context.scene.frame_end = result.frame_start + frames - 1
     with tempfile.TemporaryDirectory() as folder:
         rendered = pipeline.render_video(

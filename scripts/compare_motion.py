@@ -58,7 +58,9 @@ def main(argv: list[str]) -> int:
         from turkish_lipsync.core.speech import synthesize_timeline, write_wav
         from turkish_lipsync.core.text.utterance import build_utterance
 
-        timeline, synthesis = synthesize_timeline(build_utterance(source), args.timing)
+        speech = synthesize_timeline(build_utterance(source), args.timing)
+
+        timeline, synthesis = speech.timeline, speech.synthesis
         tracks = {mode: weight_tracks(timeline, args.fps, mode=mode) for mode in MODES}
         report = {
             "thesis": quality_report(timeline, tracks["thesis"]),

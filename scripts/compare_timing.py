@@ -46,11 +46,11 @@ SENTENCES = (
 def onset_errors(text: str) -> dict[str, np.ndarray]:
     """Per mode, |letter onset - phone-timing onset| in ms."""
     utterance = build_utterance(text)
-    phone, _ = synthesize_timeline(utterance, "phone")
+    phone = synthesize_timeline(utterance, "phone").timeline
     truth = np.array([p.start for p in phone.phones])
     errors = {}
     for mode in ("word", "table"):
-        timeline, _ = synthesize_timeline(utterance, mode)
+        timeline = synthesize_timeline(utterance, mode).timeline
         errors[mode] = 1000 * np.abs(np.array([p.start for p in timeline.phones]) - truth)
     return errors
 
@@ -69,13 +69,14 @@ def print_comparison(texts: list[str]) -> None:
 
 
 def print_speed(minutes: float) -> None:
-    one_pass = synthesize_timeline(build_utterance(" ".join(SENTENCES)))[1].duration
+    one_pass = synthesize_timeline(build_utterance(" ".join(SENTENCES))).synthesis.duration
     repeats = max(1, round(minutes * 60 / one_pass))
     text = " ".join(SENTENCES * repeats)
     utterance = build_utterance(text)
     tracemalloc.start()
     began = time.perf_counter()
-    timeline, synthesis = synthesize_timeline(utterance)
+    speech = synthesize_timeline(utterance)
+    timeline, synthesis = speech.timeline, speech.synthesis
     elapsed = time.perf_counter() - began
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
@@ -86,12 +87,13 @@ def print_speed(minutes: float) -> None:
         f"peak Python memory {peak / 1e6:.0f} MB (audio {audio_bytes / 1e6:.0f} MB)"
     )
     slow = build_utterance(f'<PROS RATE="-25%" PITCH="+30%">{text}</PROS>')
-    slow_truth, reading = synthesize_timeline(slow)  # the truth must come from the same run as the audio
+    speech = synthesize_timeline(slow)  # the truth must come from the same run as the audio
+    slow_truth, reading = speech.timeline, speech.synthesis
     with tempfile.TemporaryDirectory() as folder:
         path = write_wav(Path(folder) / "reading.wav", reading)
         tracemalloc.start()
         began = time.perf_counter()
-        aligned, _ = synthesize_timeline(utterance, recording=path)
+        aligned = synthesize_timeline(utterance, recording=path).timeline
         elapsed = time.perf_counter() - began
         peak = tracemalloc.get_traced_memory()[1]
         tracemalloc.stop()

@@ -20,6 +20,15 @@ REPOSITORY = Path(__file__).resolve().parent.parent
 if str(REPOSITORY) not in sys.path:
     sys.path.insert(0, str(REPOSITORY))
 
+from turkish_lipsync.core.errors import LipSyncError  # noqa: E402  (the core needs no bpy)
+from turkish_lipsync.core.pipeline import (  # noqa: E402
+    INTERPOLATION_CHOICES,
+    MOTION_CHOICES,
+    TIMING_CHOICES,
+    LipSyncOptions,
+    identifiers,
+)
+
 DEFAULT_RESOLUTION = (960, 540)
 DEFAULT_FPS = 25.0
 
@@ -81,10 +90,14 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
         "--resolution", type=_resolution, help="WIDTHxHEIGHT (default 960x540 for new scenes)"
     )
     parser.add_argument("--fps", type=_fps, help="frame rate, fractional allowed (default 25 for new scenes)")
-    parser.add_argument("--timing", default="phone", choices=("phone", "word", "table"))
-    parser.add_argument("--motion", default="natural", choices=("natural", "thesis"))
-    parser.add_argument("--emotion-strength", type=float, default=1.0, help="0..1 (default 1)")
-    parser.add_argument("--rate", type=float, default=1.0, help="speaking-rate multiplier (default 1)")
+    defaults = LipSyncOptions()
+    parser.add_argument("--timing", default=defaults.timing, choices=identifiers(TIMING_CHOICES))
+    parser.add_argument("--motion", default=defaults.motion, choices=identifiers(MOTION_CHOICES))
+    parser.add_argument(
+        "--interpolation", default=defaults.interpolation, choices=identifiers(INTERPOLATION_CHOICES)
+    )
+    parser.add_argument("--emotion-strength", type=float, default=defaults.emotion_strength, help="0..1")
+    parser.add_argument("--rate", type=float, default=defaults.rate, help="speaking-rate multiplier")
     parser.add_argument(
         "--audio", type=Path, help="a recording of the same text (WAV, FLAC, OGG) to use instead of eSpeak"
     )
@@ -137,6 +150,11 @@ def _print_progress(fraction: float, message: str) -> None:
     print(f"[{fraction * 100:5.1f}%] {message}", flush=True)
 
 
+def _print_warnings(warnings: tuple[str, ...]) -> None:
+    for warning in warnings:
+        print(f"render.py: warning: {warning}", file=sys.stderr, flush=True)
+
+
 def run(arguments: argparse.Namespace) -> None:
     import bpy
 
@@ -176,10 +194,10 @@ def run(arguments: argparse.Namespace) -> None:
         candidates = [obj for obj in scene.objects if obj.type == "MESH" and pipeline.has_lipsync_keys(obj)]
         head = candidates[0] if candidates else heads.find_head(scene.objects)
     if head is None or arguments.rebuild_keys or arguments.arkit_keys or not pipeline.has_lipsync_keys(head):
-        head_name = pipeline.build_keys(
-            context, head, arkit_keys=arguments.arkit_keys, progress=_print_progress
-        )
-        head = bpy.data.objects[head_name]
+        report = pipeline.build_keys(context, head, arkit_keys=arguments.arkit_keys, progress=_print_progress)
+        print(f"Built the shape keys on {report.head} from {report.source}", flush=True)
+        _print_warnings(report.warnings)
+        head = bpy.data.objects[report.head]
     head_name = head.name
 
     if arguments.save_blend is not None:
@@ -193,14 +211,18 @@ def run(arguments: argparse.Namespace) -> None:
         context,
         bpy.data.objects[head_name],
         source,
-        timing=arguments.timing,
-        motion=arguments.motion,
-        emotion_strength=arguments.emotion_strength,
-        rate=arguments.rate,
-        recording=str(arguments.audio) if arguments.audio else None,
+        LipSyncOptions(
+            timing=arguments.timing,
+            motion=arguments.motion,
+            interpolation=arguments.interpolation,
+            emotion_strength=arguments.emotion_strength,
+            rate=arguments.rate,
+            recording=arguments.audio,
+        ),
         audio_folder=audio_folder,
         progress=_print_progress,
     )
+    _print_warnings(result.warnings)
     print(
         f"Generated {result.phone_count} phones, {result.duration:.2f} s, frames {result.frame_start}-"
         f"{result.frame_end} at {result.fps:.3f} fps; audio: {result.wav_path or 'none'}",
@@ -243,11 +265,6 @@ def run(arguments: argparse.Namespace) -> None:
 def main(argv: list[str] | None = None) -> int:
     arguments = parse_arguments(script_arguments() if argv is None else argv)
     try:
-        from turkish_lipsync.core.errors import LipSyncError
-    except ImportError as error:
-        print(f"render.py: error: cannot import the add-on from {REPOSITORY}: {error}", file=sys.stderr)
-        return 1
-    try:
         run(arguments)
     except LipSyncError as error:
         print(f"render.py: error: {error}", file=sys.stderr)
@@ -258,9 +275,9 @@ def main(argv: list[str] | None = None) -> int:
             file=sys.stderr,
         )
         return 1
-    except (OSError, RuntimeError) as error:
+    except Exception as error:  # Blender's own failures (RuntimeError from operators, OSError, ...): one line
         message = " ".join(str(error).split())
-        print(f"render.py: error: {message}", file=sys.stderr)
+        print(f"render.py: error: {type(error).__name__}: {message}", file=sys.stderr)
         return 1
     return 0
 

@@ -433,7 +433,7 @@ LEAD_IN = 0.6  # seconds of silence before the recorded speech
 def recording(tmp_path_factory):
     """'merhaba dünya' read slower by eSpeak NG after a silence: a stand-in for the user's voice."""
     slow = build_utterance('<PROS RATE="-30%">merhaba dünya</PROS>')
-    _, synthesis = synthesize_timeline(slow)
+    synthesis = synthesize_timeline(slow).synthesis
     voice = synthesis.samples.astype(np.int16)
     silence = np.zeros(int(LEAD_IN * synthesis.sample_rate), np.int16)
     path = tmp_path_factory.mktemp("recording") / "okuma.wav"

@@ -206,7 +206,7 @@ def test_real_engine_timelines_keep_every_closure(rate):
     from turkish_lipsync.core.speech import synthesize_timeline
 
     source = f'<PROS RATE="{rate}">' + " ".join(HELD_OUT) + "</PROS>"
-    timeline, _ = synthesize_timeline(build_utterance(source), "phone")
+    timeline = synthesize_timeline(build_utterance(source), "phone").timeline
     assert timeline.engine_onsets
     for fps in FRAME_RATES:
         for emotion in (None, "happy", "angry"):

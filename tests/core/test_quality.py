@@ -99,7 +99,7 @@ def test_without_emotion_the_default_is_smoother_than_the_thesis():
 def test_onsets_are_measured_against_the_engine_when_it_ran():
     from turkish_lipsync.core.speech import synthesize_timeline
 
-    timeline, _ = synthesize_timeline(build_utterance("Babam bana mavi bir kalem aldı."), "phone")
+    timeline = synthesize_timeline(build_utterance("Babam bana mavi bir kalem aldı."), "phone").timeline
     report = compare_modes(timeline, 30)
     for mode in report.values():
         assert mode["onset_reference"] == "engine"

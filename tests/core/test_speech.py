@@ -44,7 +44,8 @@ def spoken():
     results = []
     for text in HELD_OUT:
         utterance = build_utterance(text)
-        timeline, synthesis = synthesize_timeline(utterance)
+        speech = synthesize_timeline(utterance)
+        timeline, synthesis = speech.timeline, speech.synthesis
         results.append((utterance, timeline, synthesis))
     return results
 
@@ -110,7 +111,7 @@ def test_letters_stay_in_order_with_positive_spans(spoken):
 
 def test_the_engine_speaks_exactly_the_normalised_words():
     utterance = build_utterance("Dr. Ali 3 kitap ve 25 kalem aldı.")
-    _, synthesis = synthesize_timeline(utterance)
+    synthesis = synthesize_timeline(utterance).synthesis
     spoken_words = {event.word_index for event in synthesis.phone_events}
     assert spoken_words == set(range(len(utterance.words)))
     engine = get_engine("espeak")
@@ -129,7 +130,8 @@ def test_the_engine_speaks_exactly_the_normalised_words():
 )
 def test_a_silent_soft_g_gets_a_short_span_at_the_end_of_the_vowel_before_it(word, dropped):
     utterance = build_utterance(word)
-    timeline, synthesis = synthesize_timeline(utterance)
+    speech = synthesize_timeline(utterance)
+    timeline, synthesis = speech.timeline, speech.synthesis
     soft_g, vowel = timeline.phones[dropped], timeline.phones[dropped - 1]
     assert soft_g.letter == "ğ"
     assert not any(dropped in event.letters for event in synthesis.phone_events)
@@ -141,7 +143,7 @@ def test_a_silent_soft_g_gets_a_short_span_at_the_end_of_the_vowel_before_it(wor
 @pytest.mark.parametrize("word", ["anne", "elli", "sıhhat", "tahta", "kahve", "saat", "dikkat"])
 def test_geminates_and_h_between_vowels_keep_every_letter_in_order(word):
     utterance = build_utterance(word)
-    timeline, _ = synthesize_timeline(utterance)
+    timeline = synthesize_timeline(utterance).timeline
     assert "".join(phone.letter for phone in timeline.phones) == word
     for before, after in zip(timeline.phones, timeline.phones[1:], strict=False):
         assert before.start < after.start and before.end <= after.start + 1e-9
@@ -150,10 +152,10 @@ def test_geminates_and_h_between_vowels_keep_every_letter_in_order(word):
 
 def test_the_default_speaking_rate_is_espeaks_175_words_per_minute():
     assert DEFAULT_RATE == 175 and _parameters(Style()) == (175, 50, 50, 100)
-    plain = synthesize_timeline(build_utterance("Yarın sabah erkenden yola çıkacağız."))[1]
+    plain = synthesize_timeline(build_utterance("Yarın sabah erkenden yola çıkacağız.")).synthesis
     explicit = synthesize_timeline(
         build_utterance('<PROS RATE="175">Yarın sabah erkenden yola çıkacağız.</PROS>')
-    )[1]
+    ).synthesis
     # eSpeak NG varies a few samples between runs (its noise source), so compare timing, not samples.
     assert explicit.duration == pytest.approx(plain.duration, abs=0.005)
     onsets = [[event.start for event in synthesis.phone_events] for synthesis in (plain, explicit)]
@@ -162,9 +164,9 @@ def test_the_default_speaking_rate_is_espeaks_175_words_per_minute():
 
 def test_prosody_rate_and_pitch_change_the_voice():
     text = "Yarın sabah erkenden yola çıkacağız."
-    normal = synthesize_timeline(build_utterance(text))[1]
-    slow = synthesize_timeline(build_utterance(f'<PROS RATE="-40%">{text}</PROS>'))[1]
-    high = synthesize_timeline(build_utterance(f'<PROS PITCH="+40%">{text}</PROS>'))[1]
+    normal = synthesize_timeline(build_utterance(text)).synthesis
+    slow = synthesize_timeline(build_utterance(f'<PROS RATE="-40%">{text}</PROS>')).synthesis
+    high = synthesize_timeline(build_utterance(f'<PROS PITCH="+40%">{text}</PROS>')).synthesis
     assert slow.duration > 1.4 * normal.duration
     assert median_pitch(high) > 1.15 * median_pitch(normal)
 
@@ -187,7 +189,8 @@ def median_pitch(synthesis: Synthesis) -> float:
 
 def test_breaks_and_punctuation_are_exact_silence_between_words():
     utterance = build_utterance('<JSML>Bir <BREAK MSECS="700"/> iki, üç.</JSML>')
-    timeline, synthesis = synthesize_timeline(utterance)
+    speech = synthesize_timeline(utterance)
+    timeline, synthesis = speech.timeline, speech.synthesis
     first, second = timeline.words[0], timeline.words[1]
     assert utterance.words[1].pause_before >= 0.7
     gap = synthesis.samples[
@@ -199,8 +202,8 @@ def test_breaks_and_punctuation_are_exact_silence_between_words():
 
 
 def test_an_emphasised_word_is_spoken_longer():
-    plain = synthesize_timeline(build_utterance("Bu kitap gerçekten güzel."))[0]
-    emphasised = synthesize_timeline(build_utterance("Bu kitap <EMP>gerçekten</EMP> güzel."))[0]
+    plain = synthesize_timeline(build_utterance("Bu kitap gerçekten güzel.")).timeline
+    emphasised = synthesize_timeline(build_utterance("Bu kitap <EMP>gerçekten</EMP> güzel.")).timeline
     length = [timeline.words[2].end - timeline.words[2].start for timeline in (plain, emphasised)]
     assert length[1] > 1.05 * length[0]
     assert emphasised.emphases == ((emphasised.words[2].start, emphasised.words[2].end),)
@@ -208,7 +211,8 @@ def test_an_emphasised_word_is_spoken_longer():
 
 def test_word_timing_is_the_thesis_word_start_events_with_table_durations_inside(spoken):
     for utterance, _, _ in spoken[:4]:
-        timeline, synthesis = synthesize_timeline(utterance, "word")
+        speech = synthesize_timeline(utterance, "word")
+        timeline, synthesis = speech.timeline, speech.synthesis
         assert timeline.timing == "word"
         durations = letter_durations(utterance)
         events = {event.word_index: event.start for event in synthesis.word_events}
@@ -226,7 +230,8 @@ def test_word_timing_is_the_thesis_word_start_events_with_table_durations_inside
 
 def test_table_timing_needs_no_engine_and_returns_no_audio():
     utterance = build_utterance("Merhaba dünya.")
-    timeline, synthesis = synthesize_timeline(utterance, "table")
+    speech = synthesize_timeline(utterance, "table")
+    timeline, synthesis = speech.timeline, speech.synthesis
     assert synthesis is None
     assert timeline == table_timeline(utterance)
 
@@ -255,7 +260,8 @@ def test_write_wav_writes_mono_16_bit_pcm(tmp_path, spoken):
 def test_a_phone_spoken_without_duration_gets_a_span_like_a_dropped_letter():
     # eSpeak NG reports the dark l of "nasılsın" with no duration, at the onset of the s after it.
     utterance = build_utterance("nasılsın")
-    timeline, synthesis = synthesize_timeline(utterance)
+    speech = synthesize_timeline(utterance)
+    timeline, synthesis = speech.timeline, speech.synthesis
     vowel, l_sound, s_sound = timeline.phones[3:6]
     assert (vowel.letter, l_sound.letter, s_sound.letter) == ("ı", "l", "s")
     vowel_phone = next(event for event in synthesis.phone_events if 3 in event.letters)
@@ -284,8 +290,8 @@ def test_a_question_is_spoken_as_a_question():
             pitches.append(rate / (low + int(np.argmax(correlation[low:high]))))
         return np.median(pitches[-3:]) / np.median(pitches[-6:-3])
 
-    _, asked = synthesize_timeline(question, "phone")
-    _, told = synthesize_timeline(statement, "phone")
+    asked = synthesize_timeline(question, "phone").synthesis
+    told = synthesize_timeline(statement, "phone").synthesis
     assert final_rise(asked) > 1.05 > 1.0 > final_rise(told)
 
 

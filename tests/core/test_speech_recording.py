@@ -35,7 +35,8 @@ def write_pcm_wav(path, samples, rate, channels=1):
 def recorded(tmp_path_factory):
     """The text read slower and higher, as a stereo 16 kHz WAV with silence and hiss at both ends."""
     slow = build_utterance(f'<PROS RATE="-30%" PITCH="+40%">{TEXT}</PROS>')
-    truth, synthesis = synthesize_timeline(slow)
+    speech = synthesize_timeline(slow)
+    truth, synthesis = speech.timeline, speech.synthesis
     voice = resample(synthesis.samples.astype(np.float32) / 32768, synthesis.sample_rate, RECORDED_RATE)
     voice = np.concatenate(
         (np.zeros(int(LEAD_IN * RECORDED_RATE)), voice, np.zeros(int(0.3 * RECORDED_RATE)))
@@ -50,7 +51,8 @@ def recorded(tmp_path_factory):
 
 def test_phone_onsets_land_on_the_recording(recorded):
     path, truth = recorded
-    timeline, synthesis = synthesize_timeline(build_utterance(TEXT), recording=path)
+    speech = synthesize_timeline(build_utterance(TEXT), recording=path)
+    timeline, synthesis = speech.timeline, speech.synthesis
     assert timeline.timing == "recording" and synthesis.engine == "recording"
     expected = np.array([phone.start for phone in truth.phones]) + LEAD_IN
     found = np.array([phone.start for phone in timeline.phones])
@@ -68,7 +70,7 @@ def test_a_telephone_quality_recording_is_aligned_too(tmp_path, recorded):
     path, truth = recorded
     samples, rate = read_audio(path)
     narrow = write_pcm_wav(tmp_path / "phone.wav", resample(samples, rate, 8000), 8000)
-    timeline, _ = synthesize_timeline(build_utterance(TEXT), recording=narrow)
+    timeline = synthesize_timeline(build_utterance(TEXT), recording=narrow).timeline
     expected = np.array([phone.start for phone in truth.phones]) + LEAD_IN
     found = np.array([phone.start for phone in timeline.phones])
     assert np.median(np.abs(found - expected)) < 0.030
@@ -76,7 +78,7 @@ def test_a_telephone_quality_recording_is_aligned_too(tmp_path, recorded):
 
 def test_word_timing_follows_the_recordings_word_starts(recorded):
     path, truth = recorded
-    timeline, _ = synthesize_timeline(build_utterance(TEXT), "word", recording=path)
+    timeline = synthesize_timeline(build_utterance(TEXT), "word", recording=path).timeline
     assert timeline.timing == "recording"
     expected = np.array([word.start for word in truth.words]) + LEAD_IN
     found = np.array([word.start for word in timeline.words])
@@ -124,7 +126,7 @@ def test_bad_recordings_are_refused_with_a_clear_error(tmp_path, content, messag
 
 
 def test_a_recording_of_a_much_longer_text_is_refused(tmp_path):
-    long_reading = synthesize_timeline(build_utterance(TEXT))[1]
+    long_reading = synthesize_timeline(build_utterance(TEXT)).synthesis
     path = write_pcm_wav(tmp_path / "long.wav", long_reading.samples / 32768, long_reading.sample_rate)
     with pytest.raises(AudioError, match="more than 3 times apart"):
         synthesize_timeline(build_utterance("Merhaba."), recording=path)

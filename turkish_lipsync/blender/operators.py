@@ -3,14 +3,21 @@
 from __future__ import annotations
 
 import contextlib
+import traceback
+from collections.abc import Callable
+from pathlib import Path
 
 import bpy
 import numpy as np
 
 from ..core.errors import HeadError, LipSyncError
 from ..core.faces.landmarks import find_landmarks
+from ..core.pipeline import LipSyncOptions
 from . import landmarks, mesh, pipeline
-from .preferences import ADDON_PACKAGE, export_engine_paths
+from .preferences import ADDON_PACKAGE, configure_speech_engine
+
+# What an operator's work returns: the line to report, and the warnings the user must see.
+Outcome = tuple[str, tuple[str, ...]]
 
 
 @contextlib.contextmanager
@@ -34,6 +41,30 @@ def progress_reporter(context: bpy.types.Context, title: str):
     finally:
         if use_cursor:
             window_manager.progress_end()
+
+
+def run_reported(operator: bpy.types.Operator, work: Callable[[], Outcome]) -> set[str]:
+    """Every operator's one error path: warnings reported, any failure one line, the work not half-done.
+
+    The work computes everything before it changes Blender data, so an error leaves the file as it was.
+    Errors of ours say what to do; anything else is a bug, reported in one line with the traceback on the
+    console.
+    """
+    try:
+        message, warnings = work()
+    except LipSyncError as error:
+        operator.report({"ERROR"}, str(error))
+        return {"CANCELLED"}
+    except Exception as error:
+        traceback.print_exc()
+        operator.report(
+            {"ERROR"}, f"{operator.bl_label} failed: {type(error).__name__}: {error} (details on the console)"
+        )
+        return {"CANCELLED"}
+    for warning in warnings:
+        operator.report({"WARNING"}, warning)
+    operator.report({"INFO"}, message)
+    return {"FINISHED"}
 
 
 def settings_of(context: bpy.types.Context):
@@ -97,28 +128,25 @@ class TURKISH_LIPSYNC_OT_build_shape_keys(bpy.types.Operator):
         return True
 
     def execute(self, context):
+        return run_reported(self, lambda: self.build(context))
+
+    @staticmethod
+    def build(context) -> Outcome:
         settings = settings_of(context)
-        head = chosen_head(context)
-        head_name = head.name if head is not None else None
         from_folder = settings.key_source == "obj_folder"
-        try:
-            with progress_reporter(context, "Build shape keys") as progress:
-                head_name = pipeline.build_keys(
-                    context,
-                    head,
-                    arkit_keys=settings.arkit_keys,
-                    source=settings.key_source,
-                    obj_folder=bpy.path.abspath(settings.obj_folder) if from_folder else None,
-                    empowered=settings.empowered,
-                    rho=settings.rho,
-                    progress=progress,
-                )
-        except LipSyncError as error:
-            self.report({"ERROR"}, str(error))
-            return {"CANCELLED"}
-        settings.head = bpy.data.objects[head_name]
-        self.report({"INFO"}, f"Shape keys built on {head_name}")
-        return {"FINISHED"}
+        with progress_reporter(context, "Build shape keys") as progress:
+            report = pipeline.build_keys(
+                context,
+                chosen_head(context),
+                arkit_keys=settings.arkit_keys,
+                source=settings.key_source,
+                obj_folder=bpy.path.abspath(settings.obj_folder) if from_folder else None,
+                empowered=settings.empowered,
+                rho=settings.rho,
+                progress=progress,
+            )
+        settings.head = bpy.data.objects[report.head]
+        return f"Shape keys built on {report.head} (from {report.source})", report.warnings
 
 
 class TURKISH_LIPSYNC_OT_generate(bpy.types.Operator):
@@ -152,39 +180,45 @@ class TURKISH_LIPSYNC_OT_generate(bpy.types.Operator):
         return True
 
     def execute(self, context):
+        return run_reported(self, lambda: self.generate(context))
+
+    @staticmethod
+    def generate(context) -> Outcome:
         settings = settings_of(context)
         head = chosen_head(context)
-        export_engine_paths(context)
-        try:
-            source = pipeline.read_source(
-                settings.text.name if settings.source_kind == "TEXT" and settings.text else "",
-                settings.file_path if settings.source_kind == "FILE" else "",
-            )
-            with progress_reporter(context, "Generate") as progress:
-                result = pipeline.generate(
-                    context,
-                    head,
-                    source,
-                    timing=settings.timing,
-                    motion=settings.motion,
-                    emotion_strength=settings.emotion_strength,
-                    rate=settings.rate,
-                    interpolation=settings.interpolation,
-                    recording=bpy.path.abspath(settings.recording) if settings.recording else None,
-                    audio_folder=settings.audio_folder,
-                    package=ADDON_PACKAGE,
-                    progress=progress,
-                )
-        except LipSyncError as error:
-            self.report({"ERROR"}, str(error))
-            return {"CANCELLED"}
-        settings.head = head
-        self.report(
-            {"INFO"},
-            f"{result.phone_count} phones keyed over {result.duration:.2f} s "
-            f"(frames {result.frame_start}-{result.frame_end})",
+        configure_speech_engine(context)
+        source = pipeline.read_source(
+            settings.text.name if settings.source_kind == "TEXT" and settings.text else "",
+            settings.file_path if settings.source_kind == "FILE" else "",
         )
-        return {"FINISHED"}
+        with progress_reporter(context, "Generate") as progress:
+            result = pipeline.generate(
+                context,
+                head,
+                source,
+                options_of(settings),
+                audio_folder=settings.audio_folder,
+                package=ADDON_PACKAGE,
+                progress=progress,
+            )
+        settings.head = head
+        message = (
+            f"{result.phone_count} phones keyed over {result.duration:.2f} s "
+            f"(frames {result.frame_start}-{result.frame_end})"
+        )
+        return message, result.warnings
+
+
+def options_of(settings) -> LipSyncOptions:
+    """The core's options from the panel's settings (the frame rate is the scene's, set by generate)."""
+    return LipSyncOptions(
+        timing=settings.timing,
+        motion=settings.motion,
+        interpolation=settings.interpolation,
+        rate=settings.rate,
+        emotion_strength=settings.emotion_strength,
+        recording=Path(bpy.path.abspath(settings.recording)) if settings.recording else None,
+    )
 
 
 class TURKISH_LIPSYNC_OT_show_landmarks(bpy.types.Operator):
@@ -199,20 +233,16 @@ class TURKISH_LIPSYNC_OT_show_landmarks(bpy.types.Operator):
         return _in_object_mode(cls, context) and _head_chosen(cls, context)
 
     def execute(self, context):
+        return run_reported(self, lambda: self.show(context))
+
+    @staticmethod
+    def show(context) -> Outcome:
         head = chosen_head(context)
         context.view_layer.update()  # the head's matrix_world is stale right after a transform change
-        try:
-            found = head_landmarks(head)
-        except LipSyncError as error:
-            self.report({"ERROR"}, str(error))
-            return {"CANCELLED"}
+        found = head_landmarks(head)
         markers = landmarks.show_landmark_markers(head, found, scene=context.scene)
         settings_of(context).head = head
-        self.report(
-            {"INFO"},
-            f"{len(markers)} landmark markers on {head.name}: move any that are off, then build the keys",
-        )
-        return {"FINISHED"}
+        return f"{len(markers)} landmark markers on {head.name}: move any that are off, then build keys", ()
 
 
 class TURKISH_LIPSYNC_OT_clear_landmarks(bpy.types.Operator):
@@ -233,9 +263,9 @@ class TURKISH_LIPSYNC_OT_clear_landmarks(bpy.types.Operator):
 
     def execute(self, context):
         head = chosen_head(context)
-        count = landmarks.remove_landmark_markers(head)
-        self.report({"INFO"}, f"Removed {count} landmark markers from {head.name}")
-        return {"FINISHED"}
+        return run_reported(
+            self, lambda: (f"Removed {landmarks.remove_landmark_markers(head)} markers from {head.name}", ())
+        )
 
 
 class TURKISH_LIPSYNC_OT_render(bpy.types.Operator):
@@ -258,9 +288,15 @@ class TURKISH_LIPSYNC_OT_render(bpy.types.Operator):
             return False
         return True
 
+    _prepared: pipeline.PreparedRender | None = None
+    _timer = None
+    _state: dict | None = None
+
     def execute(self, context):
+        """Blocking render (background mode and scripts calling the operator)."""
         settings = settings_of(context)
-        try:
+
+        def render() -> Outcome:
             with progress_reporter(context, "Render") as progress:
                 result = pipeline.render_video(
                     context,
@@ -270,11 +306,74 @@ class TURKISH_LIPSYNC_OT_render(bpy.types.Operator):
                     samples=settings.render_samples,
                     progress=progress,
                 )
-        except LipSyncError as error:
-            self.report({"ERROR"}, str(error))
+            return f"Rendered {result.frame_count} frames with {result.engine} to {result.path}", ()
+
+        return run_reported(self, render)
+
+    def invoke(self, context, _event):
+        """Render as a job: Blender stays responsive, shows progress, and Esc cancels it."""
+        if bpy.app.background:
+            return self.execute(context)
+        settings = settings_of(context)
+
+        def prepare() -> Outcome:
+            self._prepared = pipeline.prepare_render(
+                context,
+                chosen_head(context),
+                settings.output_path,
+                engine=settings.render_engine,
+                samples=settings.render_samples,
+            )
+            return "", ()
+
+        if run_reported(self, prepare) != {"FINISHED"}:
             return {"CANCELLED"}
-        self.report({"INFO"}, f"Rendered {result.frame_count} frames with {result.engine} to {result.path}")
-        return {"FINISHED"}
+        self._state = {"done": False, "cancelled": False}
+        handlers = bpy.app.handlers
+        handlers.render_complete.append(self._on_complete)
+        handlers.render_cancel.append(self._on_cancel)
+        if bpy.ops.render.render("INVOKE_DEFAULT", animation=True) == {"CANCELLED"}:
+            self._remove_handlers()
+            pipeline.cancel_render(context, self._prepared)
+            self.report({"ERROR"}, "Blender could not start the render; see the console.")
+            return {"CANCELLED"}
+        self._timer = context.window_manager.event_timer_add(0.5, window=context.window)
+        context.window_manager.modal_handler_add(self)
+        return {"RUNNING_MODAL"}
+
+    def _on_complete(self, _scene, _depsgraph=None):
+        self._state["done"] = True
+
+    def _on_cancel(self, _scene, _depsgraph=None):
+        self._state["cancelled"] = True
+
+    def _remove_handlers(self) -> None:
+        handlers = bpy.app.handlers
+        for handler_list, handler in (
+            (handlers.render_complete, self._on_complete),
+            (handlers.render_cancel, self._on_cancel),
+        ):
+            if handler in handler_list:
+                handler_list.remove(handler)
+
+    def modal(self, context, event):
+        if event.type != "TIMER" or not (self._state["done"] or self._state["cancelled"]):
+            return {"PASS_THROUGH"}
+        self._remove_handlers()
+        context.window_manager.event_timer_remove(self._timer)
+        if self._state["cancelled"]:
+            pipeline.cancel_render(context, self._prepared)
+            self.report({"WARNING"}, "Render cancelled: the scene is as it was and no partial video is kept.")
+            return {"CANCELLED"}
+        prepared = self._prepared
+        return run_reported(
+            self,
+            lambda: (
+                f"Rendered {prepared.frame_count} frames with {prepared.engine} to "
+                f"{pipeline.finish_render(context, prepared).path}",
+                (),
+            ),
+        )
 
 
 CLASSES = (

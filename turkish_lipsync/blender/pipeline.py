@@ -15,14 +15,13 @@ from pathlib import Path
 
 import bpy
 
-from ..core.errors import HeadError, LipSyncError, TextError
+from ..core.errors import HeadError, TextError
 from ..core.model import OWNED_PREFIX, Timeline, Utterance, WeightTracks
-from . import compat, keyframes, render, sequencer
+from ..core.pipeline import LipSyncOptions, lip_sync
+from . import compat, heads, keyframes, render, sequencer, shapekeys
+from .shapekeys import BuildReport
 
 Progress = Callable[[float, str], None]
-TIMINGS = ("phone", "word", "table")
-MOTIONS = ("natural", "thesis")
-INTERPOLATIONS = ("AUTO", "LINEAR", "BEZIER", "CONSTANT")
 
 
 def _no_progress(_fraction: float, _message: str) -> None:
@@ -44,6 +43,7 @@ class GenerateResult:
     fps: float
     timeline: Timeline
     tracks: WeightTracks
+    warnings: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -61,22 +61,7 @@ class RenderResult:
 
 def head_objects(head: bpy.types.Object) -> list[bpy.types.Object]:
     """The head and the meshes that follow it (teeth, tongue, eyes)."""
-    from .heads import find_head_parts
-
-    return [head, *find_head_parts(head)]
-
-
-def require_head(name: str | None) -> bpy.types.Object:
-    head = bpy.data.objects.get(name) if name else None
-    if head is None:
-        raise HeadError(
-            f"No head object named {name!r}: pick a head in the Lip Sync panel, or build the reference head."
-            if name
-            else "No head chosen: pick the head object in the Lip Sync panel (or select it)."
-        )
-    if head.type != "MESH":
-        raise HeadError(f"The head {head.name!r} is a {head.type.lower()}, not a mesh: choose a mesh object.")
-    return head
+    return [head, *heads.find_head_parts(head)]
 
 
 def build_keys(
@@ -89,15 +74,14 @@ def build_keys(
     obj_folder: str | None = None,
     empowered: bool = False,
     rho: float = 3.0,
-) -> str:
+) -> BuildReport:
     """Build (or rebuild) the TR_* shape keys on head, creating the reference head when head is None.
 
     source, obj_folder, empowered and rho go to shapekeys.build_shape_keys. A reference head created here
-    is removed again when the build fails, so a failure leaves the file as it was. Returns the head's name.
+    is removed again when the build fails, so a failure leaves the file as it was. Returns the build's
+    report (the head's name, where the keys came from, warnings for the user).
     """
     progress = progress or _no_progress
-    from . import heads, shapekeys  # the faces helper's modules
-
     created: list[bpy.types.Object] = []
     if head is None:
         progress(0.05, "Creating the reference head")
@@ -105,7 +89,7 @@ def build_keys(
         head, created = parts["head"], list(parts.values())
     progress(0.2, f"Building shape keys on {head.name}")
     try:
-        shapekeys.build_shape_keys(
+        report = shapekeys.build_shape_keys(
             head,
             source=source,
             obj_folder=obj_folder or None,
@@ -113,7 +97,7 @@ def build_keys(
             rho=rho,
             arkit_keys=arkit_keys,
         )
-    except LipSyncError:
+    except Exception:
         for obj in created:
             mesh = obj.data
             bpy.data.objects.remove(obj, do_unlink=True)
@@ -121,7 +105,7 @@ def build_keys(
                 bpy.data.meshes.remove(mesh)
         raise
     progress(1.0, "Shape keys built")
-    return head.name
+    return report
 
 
 def has_lipsync_keys(head: bpy.types.Object) -> bool:
@@ -163,71 +147,24 @@ def action_name_for(utterance: Utterance) -> str:
     return name
 
 
-def _with_rate(utterance: Utterance, rate: float) -> Utterance:
-    if abs(rate - 1.0) < 1e-9:
-        return utterance
-    if not 0.1 <= rate <= 10:
-        raise TextError(f"Speaking rate {rate} is outside 0.1..10; choose a multiplier such as 0.8 or 1.2.")
-    words = tuple(
-        dataclasses.replace(word, style=dataclasses.replace(word.style, rate=word.style.rate * rate))
-        for word in utterance.words
-    )
-    return dataclasses.replace(utterance, words=words)
-
-
 # ---------------------------------------------------------------- generate
-
-
-def compute_tracks(
-    source: str,
-    fps: float,
-    *,
-    timing: str = "phone",
-    motion: str = "natural",
-    emotion_strength: float = 1.0,
-    rate: float = 1.0,
-    interpolation: str = "AUTO",
-    recording: str | None = None,
-):
-    """Text to (utterance, timeline, synthesis, tracks): the core's work, no Blender data touched."""
-    from ..core.motion import weight_tracks
-    from ..core.text.utterance import build_utterance
-
-    if timing not in TIMINGS:
-        raise LipSyncError(f"Unknown timing {timing!r}; use one of {', '.join(TIMINGS)}.")
-    if motion not in MOTIONS:
-        raise LipSyncError(f"Unknown motion {motion!r}; use one of {', '.join(MOTIONS)}.")
-    utterance = _with_rate(build_utterance(source), rate)
-    from ..core.speech import synthesize_timeline
-
-    timeline, synthesis = synthesize_timeline(utterance, timing, recording=recording or None)
-    tracks: WeightTracks = weight_tracks(timeline, fps, mode=motion, emotion_strength=emotion_strength)
-    if interpolation != "AUTO":
-        if interpolation not in INTERPOLATIONS:
-            raise LipSyncError(
-                f"Unknown interpolation {interpolation!r}; use one of {', '.join(INTERPOLATIONS)}."
-            )
-        tracks = dataclasses.replace(tracks, interpolation=interpolation)
-    return utterance, timeline, synthesis, tracks
 
 
 def generate(
     context: bpy.types.Context,
     head: bpy.types.Object,
     source: str,
+    options: LipSyncOptions | None = None,
     *,
-    timing: str = "phone",
-    motion: str = "natural",
-    emotion_strength: float = 1.0,
-    rate: float = 1.0,
-    interpolation: str = "AUTO",
-    recording: str | None = None,
     audio_folder: str = "",
     start_frame: int | None = None,
     package: str | None = None,
     progress: Progress | None = None,
 ) -> GenerateResult:
-    """Speak source on head: F-curves on its TR_* keys, the speech strip, the frame range."""
+    """Speak source on head: F-curves on its TR_* keys, the speech strip, the frame range.
+
+    options are the core's (timing, motion, rate, ...); their frame rate is replaced by the scene's.
+    """
     progress = progress or _no_progress
     scene = context.scene
     if not has_lipsync_keys(head):
@@ -239,17 +176,9 @@ def generate(
     start = scene.frame_start if start_frame is None else int(start_frame)
 
     progress(0.05, "Reading the text and speaking it")
-    utterance, timeline, synthesis, tracks = compute_tracks(
-        source,
-        fps,
-        timing=timing,
-        motion=motion,
-        emotion_strength=emotion_strength,
-        rate=rate,
-        interpolation=interpolation,
-        recording=recording,
-    )
-    action_name = action_name_for(utterance)
+    spoken = lip_sync(source, dataclasses.replace(options or LipSyncOptions(), fps=fps))
+    timeline, synthesis, tracks = spoken.timeline, spoken.synthesis, spoken.tracks
+    action_name = action_name_for(spoken.utterance)
     wav_path = None
     if synthesis is not None:
         from ..core.speech import write_wav
@@ -284,10 +213,85 @@ def generate(
         fps=fps,
         timeline=timeline,
         tracks=tracks,
+        warnings=spoken.warnings,
     )
 
 
 # ---------------------------------------------------------------- render
+
+
+@dataclass(frozen=True, eq=False)
+class PreparedRender:
+    """A scene set up to render the video, and what to undo if the render is cancelled."""
+
+    path: Path
+    engine: str
+    frame_count: int
+    settings: render.SceneSettings
+    framed: dict[str, bool]
+    started: float
+
+
+def prepare_render(
+    context: bpy.types.Context,
+    head: bpy.types.Object | None,
+    out_path: str,
+    *,
+    engine: str = "AUTO",
+    samples: int | None = None,
+    resolution: tuple[int, int] | None = None,
+) -> PreparedRender:
+    """Frame the face (camera and lights only where missing), set the engine and MP4 output."""
+    scene = context.scene
+    if not out_path:
+        raise render.RenderError("No output file: choose where to write the video (an .mp4 path).")
+    path = Path(bpy.path.abspath(out_path))
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise render.RenderError(f"Cannot create the folder {path.parent}: {error.strerror}.") from error
+    chosen = render.choose_engine(engine)
+    settings = render.SceneSettings.of(scene)
+    framed = render.frame_face(scene, head_objects(head) if head is not None else [])
+    render.configure_engine(scene, chosen, samples)
+    render.configure_output(scene, path, resolution)
+    return PreparedRender(
+        path=path,
+        engine=chosen,
+        frame_count=scene.frame_end - scene.frame_start + 1,
+        settings=settings,
+        framed=framed,
+        started=time.perf_counter(),
+    )
+
+
+def finish_render(
+    context: bpy.types.Context, prepared: PreparedRender, progress: Progress | None = None
+) -> RenderResult:
+    """After Blender rendered: check the file, add the speech where Blender could not, report."""
+    progress = progress or _no_progress
+    path = prepared.path
+    if not path.is_file():
+        raise render.RenderError(f"Blender did not write {path}; see the console for the render error.")
+    wav = sequencer.speech_wav_of(context.scene)
+    if not compat.HAS_AUDIO and wav is not None and wav.is_file():
+        progress(0.97, "Adding the speech to the video")
+        render.mux_audio(path, wav)
+    progress(1.0, f"Wrote {path}")
+    return RenderResult(
+        path=str(path),
+        engine=prepared.engine,
+        frame_count=prepared.frame_count,
+        seconds=time.perf_counter() - prepared.started,
+        camera_added=prepared.framed["camera"],
+        lights_added=prepared.framed["lights"],
+    )
+
+
+def cancel_render(context: bpy.types.Context, prepared: PreparedRender) -> None:
+    """A cancelled render leaves the scene as it was and no partial video behind."""
+    prepared.settings.restore(context.scene)
+    prepared.path.unlink(missing_ok=True)
 
 
 def render_video(
@@ -300,24 +304,11 @@ def render_video(
     resolution: tuple[int, int] | None = None,
     progress: Progress | None = None,
 ) -> RenderResult:
-    """Frame the face (camera and lights only where missing), set the engine and MP4 output, render."""
+    """Render the frame range to an MP4 with the speech, blocking (batch; the panel renders modally)."""
     progress = progress or _no_progress
-    scene = context.scene
-    if not out_path:
-        raise render.RenderError("No output file: choose where to write the video (an .mp4 path).")
-    path = Path(bpy.path.abspath(out_path))
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-    except OSError as error:
-        raise render.RenderError(f"Cannot create the folder {path.parent}: {error.strerror}.") from error
-    chosen = render.choose_engine(engine)
-    progress(0.02, f"Setting up the {chosen} render")
-    framed = render.frame_face(scene, head_objects(head) if head is not None else [])
-    render.configure_engine(scene, chosen, samples)
-    render.configure_output(scene, path, resolution)
-    frame_count = scene.frame_end - scene.frame_start + 1
-    progress(0.05, f"Rendering {frame_count} frames to {path}")
-    started = time.perf_counter()
+    prepared = prepare_render(context, head, out_path, engine=engine, samples=samples, resolution=resolution)
+    frame_count = prepared.frame_count
+    progress(0.05, f"Rendering {frame_count} frames with {prepared.engine} to {prepared.path}")
 
     def after_frame(rendered_scene, _depsgraph=None):
         done = rendered_scene.frame_current - rendered_scene.frame_start + 1
@@ -325,24 +316,10 @@ def render_video(
 
     bpy.app.handlers.render_post.append(after_frame)
     try:
-        bpy.ops.render.render(animation=True, scene=scene.name)
+        bpy.ops.render.render(animation=True, scene=context.scene.name)
     finally:
         bpy.app.handlers.render_post.remove(after_frame)
-    if not path.is_file():
-        raise render.RenderError(f"Blender did not write {path}; see the console for the render error.")
-    wav = sequencer.speech_wav_of(scene)
-    if not compat.HAS_AUDIO and wav is not None and wav.is_file():
-        progress(0.97, "Adding the speech to the video")
-        render.mux_audio(path, wav)
-    progress(1.0, f"Wrote {path}")
-    return RenderResult(
-        path=str(path),
-        engine=chosen,
-        frame_count=frame_count,
-        seconds=time.perf_counter() - started,
-        camera_added=framed["camera"],
-        lights_added=framed["lights"],
-    )
+    return finish_render(context, prepared, progress)
 
 
 def widest_mouth_frame(head: bpy.types.Object) -> int | None:

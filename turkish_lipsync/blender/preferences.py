@@ -2,13 +2,10 @@
 
 from __future__ import annotations
 
-import os
-
 import bpy
 from bpy.props import StringProperty
 
-# Read by the speech engine: a libespeak-ng to load instead of the bundled one, and its data folder.
-from ..core.speech.espeak import DATA_ENVIRONMENT_VARIABLE, LIBRARY_ENVIRONMENT_VARIABLE
+from ..core.speech.espeak import choose_library
 
 # The extension's package: "bl_ext.<repo>.turkish_lipsync" when installed, "turkish_lipsync" in a checkout.
 ADDON_PACKAGE = (__package__ or "").removesuffix(".blender").removesuffix(
@@ -42,19 +39,13 @@ def addon_preferences(context: bpy.types.Context) -> TurkishLipSyncPreferences |
     return addon.preferences if addon is not None else None
 
 
-def export_engine_paths(context: bpy.types.Context) -> None:
-    """Hand the engine paths to the speech engine (it reads them from the environment, bpy-free)."""
+def configure_speech_engine(context: bpy.types.Context) -> None:
+    """Hand the preferences' engine paths to the speech engine (an explicit call, before each use)."""
     preferences = addon_preferences(context)
     if preferences is None:
         return
-    for variable, value in (
-        (LIBRARY_ENVIRONMENT_VARIABLE, preferences.engine_library),
-        (DATA_ENVIRONMENT_VARIABLE, preferences.engine_data),
-    ):
-        if value:
-            os.environ[variable] = bpy.path.abspath(value)
-        else:
-            os.environ.pop(variable, None)
+    library, data = preferences.engine_library, preferences.engine_data
+    choose_library(bpy.path.abspath(library) if library else None, bpy.path.abspath(data) if data else None)
 
 
 CLASSES = (TurkishLipSyncPreferences,)

@@ -5,6 +5,21 @@ from __future__ import annotations
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
+from ..core.pipeline import (
+    INTERPOLATION_CHOICES,
+    MOTION_CHOICES,
+    RATE_RANGE,
+    TIMING_CHOICES,
+    Choice,
+    LipSyncOptions,
+)
+
+DEFAULTS = LipSyncOptions()
+
+
+def enum_items(choices: tuple[Choice, ...]) -> tuple[tuple[str, str, str], ...]:
+    return tuple((choice.identifier, choice.label, choice.description) for choice in choices)
+
 
 def _is_mesh(_settings, obj) -> bool:
     return obj.type == "MESH"
@@ -32,26 +47,22 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
     )
     timing: EnumProperty(
         name="Timing",
-        items=(
-            ("phone", "Phone", "Key every phone where the speech engine speaks it (most accurate)"),
-            ("word", "Word", "The thesis's method: word starts from the engine, letters by mean durations"),
-            ("table", "Table", "Mean letter durations only (thesis Table 5.4), no speech engine, no audio"),
-        ),
-        default="phone",
+        items=enum_items(TIMING_CHOICES),
+        default=DEFAULTS.timing,
         description="How the mouth shapes are timed against the speech",
     )
     rate: FloatProperty(
         name="Speaking Rate",
-        default=1.0,
-        min=0.25,
-        max=4.0,
+        default=DEFAULTS.rate,
+        min=RATE_RANGE[0],
+        max=RATE_RANGE[1],
         soft_min=0.5,
         soft_max=2.0,
         description="Multiplier of the speaking rate (1 is the engine's normal speed)",
     )
     emotion_strength: FloatProperty(
         name="Emotion Strength",
-        default=1.0,
+        default=DEFAULTS.emotion_strength,
         min=0.0,
         max=1.0,
         subtype="FACTOR",
@@ -59,22 +70,14 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
     )
     motion: EnumProperty(
         name="Motion",
-        items=(
-            ("natural", "Natural", "Co-articulation, blinks and brow movement"),
-            ("thesis", "Thesis", "The thesis's weighted morphing from letter to letter (eq. 5.3, 5.4)"),
-        ),
-        default="natural",
+        items=enum_items(MOTION_CHOICES),
+        default=DEFAULTS.motion,
         description="How the weights move between mouth shapes",
     )
     interpolation: EnumProperty(
         name="Interpolation",
-        items=(
-            ("AUTO", "Automatic", "What the motion model asks for"),
-            ("LINEAR", "Linear", "Straight lines between keys"),
-            ("BEZIER", "Bézier", "Smooth curves between keys"),
-            ("CONSTANT", "Constant", "Hold each key until the next (stepped)"),
-        ),
-        default="AUTO",
+        items=enum_items(INTERPOLATION_CHOICES),
+        default=DEFAULTS.interpolation,
         description="Interpolation of the shape-key keyframes",
     )
     key_source: EnumProperty(

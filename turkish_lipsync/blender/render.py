@@ -6,6 +6,7 @@ import math
 import os
 import subprocess
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 
 import bpy
@@ -116,6 +117,84 @@ def configure_engine(scene: bpy.types.Scene, engine: str, samples: int | None = 
         shading.light = "STUDIO"
         shading.color_type = "MATERIAL"
         scene.display.render_aa = "8" if samples is None or samples >= 8 else "OFF"
+
+
+# ---------------------------------------------------------------- undoing a set-up
+
+
+_VALUE_TYPES = {"BOOLEAN", "INT", "FLOAT", "STRING", "ENUM"}
+
+
+def _values_of(struct) -> dict[str, object]:
+    """The writable plain values of an RNA struct (arrays as tuples)."""
+    values = {}
+    for prop in struct.bl_rna.properties:
+        if prop.is_readonly or prop.type not in _VALUE_TYPES or prop.identifier == "rna_type":
+            continue
+        value = getattr(struct, prop.identifier)
+        values[prop.identifier] = tuple(value) if getattr(prop, "is_array", False) else value
+    return values
+
+
+def _set_values(struct, values: dict[str, object]) -> None:
+    for name, value in values.items():
+        if getattr(struct, name) == value:
+            continue
+        try:
+            setattr(struct, name, value)
+        except (AttributeError, TypeError, ValueError):
+            pass  # values another setting now rules out (an enum item of another engine)
+
+
+def _render_structs(scene: bpy.types.Scene) -> dict[str, object]:
+    structs = {
+        "render": scene.render,
+        "image_settings": scene.render.image_settings,
+        "ffmpeg": scene.render.ffmpeg,
+        "eevee": scene.eevee,
+        "display": scene.display,
+        "shading": scene.display.shading,
+    }
+    if hasattr(scene, "cycles"):
+        structs["cycles"] = scene.cycles
+    return structs
+
+
+@dataclass(frozen=True, eq=False)
+class SceneSettings:
+    """What preparing a render changes in a scene, to put back when the render is cancelled."""
+
+    values: dict[str, dict[str, object]]
+    camera: str | None
+    world: str | None
+    objects: frozenset[str]
+
+    @classmethod
+    def of(cls, scene: bpy.types.Scene) -> SceneSettings:
+        return cls(
+            values={name: _values_of(struct) for name, struct in _render_structs(scene).items()},
+            camera=scene.camera.name if scene.camera else None,
+            world=scene.world.name if scene.world else None,
+            objects=frozenset(obj.name for obj in bpy.data.objects),
+        )
+
+    def restore(self, scene: bpy.types.Scene) -> None:
+        # Image settings first: the output format decides which other values are allowed.
+        structs = _render_structs(scene)
+        for name in ("image_settings", *structs):
+            _set_values(structs[name], self.values.get(name, {}))
+        scene.camera = bpy.data.objects.get(self.camera) if self.camera else None
+        scene.world = bpy.data.worlds.get(self.world) if self.world else None
+        for name in (*LIGHT_NAMES, CAMERA_NAME):
+            obj = bpy.data.objects.get(name)
+            if obj is not None and name not in self.objects:
+                data = obj.data
+                bpy.data.objects.remove(obj, do_unlink=True)
+                if data is not None and data.users == 0:
+                    (bpy.data.cameras if name == CAMERA_NAME else bpy.data.lights).remove(data)
+        world = bpy.data.worlds.get(WORLD_NAME)
+        if world is not None and world.users == 0 and self.world != WORLD_NAME:
+            bpy.data.worlds.remove(world)
 
 
 # ---------------------------------------------------------------- output

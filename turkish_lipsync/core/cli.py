@@ -8,9 +8,17 @@ import sys
 from pathlib import Path
 
 from .errors import LipSyncError
-from .model import Timeline
-
-TIMINGS = ("phone", "word", "table")
+from .model import Timeline, WeightTracks
+from .motion import MOTION_MODES
+from .pipeline import (
+    FPS_RANGE,
+    INTERPOLATION_CHOICES,
+    TIMING_CHOICES,
+    LipSyncOptions,
+    LipSyncResult,
+    identifiers,
+    lip_sync,
+)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -50,8 +58,16 @@ def _add_source_arguments(parser: argparse.ArgumentParser) -> None:
     source = parser.add_mutually_exclusive_group(required=True)
     source.add_argument("file", nargs="?", type=Path, metavar="FILE", help="a JSML or plain text file")
     source.add_argument("--text", help="JSML or plain text given on the command line")
-    parser.add_argument("--timing", choices=TIMINGS, default="phone")
-    parser.add_argument("--fps", type=float, default=25.0)
+    defaults = LipSyncOptions()
+    parser.add_argument("--timing", choices=identifiers(TIMING_CHOICES), default=defaults.timing)
+    parser.add_argument("--motion", choices=MOTION_MODES, default=defaults.motion)
+    parser.add_argument(
+        "--interpolation", choices=identifiers(INTERPOLATION_CHOICES), default=defaults.interpolation
+    )
+    parser.add_argument("--rate", type=float, default=defaults.rate, help="speaking-rate multiplier")
+    parser.add_argument("--emotion-strength", type=float, default=defaults.emotion_strength, help="0..1")
+    fps_help = f"frames per second ({FPS_RANGE[0]:g}..{FPS_RANGE[1]:g})"
+    parser.add_argument("--fps", type=float, default=defaults.fps, help=fps_help)
     parser.add_argument(
         "--audio", type=Path, metavar="RECORDING", help="a recording of the same text to align"
     )
@@ -70,12 +86,23 @@ def read_source(file: Path | None, text: str | None) -> str:
         raise LipSyncError(f"{file}: cannot read it ({error.strerror})") from None
 
 
-def _timeline(args: argparse.Namespace):
-    from .speech import synthesize_timeline
-    from .text.utterance import build_utterance
+def options_from(args: argparse.Namespace) -> LipSyncOptions:
+    return LipSyncOptions(
+        timing=args.timing,
+        motion=args.motion,
+        interpolation=args.interpolation,
+        rate=args.rate,
+        emotion_strength=args.emotion_strength,
+        fps=args.fps,
+        recording=args.audio,
+    )
 
-    utterance = build_utterance(read_source(args.file, args.text))
-    return synthesize_timeline(utterance, args.timing, recording=args.audio)
+
+def _lip_sync(args: argparse.Namespace) -> LipSyncResult:
+    result = lip_sync(read_source(args.file, args.text), options_from(args))
+    for warning in result.warnings:
+        print(f"warning: {warning}", file=sys.stderr)
+    return result
 
 
 def _run_syllables(args: argparse.Namespace) -> int:
@@ -88,25 +115,26 @@ def _run_syllables(args: argparse.Namespace) -> int:
 
 
 def _run_timeline(args: argparse.Namespace) -> int:
-    timeline, synthesis = _timeline(args)
+    result = _lip_sync(args)
     if args.wav:
-        if synthesis is None:
+        if result.synthesis is None:
             raise LipSyncError("--wav needs a speech engine: use --timing phone or word")
         from .speech import write_wav
 
-        write_wav(args.wav, synthesis)
+        write_wav(args.wav, result.synthesis)
     if args.format == "json":
-        print(json.dumps(timeline_as_dict(timeline, args.fps), ensure_ascii=False, indent=1))
+        data = timeline_as_dict(result.timeline, args.fps) | {"tracks": tracks_as_dict(result.tracks)}
+        print(json.dumps(data, ensure_ascii=False, indent=1))
     else:
-        print(timeline_as_tsv(timeline, args.fps))
+        print(timeline_as_tsv(result.timeline, args.fps))
     return 0
 
 
 def _run_quality(args: argparse.Namespace) -> int:
     from .motion.quality import compare_modes, format_quality
 
-    timeline, _ = _timeline(args)
-    report = compare_modes(timeline, args.fps)
+    result = _lip_sync(args)
+    report = compare_modes(result.timeline, args.fps, args.emotion_strength)
     print(json.dumps(report, indent=1) if args.format == "json" else format_quality(report))
     return 0
 
@@ -134,6 +162,20 @@ def timeline_as_dict(timeline: Timeline, fps: float) -> dict:
             {"start": round(e.start, 4), "end": round(e.end, 4), "emotion": e.emotion, "weight": e.weight}
             for e in timeline.emotions
         ],
+    }
+
+
+def tracks_as_dict(tracks: WeightTracks) -> dict:
+    """The weight tracks as Blender keys them: frames from 0 (the scene's start frame) and weights."""
+    return {
+        "fps": tracks.fps,
+        "frame_count": tracks.frame_count,
+        "interpolation": tracks.interpolation,
+        "mode": tracks.mode,
+        "keys": {
+            track.name: {"frames": track.frames.tolist(), "values": track.values.tolist()}
+            for track in tracks.tracks
+        },
     }
 
 

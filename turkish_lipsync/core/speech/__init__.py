@@ -7,12 +7,13 @@ write_wav(path, synthesis).
 from . import espeak as _espeak  # noqa: F401  (registers the eSpeak NG engine)
 from .base import PhoneEvent, SpeechEngine, Synthesis, WordEvent, engine_names, get_engine, register_engine
 from .recording import align_recording, read_audio
-from .timeline import TIMINGS, synthesize_timeline
+from .timeline import TIMINGS, Speech, synthesize_timeline
 from .wav import write_wav
 
 __all__ = [
     "TIMINGS",
     "PhoneEvent",
+    "Speech",
     "SpeechEngine",
     "Synthesis",
     "WordEvent",

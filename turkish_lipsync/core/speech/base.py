@@ -68,6 +68,14 @@ class SpeechEngine(ABC):
         """The phone symbol without stress or length marks; None for a pause."""
 
     @abstractmethod
+    def is_available(self) -> bool:
+        """True when the engine can speak now (starting it if needed); never raises."""
+
+    @abstractmethod
+    def version(self) -> str:
+        """The engine's name, version and origin, for reports; raises SpeechEngineError when unavailable."""
+
+    @abstractmethod
     def synthesize(self, utterance: Utterance) -> Synthesis:
         """Speak exactly the utterance's words (Word.text), honouring their pauses and styles."""
 

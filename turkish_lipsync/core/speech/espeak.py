@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import ctypes
 import ctypes.util
-import os
 import threading
 from bisect import bisect_right
 from dataclasses import dataclass
@@ -89,10 +88,13 @@ class _Collector:
 class _Library:
     """The loaded and initialised library (one per process)."""
 
-    def __init__(self) -> None:
+    def __init__(self, choice: LibraryChoice) -> None:
         self.lock = threading.Lock()
-        self.handle, data_path, self.origin = _load_library()
+        self.choice = choice
+        self.handle, data_path, self.origin = _load_library(choice)
         handle = self.handle
+        handle.espeak_Info.argtypes = [ctypes.POINTER(ctypes.c_char_p)]
+        handle.espeak_Info.restype = ctypes.c_char_p
         handle.espeak_Initialize.argtypes = [ctypes.c_int, ctypes.c_int, ctypes.c_char_p, ctypes.c_int]
         handle.espeak_Initialize.restype = ctypes.c_int
         handle.espeak_SetSynthCallback.argtypes = [_SynthCallback]
@@ -129,6 +131,7 @@ class _Library:
         # Kept on the instance: ctypes must not free the callback while the library may call it.
         self.callback = _SynthCallback(self._on_synth)
         handle.espeak_SetSynthCallback(self.callback)
+        self.version = (handle.espeak_Info(None) or b"").decode("utf-8", "replace")
 
     def _on_synth(self, wave, sample_count, events) -> int:
         collector = self.collector
@@ -172,16 +175,18 @@ class _Library:
         return self.collector
 
 
-# Paths a user chose (the add-on's preferences set them): they win over the wheel and the system library.
-LIBRARY_ENVIRONMENT_VARIABLE = "TURKISH_LIPSYNC_ESPEAK_LIBRARY"
-DATA_ENVIRONMENT_VARIABLE = "TURKISH_LIPSYNC_ESPEAK_DATA"
+@dataclass(frozen=True)
+class LibraryChoice:
+    """A libespeak-ng and its data folder the user chose (None: the bundled wheel, then the system's)."""
+
+    library: str | None = None
+    data: str | None = None
 
 
-def _load_library() -> tuple[ctypes.CDLL, str | None, str]:
+def _load_library(choice: LibraryChoice) -> tuple[ctypes.CDLL, str | None, str]:
     """The user's chosen library, else the espeakng-loader wheel's library and data, else the system's."""
     problems = []
-    chosen_library = os.environ.get(LIBRARY_ENVIRONMENT_VARIABLE)
-    chosen_data = os.environ.get(DATA_ENVIRONMENT_VARIABLE) or None
+    chosen_library, chosen_data = choice.library, choice.data
     if chosen_library:
         try:
             return ctypes.CDLL(chosen_library), chosen_data, f"chosen {chosen_library}"
@@ -207,27 +212,33 @@ def _load_library() -> tuple[ctypes.CDLL, str | None, str]:
             continue
     problems.append("no system libespeak-ng was found")
     raise SpeechEngineError(
-        f"eSpeak NG is not available: {'; '.join(problems)}. To fix it, {INSTALL_HINT}, then restart."
+        f"eSpeak NG is not available: {'; '.join(problems)}. To fix it, {INSTALL_HINT}, "
+        "or choose the library in the add-on's preferences, and try again."
     )
 
 
+_CHOICE = LibraryChoice()
 _LIBRARY: _Library | None = None
-_LIBRARY_FAILURE: SpeechEngineError | None = None
 _LIBRARY_LOCK = threading.Lock()
 
 
-def _library() -> _Library:
-    """The process's one initialised library; a failed initialisation is remembered, never retried."""
-    global _LIBRARY, _LIBRARY_FAILURE
+def choose_library(library: str | None = None, data: str | None = None) -> None:
+    """Use this libespeak-ng (and data folder) from the next start of the engine on (the preferences call it).
+
+    A library that already started stays in use until Blender restarts: eSpeak NG cannot be started twice
+    in one process. A start that failed is not remembered, so a corrected path works at the next try.
+    """
+    global _CHOICE
     with _LIBRARY_LOCK:
-        if _LIBRARY_FAILURE is not None:
-            raise _LIBRARY_FAILURE
+        _CHOICE = LibraryChoice(library or None, data or None)
+
+
+def _library() -> _Library:
+    """The process's one initialised library, started on first use with the chosen paths."""
+    global _LIBRARY
+    with _LIBRARY_LOCK:
         if _LIBRARY is None:
-            try:
-                _LIBRARY = _Library()
-            except SpeechEngineError as error:
-                _LIBRARY_FAILURE = error
-                raise
+            _LIBRARY = _Library(_CHOICE)
         return _LIBRARY
 
 
@@ -336,6 +347,17 @@ class EspeakEngine(SpeechEngine):
     @property
     def sample_rate(self) -> int:
         return _library().sample_rate
+
+    def is_available(self) -> bool:
+        try:
+            _library()
+        except SpeechEngineError:
+            return False
+        return True
+
+    def version(self) -> str:
+        library = _library()
+        return f"eSpeak NG {library.version} ({library.origin})"
 
     def synthesize(self, utterance: Utterance) -> Synthesis:
         library = _library()

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import LipSyncError, TextError
@@ -12,6 +13,15 @@ from .recording import align_recording
 from .timing import build_timeline, table_timeline
 
 TIMINGS = ("phone", "word", "table", "recording")
+
+
+@dataclass(frozen=True, eq=False)
+class Speech:
+    """A timeline, the audio it belongs to (None for table timing) and what the user must hear about it."""
+
+    timeline: Timeline
+    synthesis: Synthesis | None
+    warnings: tuple[str, ...] = ()
 
 
 # The audio of one utterance is held in memory (about 160 MB an hour, with its working copies several times
@@ -25,8 +35,8 @@ def synthesize_timeline(
     *,
     recording: Path | str | None = None,
     engine: str = "espeak",
-) -> tuple[Timeline, Synthesis | None]:
-    """Speak the utterance and time every letter; returns the timeline and the audio it belongs to.
+) -> Speech:
+    """Speak the utterance and time every letter: the timeline, the audio it belongs to, warnings.
 
     timing: "phone" keys each letter on the phone the engine spoke for it; "word" is the thesis's method
     (word-start events, Table 5.4 durations inside words); "table" needs no engine and returns no audio.
@@ -41,7 +51,7 @@ def synthesize_timeline(
             raise LipSyncError(
                 "table timing uses no speech, so it cannot follow a recording; choose phone or word timing"
             )
-        return table_timeline(utterance), None
+        return Speech(table_timeline(utterance), None)
     if timing == "recording" and recording is None:
         raise LipSyncError("recording timing needs a recording: give the audio file of the text read aloud")
     if len(utterance.letters) > MAX_SPOKEN_LETTERS:
@@ -62,4 +72,4 @@ def synthesize_timeline(
         starts, ends, synthesis = phone_letter_spans(utterance, synthesis, speech_engine)
     onsets = tuple(event.start for event in synthesis.phone_events)
     timeline = build_timeline(utterance, starts, ends, synthesis.duration, label, onsets)
-    return timeline, synthesis
+    return Speech(timeline, synthesis)

@@ -1,0 +1,137 @@
+"""The core's one entry point: Turkish text in, the utterance, its speech, timeline and weight tracks out.
+
+`lip_sync(source, options)` is what the command line, the Blender pipeline and scripts/render.py all call;
+every option and its choices are defined here once (the panel's enum items are built from these choices).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+from .errors import LipSyncError, TextError
+from .model import Timeline, Utterance, WeightTracks
+
+
+@dataclass(frozen=True)
+class Choice:
+    """One choice of an option: its identifier, a label and a one-line description for the UI and --help."""
+
+    identifier: str
+    label: str
+    description: str
+
+
+TIMING_CHOICES = (
+    Choice("phone", "Phone", "Key every phone where the speech engine speaks it (most accurate)"),
+    Choice("word", "Word", "The thesis's method: word starts from the engine, letters by mean durations"),
+    Choice("table", "Table", "Mean letter durations only (thesis Table 5.4), no speech engine, no audio"),
+)
+MOTION_CHOICES = (
+    Choice("natural", "Natural", "Co-articulation, blinks and brow movement"),
+    Choice("thesis", "Thesis", "The thesis's weighted morphing from letter to letter (eq. 5.3, 5.4)"),
+)
+INTERPOLATION_CHOICES = (
+    Choice("AUTO", "Automatic", "What the motion model asks for"),
+    Choice("LINEAR", "Linear", "Straight lines between keys"),
+    Choice("BEZIER", "Bézier", "Smooth curves between keys"),
+    Choice("CONSTANT", "Constant", "Hold each key until the next (stepped)"),
+)
+RATE_RANGE = (0.25, 4.0)
+FPS_RANGE = (1.0, 240.0)
+
+
+def identifiers(choices: tuple[Choice, ...]) -> tuple[str, ...]:
+    return tuple(choice.identifier for choice in choices)
+
+
+@dataclass(frozen=True)
+class LipSyncOptions:
+    """Everything that decides the motion a text gets, checked when made."""
+
+    timing: str = "phone"
+    motion: str = "natural"
+    interpolation: str = "AUTO"
+    rate: float = 1.0  # multiplier of every word's speaking rate
+    emotion_strength: float = 1.0  # 0..1, scales the markup's emotion weights
+    fps: float = 25.0
+    recording: Path | None = None  # a recording of the text to align to instead of the synthetic voice
+    engine: str = "espeak"
+
+    def __post_init__(self) -> None:
+        for name, choices in (
+            ("timing", TIMING_CHOICES),
+            ("motion", MOTION_CHOICES),
+            ("interpolation", INTERPOLATION_CHOICES),
+        ):
+            value = getattr(self, name)
+            if value not in identifiers(choices):
+                raise LipSyncError(f"Unknown {name} {value!r}; use one of {', '.join(identifiers(choices))}.")
+        _require_range("speaking rate", self.rate, RATE_RANGE, "a multiplier such as 0.8 or 1.2")
+        _require_range("emotion strength", self.emotion_strength, (0.0, 1.0), "a share such as 0.5")
+        _require_range("frame rate", self.fps, FPS_RANGE, "frames per second such as 25 or 29.97")
+        if self.recording is not None:
+            object.__setattr__(self, "recording", Path(self.recording))
+            if self.timing == "table":
+                raise LipSyncError(
+                    "Table timing uses no speech, so it cannot follow a recording; choose phone or word."
+                )
+
+
+def _require_range(name: str, value: float, bounds: tuple[float, float], example: str) -> None:
+    low, high = bounds
+    if not (isinstance(value, int | float) and math.isfinite(value) and low <= value <= high):
+        raise LipSyncError(f"The {name} {value!r} is outside {low:g}..{high:g}; choose {example}.")
+
+
+@dataclass(frozen=True, eq=False)
+class LipSyncResult:
+    """What lip_sync made, and what the user must be told about it."""
+
+    options: LipSyncOptions
+    utterance: Utterance
+    synthesis: object  # speech.Synthesis, None for table timing
+    timeline: Timeline
+    tracks: WeightTracks
+    warnings: tuple[str, ...]
+
+
+def lip_sync(source: str, options: LipSyncOptions | None = None) -> LipSyncResult:
+    """Read the source as a Turkish speaker would, speak it (or align the recording), time it, move it."""
+    from .motion import weight_tracks
+    from .speech import synthesize_timeline
+    from .text.utterance import build_utterance
+
+    options = options or LipSyncOptions()
+    if not source.strip():
+        raise TextError("The text is empty: write some Turkish text (plain or JSML) to speak.")
+    utterance = with_rate(build_utterance(source), options.rate)
+    speech = synthesize_timeline(
+        utterance, options.timing, recording=options.recording, engine=options.engine
+    )
+    tracks = weight_tracks(
+        speech.timeline, options.fps, mode=options.motion, emotion_strength=options.emotion_strength
+    )
+    if options.interpolation != "AUTO":
+        tracks = dataclasses.replace(tracks, interpolation=options.interpolation)
+    return LipSyncResult(
+        options=options,
+        utterance=utterance,
+        synthesis=speech.synthesis,
+        timeline=speech.timeline,
+        tracks=tracks,
+        warnings=speech.warnings,
+    )
+
+
+def with_rate(utterance: Utterance, rate: float) -> Utterance:
+    """The utterance with every word spoken rate times faster (markup rates multiply with it)."""
+    if abs(rate - 1.0) < 1e-9:
+        return utterance
+    words = tuple(
+        dataclasses.replace(word, style=dataclasses.replace(word.style, rate=word.style.rate * rate))
+        for word in utterance.words
+    )
+    return dataclasses.replace(utterance, words=words)
