@@ -1,0 +1,238 @@
+"""Timing made elsewhere (Rhubarb cues, a Papagayo project) as the timing source of our Turkish visemes.
+
+The visemes still come from our analysis of the Turkish text; the file only says when the mouth changes.
+The method, per stretch of speech:
+
+1. Stretches: the file's speech runs (cues between rests, X) are paired in order with the text's phrases
+   (words between pauses). Where the counts differ, the shortest rests are bridged or the phrases with the
+   shortest pauses joined until they agree. A Papagayo project whose words match ours pairs word by word.
+2. Within a stretch, letters and cues are aligned in order by dynamic programming: each letter starts at a
+   cue or shares one with its neighbour, each cue is covered by at least one letter. A step costs 0 where the
+   letter's own Rhubarb shape (shapekeys/rhubarb_shapes.toml) is the cue's shape and 1 otherwise (2 against a
+   rest), plus the distance between where the letter falls by the thesis's mean durations (Table 5.4) and
+   where the cue falls in the stretch, so equal shapes do not pull letters far from their expected place.
+3. A letter that starts a cue starts at the cue's start; letters sharing a cue split it in proportion to
+   their mean durations; each letter ends where the next begins, the last one where the stretch ends.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..model import Timeline, Utterance
+from ..speech.timing import build_timeline, letter_durations
+from .cues import CueFileError, MouthCue, read_rhubarb_json, read_rhubarb_tsv, read_rhubarb_xml
+from .papagayo import read_moho_dat, read_pgo, rest_between
+from .shapes import REST, shape_for_viseme
+
+CUE_TIMING = "cues"
+_MISMATCH = 1.0
+_REST_MISMATCH = 2.0
+_PLACE_WEIGHT = 2.0  # cost of a whole stretch's distance from the expected place
+CUE_SUFFIXES = (".tsv", ".txt", ".json", ".xml", ".pgo", ".dat")
+
+
+@dataclass(frozen=True)
+class CueSource:
+    """What a timing file holds: cues, its length, its own text where it has one, and word spans."""
+
+    path: Path
+    cues: tuple[MouthCue, ...]
+    duration: float
+    text: str = ""
+    sound_file: str = ""
+    word_cues: tuple[tuple[str, tuple[MouthCue, ...]], ...] = ()  # per word (Papagayo): text, its cues
+    warnings: tuple[str, ...] = ()
+
+
+def read_cue_source(path: Path | str, fps: float = 24.0) -> CueSource:
+    """Read a Rhubarb TSV/JSON/XML, a Papagayo .pgo or a Moho .dat (at fps, which the file does not hold)."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix in (".tsv", ".txt"):
+        cues, duration = read_rhubarb_tsv(path)
+        return CueSource(path, cues, duration)
+    if suffix == ".json":
+        cues, duration, sound = read_rhubarb_json(path)
+        return CueSource(path, cues, duration, sound_file=sound)
+    if suffix == ".xml":
+        cues, duration, sound = read_rhubarb_xml(path)
+        return CueSource(path, cues, duration, sound_file=sound)
+    if suffix == ".dat":
+        cues = read_moho_dat(path, fps)
+        return CueSource(path, cues, cues[-1].end)
+    if suffix == ".pgo":
+        document = read_pgo(path)
+        warnings = ()
+        if document.voice_count > 1:
+            warnings = (f"{path} has {document.voice_count} voices; only the first one's timing is used.",)
+        words = tuple((word.text, document.word_cues(word)) for word in document.words)
+        return CueSource(
+            path,
+            rest_between(document),
+            max(document.duration_frames / document.fps, rest_between(document)[-1].end),
+            text=document.text,
+            sound_file=document.sound_path,
+            word_cues=words,
+            warnings=warnings,
+        )
+    raise CueFileError(
+        f"{path}: unknown timing file type {suffix or '(none)'}; give a Rhubarb .tsv, .json or .xml, a "
+        "Papagayo .pgo or a Moho .dat"
+    )
+
+
+def timeline_from_cues(utterance: Utterance, source: CueSource) -> tuple[Timeline, tuple[str, ...]]:
+    """The utterance timed by the file's cues (see the module's docstring); returns the warnings too."""
+    warnings = list(source.warnings)
+    durations = letter_durations(utterance)
+    if source.word_cues and len(source.word_cues) == len(utterance.words):
+        letter_groups = [range(w.first_letter, w.first_letter + w.letter_count) for w in utterance.words]
+        cue_groups = [cues for _, cues in source.word_cues]
+    else:
+        if source.word_cues:
+            warnings.append(
+                f"{source.path} has {len(source.word_cues)} words and the text {len(utterance.words)}; "
+                "its timing is matched by its pauses instead of word by word."
+            )
+        letter_groups, cue_groups = _pair_stretches(utterance, _speech_runs(source.cues))
+    starts = np.empty(len(utterance.letters))
+    ends = np.empty(len(utterance.letters))
+    for letters, cues in zip(letter_groups, cue_groups, strict=True):
+        if not cues:
+            continue
+        shapes = [shape_for_viseme(utterance.letters[i].viseme) for i in letters]
+        group_starts = _align(shapes, durations[letters.start : letters.stop], cues)
+        starts[letters.start : letters.stop] = group_starts
+        ends[letters.start : letters.stop] = np.append(group_starts[1:], cues[-1].end)
+    empty = [index for index, cues in enumerate(cue_groups) if not cues]
+    for index in empty:  # words without phonemes: spoken where the neighbours leave room
+        letters = letter_groups[index]
+        at = ends[letters.start - 1] if letters.start else 0.0
+        starts[letters.start : letters.stop] = at
+        ends[letters.start : letters.stop] = at
+    if empty:
+        warnings.append(f"{source.path}: {len(empty)} word(s) have no phonemes and get no mouth motion.")
+    duration = max(source.duration, float(ends.max(initial=0.0)))
+    return build_timeline(utterance, starts, ends, duration, CUE_TIMING), tuple(warnings)
+
+
+def _speech_runs(cues: tuple[MouthCue, ...]) -> list[list[MouthCue]]:
+    """Maximal runs of non-rest cues, each with the rests inside it kept (none at first)."""
+    runs: list[list[MouthCue]] = []
+    previous_rest = True
+    for cue in cues:
+        if cue.shape == REST or cue.end - cue.start <= 0:
+            previous_rest = previous_rest or cue.shape == REST
+            continue
+        if previous_rest or not runs:
+            runs.append([])
+        runs[-1].append(cue)
+        previous_rest = False
+    return runs
+
+
+def _pair_stretches(
+    utterance: Utterance, runs: list[list[MouthCue]]
+) -> tuple[list[range], list[list[MouthCue]]]:
+    """Phrases of letters paired with speech runs, joining runs or phrases until their counts agree."""
+    if not runs:
+        raise CueFileError("the timing file has no speech (every cue is a rest, X)")
+    phrases: list[range] = []
+    pauses: list[float] = []  # the pause before each phrase but the first
+    for word in utterance.words:
+        letters = range(word.first_letter, word.first_letter + word.letter_count)
+        if phrases and word.pause_before <= 0:
+            phrases[-1] = range(phrases[-1].start, letters.stop)
+        else:
+            if phrases:
+                pauses.append(word.pause_before)
+            phrases.append(letters)
+    while len(runs) > len(phrases):  # bridge the shortest rest in the file
+        gaps = [runs[i + 1][0].start - runs[i][-1].end for i in range(len(runs) - 1)]
+        i = int(np.argmin(gaps))
+        rest = MouthCue(runs[i][-1].end, runs[i + 1][0].start, REST)
+        runs[i : i + 2] = [runs[i] + ([rest] if rest.end > rest.start else []) + runs[i + 1]]
+    while len(phrases) > len(runs):  # join the phrases with the shortest pause between them
+        i = int(np.argmin(pauses))
+        phrases[i : i + 2] = [range(phrases[i].start, phrases[i + 1].stop)]
+        del pauses[i]
+    return phrases, runs
+
+
+def _align(
+    shapes: list[str], durations: np.ndarray, cues: list[MouthCue] | tuple[MouthCue, ...]
+) -> np.ndarray:
+    """Start times of the letters in one stretch (module docstring, steps 2-3)."""
+    letter_count, cue_count = len(shapes), len(cues)
+    cue_starts = np.array([cue.start for cue in cues])
+    cue_ends = np.array([cue.end for cue in cues])
+    span = max(cue_ends[-1] - cue_starts[0], 1e-9)
+    cue_place = ((cue_starts + cue_ends) / 2 - cue_starts[0]) / span
+    total = max(float(durations.sum()), 1e-9)
+    letter_place = (np.cumsum(durations) - durations / 2) / total
+    cue_shapes = np.array([cue.shape for cue in cues])
+    cost = np.where(np.array(shapes)[:, None] == cue_shapes[None, :], 0.0, _MISMATCH)
+    cost[:, cue_shapes == REST] = _REST_MISMATCH
+    cost += _PLACE_WEIGHT * np.abs(letter_place[:, None] - cue_place[None, :])
+    # total[i, j]: best path with letter i covering cue j last. A letter enters row i at cue k, from letter
+    # i-1 ending at cue k-1 (a fresh cue) or at cue k (a shared one), then covers cues k..j.
+    best = np.full((letter_count, cue_count), np.inf)
+    entry = np.zeros((letter_count, cue_count), dtype=np.int32)
+    shared = np.zeros((letter_count, cue_count), dtype=bool)
+    running = np.cumsum(cost[0])
+    best[0] = running
+    for i in range(1, letter_count):
+        fresh = np.concatenate(([np.inf], best[i - 1, :-1]))
+        stay = best[i - 1]
+        arrive = np.minimum(fresh, stay)
+        prefix = np.cumsum(cost[i])
+        before = np.concatenate(([0.0], prefix[:-1]))
+        candidate = arrive - before
+        cheapest = np.minimum.accumulate(candidate)
+        positions = np.arange(cue_count)
+        is_new = candidate <= cheapest
+        entry[i] = np.maximum.accumulate(np.where(is_new, positions, 0))
+        best[i] = prefix + cheapest
+        shared[i] = stay < fresh
+    # Walk back from the last letter covering the last cue.
+    first_cue = np.zeros(letter_count, dtype=np.int64)
+    shares = np.zeros(letter_count, dtype=bool)
+    j = cue_count - 1
+    for i in range(letter_count - 1, 0, -1):
+        k = int(entry[i, j])
+        first_cue[i] = k
+        shares[i] = bool(shared[i, k])
+        j = k if shares[i] else k - 1
+    first_cue[0] = 0
+    return _letter_starts(first_cue, shares, durations, cue_starts, cue_ends)
+
+
+def _letter_starts(
+    first_cue: np.ndarray,
+    shares: np.ndarray,
+    durations: np.ndarray,
+    cue_starts: np.ndarray,
+    cue_ends: np.ndarray,
+) -> np.ndarray:
+    """Start of each letter: its first cue's start, or, inside a cue shared with the letters before it,
+    the cue split among all the letters on it by their mean durations."""
+    starts = cue_starts[first_cue].astype(np.float64)
+    count = len(first_cue)
+    i = 0
+    while i < count:
+        group_end = i + 1  # letters i.. that each begin inside the cue letter i ends on
+        while group_end < count and shares[group_end] and first_cue[group_end] == first_cue[i + 1]:
+            group_end += 1
+        if group_end > i + 1:
+            cue = int(first_cue[i + 1])
+            weights = durations[i:group_end]
+            fractions = np.cumsum(weights)[:-1] / max(float(weights.sum()), 1e-9)
+            starts[i + 1 : group_end] = cue_starts[cue] + fractions * (cue_ends[cue] - cue_starts[cue])
+            i = group_end - 1
+        else:
+            i += 1
+    return starts

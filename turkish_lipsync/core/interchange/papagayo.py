@@ -1,0 +1,227 @@
+"""Papagayo and Moho: switch data (.dat) for Moho and OpenToonz, and Papagayo's project file (.pgo).
+
+Both count in frames. A .dat holds one line per mouth change ("FRAME PHONEME", frames from 1); a .pgo holds
+the spoken text, its words with their frame spans, and each word's phonemes at the frame they start
+(frames from 0), in Papagayo's Preston Blair phoneme set (AI, E, etc, FV, L, MBP, O, rest, U, WQ).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..model import Timeline
+from .cues import CueFileError, MouthCue, read_text
+from .shapes import REST, shape_for_phoneme, shape_for_viseme, shape_table, uses_preston_blair
+
+MOHO_HEADER = "MohoSwitch1"
+PAPAGAYO_HEADER = "lipsync version 1"
+
+
+def frame_of(seconds: float, fps: float) -> int:
+    """The frame showing the instant `seconds` (frame 0 starts at 0 s), robust to float noise."""
+    return math.floor(seconds * fps + 1e-6)
+
+
+def moho_switch_dat(cues: tuple[MouthCue, ...], fps: float, *, preston_blair: bool = True) -> str:
+    """Moho switch data: each mouth change on the frame it shows (frame 1 is the first); Preston Blair names
+    by default (the switch layers of Moho's mouth rigs), or Rhubarb's letters."""
+    names = shape_table().preston_blair
+    changes: dict[int, str] = {}
+    for cue in cues:
+        changes[frame_of(cue.start, fps) + 1] = names[cue.shape] if preston_blair else cue.shape
+    lines = [MOHO_HEADER]
+    previous = None
+    for frame in sorted(changes):
+        if changes[frame] != previous:
+            lines.append(f"{frame} {changes[frame]}")
+            previous = changes[frame]
+    return "\n".join(lines) + "\n"
+
+
+def read_moho_dat(path: Path, fps: float) -> tuple[MouthCue, ...]:
+    """The cues of a Moho switch file; the last change lasts one frame."""
+    lines = [line.strip() for line in read_text(path).splitlines() if line.strip()]
+    if not lines or lines[0] != MOHO_HEADER:
+        raise CueFileError(f"{path}: line 1 must be '{MOHO_HEADER}': is this Moho switch data?")
+    preston_blair = uses_preston_blair(line.split()[-1] for line in lines[1:])
+    changes = []
+    for number, line in enumerate(lines[1:], start=2):
+        fields = line.split()
+        valid = len(fields) == 2 and fields[0].isdigit()
+        shape = shape_for_phoneme(fields[1], preston_blair) if valid else None
+        if shape is None:
+            raise CueFileError(
+                f"{path}: line {number}: expected 'FRAME SHAPE' with a known shape, got {line!r}"
+            )
+        changes.append(((int(fields[0]) - 1) / fps, shape))
+    ends = [start for start, _ in changes[1:]] + [changes[-1][0] + 1 / fps] if changes else []
+    return tuple(MouthCue(start, end, shape) for (start, shape), end in zip(changes, ends, strict=True))
+
+
+# ---------------------------------------------------------------- Papagayo projects
+
+
+@dataclass(frozen=True)
+class PapagayoWord:
+    text: str
+    start_frame: int
+    end_frame: int  # the word's last frame (inclusive)
+    phonemes: tuple[tuple[int, str], ...]  # (frame, Rhubarb shape), in order
+
+
+@dataclass(frozen=True)
+class PapagayoDocument:
+    fps: float
+    sound_path: str
+    duration_frames: int
+    text: str  # the first voice's text, lines joined with newlines
+    words: tuple[PapagayoWord, ...]
+    voice_count: int
+
+    def word_cues(self, word: PapagayoWord) -> tuple[MouthCue, ...]:
+        """A word's phonemes as cues: each lasts until the next, the last until the word's end."""
+        frames = [frame for frame, _ in word.phonemes] + [word.end_frame + 1]
+        return tuple(
+            MouthCue(frames[i] / self.fps, max(frames[i], frames[i + 1]) / self.fps, shape)
+            for i, (_, shape) in enumerate(word.phonemes)
+        )
+
+
+def timeline_as_pgo(timeline: Timeline, fps: float, sound_path: str = "", text: str = "") -> str:
+    """A Papagayo project of the timeline (one voice, one phrase per stretch of speech between pauses), so
+    the timing can be refined in Papagayo-NG and read back as a timing source."""
+    names = shape_table().preston_blair
+    duration_frames = max(1, math.ceil(timeline.duration * fps - 1e-6))
+    words_by_index = {word.index: word for word in timeline.words}
+    phrases: list[list[int]] = []
+    for word in timeline.words:
+        if not phrases or word.start - words_by_index[phrases[-1][-1]].end > 1e-3:
+            phrases.append([])
+        phrases[-1].append(word.index)
+    phrase_texts = [" ".join(words_by_index[index].text for index in phrase) for phrase in phrases]
+    lines = [PAPAGAYO_HEADER, sound_path, f"{fps:g}", str(duration_frames), "1", "\tVoice 1"]
+    lines += [
+        "\t" + ("|".join(phrase_texts) if not text else "|".join(text.splitlines())),
+        f"\t{len(phrases)}",
+    ]
+    for phrase, phrase_text in zip(phrases, phrase_texts, strict=True):
+        spans = [_word_frames(words_by_index[index], fps) for index in phrase]
+        lines += [f"\t\t{phrase_text}", f"\t\t{spans[0][0]}", f"\t\t{spans[-1][1]}", f"\t\t{len(phrase)}"]
+        for index, (start, end) in zip(phrase, spans, strict=True):
+            phonemes: list[tuple[int, str]] = []
+            for phone in timeline.phones:
+                if phone.word_index != index:
+                    continue
+                frame = max(start, min(end, frame_of(phone.start, fps)))
+                name = names[shape_for_viseme(phone.viseme)]
+                if phonemes and phonemes[-1][0] == frame:
+                    phonemes[-1] = (frame, name)
+                elif not phonemes or phonemes[-1][1] != name:
+                    phonemes.append((frame, name))
+            lines.append(f"\t\t\t{words_by_index[index].text} {start} {end} {len(phonemes)}")
+            lines += [f"\t\t\t\t{frame} {name}" for frame, name in phonemes]
+    return "\n".join(lines) + "\n"
+
+
+def _word_frames(word, fps: float) -> tuple[int, int]:
+    """First and last frame (inclusive) a word is spoken on."""
+    start = frame_of(word.start, fps)
+    return start, max(start, math.ceil(word.end * fps - 1e-6) - 1)
+
+
+class _Lines:
+    """The lines of a .pgo with their numbers, for errors that say where."""
+
+    def __init__(self, path: Path, text: str) -> None:
+        self.path = path
+        self.lines = text.splitlines()
+        self.number = 0
+
+    def next(self, what: str) -> str:
+        if self.number >= len(self.lines):
+            raise CueFileError(f"{self.path}: ends early: expected {what} at line {self.number + 1}")
+        self.number += 1
+        return self.lines[self.number - 1].strip()
+
+    def number_of(self, what: str, kind=int):
+        value = self.next(what)
+        try:
+            return kind(value)
+        except ValueError:
+            raise CueFileError(f"{self.path}: line {self.number}: expected {what}, got {value!r}") from None
+
+    def fields(self, what: str, count: int) -> list[str]:
+        parts = self.next(what).split()
+        if len(parts) < count:
+            raise CueFileError(f"{self.path}: line {self.number}: expected {what}")
+        return parts
+
+
+def read_pgo(path: Path) -> PapagayoDocument:
+    """The first voice of a Papagayo project: its text, words and phonemes (Preston Blair or Rhubarb)."""
+    lines = _Lines(path, read_text(path))
+    if lines.next("the header").lower() != PAPAGAYO_HEADER:
+        raise CueFileError(f"{path}: line 1 must be '{PAPAGAYO_HEADER}': is this a Papagayo project (.pgo)?")
+    sound_path = lines.next("the sound file")
+    fps = lines.number_of("the frame rate", float)
+    if not 1 <= fps <= 1000:
+        raise CueFileError(f"{path}: line 3: frame rate {fps} is out of range")
+    duration_frames = lines.number_of("the length in frames")
+    voice_count = lines.number_of("the number of voices")
+    if voice_count < 1:
+        raise CueFileError(f"{path}: line {lines.number}: the project has no voice")
+    lines.next("the voice's name")
+    text = lines.next("the voice's text").replace("|", "\n").strip()
+    raw_words: list[tuple[str, int, int, list[tuple[int, str, int]]]] = []
+    for _ in range(lines.number_of("the number of phrases")):
+        lines.next("the phrase's text")
+        lines.number_of("the phrase's first frame")
+        lines.number_of("the phrase's last frame")
+        for _ in range(lines.number_of("the number of words")):
+            fields = lines.fields("'WORD START END PHONEMES'", 4)
+            try:
+                start, end, count = (int(value) for value in fields[-3:])
+            except ValueError:
+                raise CueFileError(
+                    f"{path}: line {lines.number}: expected 'WORD START END PHONEMES'"
+                ) from None
+            phonemes = []
+            for _ in range(count):
+                frame, name = lines.fields("'FRAME PHONEME'", 2)[:2]
+                if not frame.lstrip("-").isdigit():
+                    raise CueFileError(f"{path}: line {lines.number}: frame {frame!r} is not a whole number")
+                phonemes.append((int(frame), name, lines.number))
+            raw_words.append((" ".join(fields[:-3]), start, max(start, end), phonemes))
+    preston_blair = uses_preston_blair(name for *_, phonemes in raw_words for _, name, _ in phonemes)
+    words = []
+    for word_text, start, end, phonemes in raw_words:
+        shapes = []
+        for frame, name, number in phonemes:
+            shape = shape_for_phoneme(name, preston_blair)
+            if shape is None:
+                raise CueFileError(
+                    f"{path}: line {number}: {name!r} is not a Preston Blair or Rhubarb mouth; choose the "
+                    "Preston Blair phoneme set in Papagayo"
+                )
+            shapes.append((frame, shape))
+        words.append(PapagayoWord(word_text, start, end, tuple(shapes)))
+    if not words:
+        raise CueFileError(
+            f"{path}: the first voice has no words broken into phonemes; break them down first"
+        )
+    return PapagayoDocument(fps, sound_path, duration_frames, text, tuple(words), voice_count)
+
+
+def rest_between(document: PapagayoDocument) -> tuple[MouthCue, ...]:
+    """Every phoneme of the document as cues, with rest (X) between the words."""
+    cues: list[MouthCue] = []
+    time = 0.0
+    for word in document.words:
+        word_cues = document.word_cues(word)
+        if word_cues and word_cues[0].start > time:
+            cues.append(MouthCue(time, word_cues[0].start, REST))
+        cues += word_cues
+        time = max(time, word_cues[-1].end) if word_cues else time
+    return tuple(cues)
