@@ -7,10 +7,15 @@ from bpy.props import StringProperty
 
 from ..core.speech.espeak import choose_library
 
-# The extension's package: "bl_ext.<repo>.turkish_lipsync" when installed, "turkish_lipsync" in a checkout.
-ADDON_PACKAGE = (__package__ or "").removesuffix(".blender").removesuffix(
-    ".turkish_lipsync"
-) or "turkish_lipsync"
+
+def addon_package(blender_layer_package: str) -> str:
+    """The package Blender enables, from this layer's: "bl_ext.<repo>.turkish_lipsync" when installed."""
+    return (
+        blender_layer_package.removesuffix(".blender").removesuffix(".turkish_lipsync") or "turkish_lipsync"
+    )
+
+
+ADDON_PACKAGE = addon_package(__package__ or "")
 
 
 class TurkishLipSyncPreferences(bpy.types.AddonPreferences):

@@ -14,14 +14,20 @@ DATA_DIR = Path(__file__).resolve().parents[2] / "shapekeys"
 @cache
 def load_table(name: str) -> dict:
     """The parsed TOML file shapekeys/<name>.toml (cached: tables are read once per process)."""
-    path = DATA_DIR / f"{name}.toml"
+    return read_toml_file(DATA_DIR / f"{name}.toml", "reinstall the extension")
+
+
+def read_toml_file(path: Path, remedy: str = "check the file") -> dict:
+    """Any TOML file (our tables, a user's own mapping): errors name the file and say what to do."""
     try:
-        with path.open("rb") as handle:
+        with Path(path).open("rb") as handle:
             return tomllib.load(handle)
     except FileNotFoundError:
-        raise DataError(f"data file {path} is missing; reinstall the extension") from None
+        raise DataError(f"data file {path} is missing; {remedy}") from None
+    except OSError as error:
+        raise DataError(f"data file {path} cannot be read ({error.strerror}); {remedy}") from None
     except tomllib.TOMLDecodeError as error:
-        raise DataError(f"data file {path} is not valid TOML: {error}") from None
+        raise DataError(f"data file {path} is not valid TOML: {error}; {remedy}") from None
 
 
 def require(table: dict, key: str, kind: type, name: str) -> object:

@@ -16,10 +16,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..data import DATA_DIR
+from ..data import DATA_DIR, read_toml_file
 from ..errors import DataError
 from ..model import EMOTIONS, emotion_key_name, emotion_release_key_name, viseme_key_name
-from .recipes import EXTRA_KEYS, VISEME_NAMES, Recipes, combine_units, expand_units, read_toml
+from .recipes import EXTRA_KEYS, VISEME_NAMES, Recipes, combine_units, expand_units
 
 CONVENTIONS_DIR = DATA_DIR / "conventions"
 # What a convention may name besides visemes: the six emotions, the blinks and the brow raise.
@@ -280,7 +280,7 @@ def _read_expressions(path: Path, data: dict, exact: bool) -> dict[str, tuple[st
 
 def read_convention(path: Path) -> Convention:
     """One convention table of shapekeys/conventions/, validated."""
-    data = read_toml(path)
+    data = read_toml_file(path)
     header = data.get("convention")
     if not isinstance(header, dict) or not isinstance(header.get("title"), str):
         raise DataError(f"{path}: needs a [convention] table with a title.")
@@ -327,7 +327,7 @@ def read_user_mapping(path: str | Path) -> Convention:
         raise DataError(
             f"Mapping file not found: {path}. Choose a TOML file mapping TR visemes to your keys."
         )
-    data = read_toml(path)
+    data = read_toml_file(path)
     visemes = _read_visemes(path, data, None)
     expressions = _read_expressions(path, data, exact=True)
     names = [name for mapping in visemes.values() for name in mapping.shapes]

@@ -7,13 +7,13 @@ touching code; this module validates them on load and turns them into key deltas
 from __future__ import annotations
 
 import functools
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from ..data import DATA_DIR, read_toml_file
 from ..errors import DataError
 from ..model import (
     BLINK_KEYS,
@@ -25,9 +25,8 @@ from ..model import (
 )
 from .arkit_names import ARKIT_UNITS, is_mouth_unit
 
-SHAPEKEYS_DIR = Path(__file__).resolve().parents[3] / "shapekeys"
-VISEMES_FILE = SHAPEKEYS_DIR / "visemes.toml"
-EMOTIONS_FILE = SHAPEKEYS_DIR / "emotions.toml"
+VISEMES_FILE = DATA_DIR / "visemes.toml"
+EMOTIONS_FILE = DATA_DIR / "emotions.toml"
 
 # The thesis's 36 visual-phoneme models plus the neutral face (Table 5.1).
 VISEME_NAMES: tuple[str, ...] = (
@@ -118,16 +117,6 @@ def _read_section(path: Path, data: dict, section: str, names: tuple[str, ...]) 
     return recipes
 
 
-def read_toml(path: Path) -> dict:
-    try:
-        with open(path, "rb") as handle:
-            return tomllib.load(handle)
-    except OSError as error:
-        raise DataError(f"Cannot read {path}: {error}. Restore the file from the add-on.") from error
-    except tomllib.TOMLDecodeError as error:
-        raise DataError(f"{path}: invalid TOML: {error}.") from error
-
-
 def load_recipes(visemes_file: Path = VISEMES_FILE, emotions_file: Path = EMOTIONS_FILE) -> Recipes:
     """Read and validate both recipe files (cached for the default files)."""
     if visemes_file == VISEMES_FILE and emotions_file == EMOTIONS_FILE:
@@ -141,8 +130,8 @@ def _default_recipes() -> Recipes:
 
 
 def _read_recipes(visemes_file: Path, emotions_file: Path) -> Recipes:
-    visemes = _read_section(visemes_file, read_toml(visemes_file), "visemes", VISEME_NAMES)
-    emotions_data = read_toml(emotions_file)
+    visemes = _read_section(visemes_file, read_toml_file(visemes_file), "visemes", VISEME_NAMES)
+    emotions_data = read_toml_file(emotions_file)
     emotions = _read_section(emotions_file, emotions_data, "emotions", EMOTIONS)
     extras = _read_section(emotions_file, emotions_data, "extras", tuple(EXTRA_KEYS))
     return Recipes(visemes=visemes, emotions=emotions, extras=extras)

@@ -1,0 +1,138 @@
+"""One pipeline: the CLI gives what the panel keys; Blender shows phones on time; warnings reach the user."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+from turkish_lipsync import blender  # noqa: E402
+from turkish_lipsync.blender import compat, heads, keyframes, shapekeys  # noqa: E402
+from turkish_lipsync.core.pipeline import LipSyncOptions, lip_sync  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[2]
+TEXT = "<HAPPY>Merhaba</HAPPY>, benim adım Erdem. Bu sabah vapura binip geçtim."
+
+
+@pytest.fixture(scope="module", autouse=True)
+def registered():
+    blender.register()
+    yield
+    blender.unregister()
+
+
+@pytest.fixture
+def reference_head():
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    bpy.context.scene.render.fps = 25
+    objects = heads.create_reference_head(bpy.context)
+    shapekeys.build_shape_keys(objects["head"])
+    return objects["head"]
+
+
+def _cli_tracks(*arguments: str) -> dict:
+    result = subprocess.run(
+        [sys.executable, "-m", "turkish_lipsync", "timeline", "--text", TEXT, "--format", "json", *arguments],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=True,
+    )
+    return json.loads(result.stdout)["tracks"]
+
+
+def _keyed(head) -> dict[str, np.ndarray]:
+    """(frame, value) of every keyframe Blender holds on the head's TR_* keys."""
+    action = head.data.shape_keys.animation_data.action
+    curves = {}
+    for fcurve in compat.all_action_fcurves(action):
+        name = fcurve.data_path.split('"')[1]
+        points = np.empty(len(fcurve.keyframe_points) * 2)
+        fcurve.keyframe_points.foreach_get("co", points)
+        curves[name] = points.reshape(-1, 2)
+    return curves
+
+
+@pytest.mark.parametrize("timing, frame_tolerance", [("table", 1e-4), ("phone", 0.25)])
+def test_the_command_line_gives_the_tracks_the_panel_writes(reference_head, timing, frame_tolerance):
+    settings = bpy.context.scene.turkish_lipsync
+    settings.head = reference_head
+    block = bpy.data.texts.new("speech")
+    block.write(TEXT)
+    settings.source_kind, settings.text = "TEXT", block
+    settings.timing, settings.motion, settings.rate, settings.emotion_strength = timing, "thesis", 1.4, 0.5
+    assert bpy.ops.turkish_lipsync.generate() == {"FINISHED"}
+    keyed = _keyed(reference_head)
+    printed = _cli_tracks(
+        "--timing", timing, "--rate", "1.4", "--emotion-strength", "0.5", "--motion", "thesis", "--fps", "25"
+    )
+    assert printed["interpolation"] == "LINEAR"
+    assert set(printed["keys"]) == set(keyed)
+    start = bpy.context.scene.frame_start
+    for name, track in printed["keys"].items():
+        frames = np.asarray(track["frames"]) + start
+        assert len(frames) == len(keyed[name]), name
+        # eSpeak NG's phone onsets vary by a few milliseconds between runs; table timing is exact.
+        np.testing.assert_allclose(keyed[name][:, 0], frames, atol=frame_tolerance, err_msg=name)
+        np.testing.assert_allclose(keyed[name][:, 1], track["values"], atol=1e-5, err_msg=name)
+
+
+@pytest.mark.parametrize("fps", [24, 25, 30, 60])
+def test_blender_shows_each_spoken_phone_on_the_whole_frame_nearest_its_onset(reference_head, fps):
+    """On the frame nearest each phone the engine spoke, the evaluated face shows that phone's viseme.
+
+    The truth is the engine's own phone events; what is checked is the weight Blender evaluates on whole
+    frames of the written action (thesis motion: linear morphs between letter models).
+    """
+    scene = bpy.context.scene
+    scene.render.fps = fps
+    result = lip_sync(
+        "Babam bana mavi bir kalem aldı, şimdi okula gidiyoruz.", LipSyncOptions(motion="thesis", fps=fps)
+    )
+    keyframes.write_weight_tracks([reference_head], result.tracks, scene.frame_start, "TR_check")
+    letters = result.utterance.letters
+    events = result.synthesis.phone_events
+    onsets = np.array([event.start for event in events])
+    checked = 0
+    for number, event in enumerate(events):
+        if not event.letters:
+            continue
+        # Linear morphing puts the viseme above half weight within half a frame of its onset when the
+        # phone and the one before it last a frame or more.
+        before = onsets[number] - onsets[number - 1] if number else event.end - event.start
+        if min(before, event.end - event.start) < 1.0 / fps:
+            continue
+        frame = round(event.start * fps)
+        scene.frame_set(scene.frame_start + frame)
+        viseme = letters[event.letters[0]].viseme
+        weight = reference_head.data.shape_keys.key_blocks[f"TR_viseme_{viseme}"].value
+        assert weight >= 0.5 - 1e-4, (letters[event.letters[0]].char, event.start, frame, weight)
+        checked += 1
+    assert checked >= 0.6 * len(events)
+
+
+def test_a_head_lacking_units_is_warned_by_the_build_and_the_operator(capfd):
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    head = heads.create_reference_head(bpy.context)["head"]
+    shapekeys.build_shape_keys(head, parts=[], arkit_keys=True)
+    head["tr_reference_part"] = "not the reference"
+    head.location.x += 1.0  # away from the reference's place: only its own ARKit keys count
+    del head.data[shapekeys.BUILT_ARKIT_PROPERTY]
+    for name in ("mouthRollUpper", "mouthRollLower", "cheekPuff", "browInnerUp"):
+        head.shape_key_remove(head.data.shape_keys.key_blocks[name])
+    report = shapekeys.build_shape_keys(head, parts=[])
+    assert report.source == "arkit"
+    assert set(report.missing_units) == {"mouthRollUpper", "mouthRollLower", "cheekPuff", "browInnerUp"}
+    assert len(report.warnings) == 1 and "mouthRollUpper" in report.warnings[0]
+
+    bpy.context.scene.turkish_lipsync.head = head
+    bpy.context.scene.turkish_lipsync.key_source = "arkit"
+    capfd.readouterr()
+    assert bpy.ops.turkish_lipsync.build_shape_keys() == {"FINISHED"}
+    printed = capfd.readouterr()
+    assert "Warning:" in printed.out + printed.err and "cheekPuff" in printed.out + printed.err
