@@ -136,3 +136,32 @@ def test_a_head_lacking_units_is_warned_by_the_build_and_the_operator(capfd):
     assert bpy.ops.turkish_lipsync.build_shape_keys() == {"FINISHED"}
     printed = capfd.readouterr()
     assert "Warning:" in printed.out + printed.err and "cheekPuff" in printed.out + printed.err
+
+
+def test_a_cancelled_render_leaves_the_scene_as_it_was_and_no_partial_video(reference_head, tmp_path):
+    from turkish_lipsync.blender import pipeline
+
+    scene = bpy.context.scene
+    scene.render.engine = "BLENDER_WORKBENCH"
+    scene.render.resolution_x, scene.render.resolution_y = 321, 123
+    scene.render.filepath = "//my_frames/"
+    before_objects = set(bpy.data.objects.keys())
+    before = (
+        scene.render.engine,
+        scene.render.resolution_x,
+        scene.render.filepath,
+        scene.camera,
+        scene.world,
+    )
+    before_format = scene.render.image_settings.file_format
+    out = tmp_path / "clip.mp4"
+    prepared = pipeline.prepare_render(bpy.context, reference_head, str(out), engine="CYCLES", samples=2)
+    assert scene.render.engine == "CYCLES" and scene.camera is not None
+    assert set(bpy.data.objects.keys()) > before_objects  # camera and lights were added
+    out.write_bytes(b"half a video")  # what an interrupted render leaves
+    pipeline.cancel_render(bpy.context, prepared)
+    after = (scene.render.engine, scene.render.resolution_x, scene.render.filepath, scene.camera, scene.world)
+    assert after == before
+    assert scene.render.image_settings.file_format == before_format
+    assert set(bpy.data.objects.keys()) == before_objects
+    assert not out.exists()
