@@ -1,0 +1,149 @@
+"""Joining rendered video chunks and the speech into one MP4 without re-encoding the video (PyAV).
+
+A render farm renders frame ranges of one .blend on many machines; the chunks are H.264 streams made with
+the same settings, so their packets are copied one after another with shifted timestamps, and the speech
+is encoded once as AAC over the whole length. Needs no Blender: any Python with the `av` package runs it.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from fractions import Fraction
+from pathlib import Path
+
+import numpy as np
+
+from .errors import AudioError, LipSyncError
+
+AUDIO_RATE = 48000
+
+
+class VideoError(LipSyncError):
+    """Video chunks that cannot be joined."""
+
+
+@dataclass(frozen=True)
+class JoinResult:
+    path: Path
+    frame_count: int
+    seconds: float
+    chunk_frames: tuple[int, ...]
+
+
+def _require_av():
+    try:
+        import av
+    except ImportError as error:
+        raise VideoError(
+            "Joining videos needs PyAV: install the 'av' package into the Python that runs it "
+            "(python -m pip install av), or run render.py --join with a Python that has it."
+        ) from error
+    return av
+
+
+def _open(av, path: Path):
+    try:
+        return av.open(os.fspath(path))
+    except (OSError, av.error.FFmpegError) as error:
+        raise VideoError(f"Cannot read the video {path}: {error}. Render this chunk again.") from None
+
+
+def _signature(stream) -> tuple:
+    context = stream.codec_context
+    return (context.name, context.width, context.height, context.format.name, stream.average_rate)
+
+
+def join_videos(chunks: list[Path], out: Path, audio: Path | None = None) -> JoinResult:
+    """Copy the chunks' video packets in order into `out` (MP4), with the audio file as AAC from the first
+    frame on, cut to the video's length. The chunks must share codec, size, pixel format and frame rate."""
+    if not chunks:
+        raise VideoError("No chunks to join: give the rendered chunk videos in frame order.")
+    av = _require_av()
+    out = Path(out)
+    partial = out.with_name(out.stem + ".joining" + out.suffix)
+    inputs = []
+    try:
+        for chunk in chunks:
+            inputs.append(_open(av, Path(chunk)))
+        streams = []
+        for chunk, container in zip(chunks, inputs, strict=True):
+            if not container.streams.video:
+                raise VideoError(f"{chunk} holds no video stream; render this chunk again.")
+            streams.append(container.streams.video[0])
+        first = _signature(streams[0])
+        for chunk, stream in zip(chunks, streams, strict=True):
+            if (
+                _signature(stream) != first
+                or stream.codec_context.extradata != streams[0].codec_context.extradata
+            ):
+                raise VideoError(
+                    f"{chunk} was encoded differently from {chunks[0]} ({_signature(stream)} against "
+                    f"{first}): render every chunk from the same .blend with the same render.py settings."
+                )
+        rate = Fraction(streams[0].average_rate)
+        out.parent.mkdir(parents=True, exist_ok=True)
+        chunk_frames = []
+        with av.open(os.fspath(partial), "w", format="mp4") as output:
+            video_out = output.add_stream_from_template(streams[0])
+            audio_out = output.add_stream("aac", rate=AUDIO_RATE, layout="mono") if audio else None
+            frames = 0
+            last_dts = None
+            for chunk, container, stream in zip(chunks, inputs, streams, strict=True):
+                offset = round(Fraction(frames) / rate / stream.time_base)
+                count = 0
+                for packet in container.demux(stream):
+                    if packet.dts is None:  # the demuxer's end-of-stream marker
+                        continue
+                    packet.pts += offset
+                    packet.dts += offset
+                    seconds = float(packet.dts * stream.time_base)
+                    if last_dts is not None and seconds <= last_dts:
+                        raise VideoError(
+                            f"{chunk} overlaps the chunk before it (a frame at {seconds:.3f} s again): give "
+                            "each frame range once, in order."
+                        )
+                    last_dts = seconds
+                    packet.stream = video_out
+                    output.mux(packet)
+                    count += 1
+                chunk_frames.append(count)
+                frames += count
+            seconds = float(frames / rate)
+            if audio_out is not None:
+                _encode_audio(av, output, audio_out, Path(audio), seconds)
+        os.replace(partial, out)
+    finally:
+        for container in inputs:
+            container.close()
+        partial.unlink(missing_ok=True)
+    return JoinResult(out, frames, seconds, tuple(chunk_frames))
+
+
+def _encode_audio(av, output, stream, audio: Path, seconds: float) -> None:
+    """The audio file as mono AAC, exactly `seconds` long (cut, or padded with silence)."""
+    samples_left = int(round(seconds * AUDIO_RATE))
+    resampler = av.AudioResampler(format="fltp", layout="mono", rate=AUDIO_RATE)
+    try:
+        source = av.open(os.fspath(audio))
+    except (OSError, av.error.FFmpegError) as error:
+        raise AudioError(
+            f"Cannot read the speech audio {audio}: {error}. Generate the animation again."
+        ) from None
+    with source:
+        if not source.streams.audio:
+            raise AudioError(f"{audio} holds no audio stream; give the speech WAV.")
+        blocks = []
+        for frame in source.decode(source.streams.audio[0]):
+            blocks += [resampled.to_ndarray()[0] for resampled in resampler.resample(frame)]
+        blocks += [resampled.to_ndarray()[0] for resampled in resampler.resample(None)]
+    samples = np.concatenate(blocks) if blocks else np.zeros(0, dtype=np.float32)
+    samples = np.pad(samples[:samples_left], (0, max(0, samples_left - samples.size)))
+    frame = av.AudioFrame.from_ndarray(
+        np.ascontiguousarray(samples[None, :], dtype=np.float32), "fltp", "mono"
+    )
+    frame.sample_rate = AUDIO_RATE
+    for packet in stream.encode(frame):
+        output.mux(packet)
+    for packet in stream.encode(None):
+        output.mux(packet)
