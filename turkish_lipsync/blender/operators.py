@@ -211,14 +211,8 @@ class TURKISH_LIPSYNC_OT_generate(bpy.types.Operator):
 
 def options_of(settings) -> LipSyncOptions:
     """The core's options from the panel's settings (the frame rate is the scene's, set by generate)."""
-    return LipSyncOptions(
-        timing=settings.timing,
-        motion=settings.motion,
-        interpolation=settings.interpolation,
-        rate=settings.rate,
-        emotion_strength=settings.emotion_strength,
-        recording=Path(bpy.path.abspath(settings.recording)) if settings.recording else None,
-    )
+    recording = Path(bpy.path.abspath(settings.recording)) if settings.recording else None
+    return LipSyncOptions.from_attributes(settings, recording=recording)
 
 
 class TURKISH_LIPSYNC_OT_show_landmarks(bpy.types.Operator):
@@ -384,12 +378,4 @@ CLASSES = (
     TURKISH_LIPSYNC_OT_render,
 )
 
-
-def register() -> None:
-    for cls in CLASSES:
-        bpy.utils.register_class(cls)
-
-
-def unregister() -> None:
-    for cls in reversed(CLASSES):
-        bpy.utils.unregister_class(cls)
+register, unregister = bpy.utils.register_classes_factory(CLASSES)

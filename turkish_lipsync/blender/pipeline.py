@@ -299,14 +299,15 @@ def render_video(
     head: bpy.types.Object | None,
     out_path: str,
     *,
-    engine: str = "AUTO",
-    samples: int | None = None,
-    resolution: tuple[int, int] | None = None,
     progress: Progress | None = None,
+    **settings,
 ) -> RenderResult:
-    """Render the frame range to an MP4 with the speech, blocking (batch; the panel renders modally)."""
+    """Render the frame range to an MP4 with the speech, blocking (batch; the panel renders modally).
+
+    settings are prepare_render's: engine, samples, resolution.
+    """
     progress = progress or _no_progress
-    prepared = prepare_render(context, head, out_path, engine=engine, samples=samples, resolution=resolution)
+    prepared = prepare_render(context, head, out_path, **settings)
     frame_count = prepared.frame_count
     progress(0.05, f"Rendering {frame_count} frames with {prepared.engine} to {prepared.path}")
 

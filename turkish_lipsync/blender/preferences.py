@@ -55,12 +55,4 @@ def configure_speech_engine(context: bpy.types.Context) -> None:
 
 CLASSES = (TurkishLipSyncPreferences,)
 
-
-def register() -> None:
-    for cls in CLASSES:
-        bpy.utils.register_class(cls)
-
-
-def unregister() -> None:
-    for cls in reversed(CLASSES):
-        bpy.utils.unregister_class(cls)
+register, unregister = bpy.utils.register_classes_factory(CLASSES)

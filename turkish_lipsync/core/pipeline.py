@@ -60,6 +60,16 @@ class LipSyncOptions:
     recording: Path | None = None  # a recording of the text to align to instead of the synthetic voice
     engine: str = "espeak"
 
+    @classmethod
+    def from_attributes(cls, source: object, **given) -> LipSyncOptions:
+        """Options from any object naming them (the panel's settings, parsed command-line arguments)."""
+        named = {
+            field.name: getattr(source, field.name)
+            for field in dataclasses.fields(cls)
+            if field.name not in given and hasattr(source, field.name)
+        }
+        return cls(**named, **given)
+
     def __post_init__(self) -> None:
         for name, choices in (
             ("timing", TIMING_CHOICES),
