@@ -51,13 +51,31 @@ def _parser() -> argparse.ArgumentParser:
     _add_source_arguments(quality)
     quality.add_argument("--format", choices=("text", "json"), default="text")
     quality.set_defaults(run=_run_quality)
+
+    from .interchange import EXPORT_FORMATS
+
+    export = commands.add_parser(
+        "export", help="write the animation for other tools: Rhubarb cues, Moho .dat, Papagayo, ARKit CSV"
+    )
+    _add_source_arguments(export)
+    export.add_argument("--format", required=True, choices=tuple(EXPORT_FORMATS), dest="export_format")
+    export.add_argument("--out", type=Path, metavar="PATH", help="the file to write (default: print it)")
+    export.add_argument("--wav", type=Path, metavar="OUT.wav", help="also write the speech audio")
+    export.set_defaults(run=_run_export)
     return parser
 
 
 def _add_source_arguments(parser: argparse.ArgumentParser) -> None:
-    source = parser.add_mutually_exclusive_group(required=True)
+    source = parser.add_mutually_exclusive_group()
     source.add_argument("file", nargs="?", type=Path, metavar="FILE", help="a JSML or plain text file")
     source.add_argument("--text", help="JSML or plain text given on the command line")
+    parser.add_argument(
+        "--cues",
+        type=Path,
+        metavar="CUES",
+        help="time the visemes by a Rhubarb .tsv/.json/.xml, Papagayo .pgo or Moho .dat file (a .pgo's own "
+        "text is used when no text is given; --audio is then its sound, not aligned)",
+    )
     defaults = LipSyncOptions()
     parser.add_argument("--timing", choices=identifiers(TIMING_CHOICES), default=defaults.timing)
     parser.add_argument("--motion", choices=MOTION_MODES, default=defaults.motion)
@@ -73,9 +91,13 @@ def _add_source_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def read_source(file: Path | None, text: str | None) -> str:
+def read_source(file: Path | None, text: str | None, cues: Path | None = None) -> str:
     if text is not None:
         return text
+    if file is None:
+        if cues is not None:
+            return ""  # the cue file's own text, where it has one
+        raise LipSyncError("give the text to speak: a FILE or --text TEXT")
     try:
         return file.read_text(encoding="utf-8")
     except FileNotFoundError:
@@ -87,19 +109,11 @@ def read_source(file: Path | None, text: str | None) -> str:
 
 
 def options_from(args: argparse.Namespace) -> LipSyncOptions:
-    return LipSyncOptions(
-        timing=args.timing,
-        motion=args.motion,
-        interpolation=args.interpolation,
-        rate=args.rate,
-        emotion_strength=args.emotion_strength,
-        fps=args.fps,
-        recording=args.audio,
-    )
+    return LipSyncOptions.from_attributes(args, recording=args.audio)
 
 
 def _lip_sync(args: argparse.Namespace) -> LipSyncResult:
-    result = lip_sync(read_source(args.file, args.text), options_from(args))
+    result = lip_sync(read_source(args.file, args.text, args.cues), options_from(args))
     for warning in result.warnings:
         print(f"warning: {warning}", file=sys.stderr)
     return result
@@ -128,6 +142,43 @@ def _run_timeline(args: argparse.Namespace) -> int:
     else:
         print(timeline_as_tsv(result.timeline, args.fps))
     return 0
+
+
+def _run_export(args: argparse.Namespace) -> int:
+    from .interchange import export_text, write_export
+
+    result = _lip_sync(args)
+    sound_file = ""
+    if args.wav:
+        if result.synthesis is None:
+            raise LipSyncError("--wav needs speech: use --timing phone or word, or give --audio with --cues")
+        from .speech import write_wav
+
+        write_wav(args.wav, result.synthesis)
+        sound_file = _relative_to(args.wav, args.out.parent if args.out else Path.cwd())
+    contents, warnings = export_text(
+        args.export_format,
+        result.timeline,
+        args.fps,
+        tracks=result.tracks,
+        sound_file=sound_file,
+        text=read_source(args.file, args.text, args.cues) if args.export_format == "papagayo-pgo" else "",
+    )
+    for warning in warnings:
+        print(f"warning: {warning}", file=sys.stderr)
+    if args.out is None:
+        sys.stdout.write(contents)
+    else:
+        write_export(args.out, contents)
+    return 0
+
+
+def _relative_to(path: Path, folder: Path) -> str:
+    """A path as the exported file should name it: relative to the export's folder where possible."""
+    try:
+        return str(path.resolve().relative_to(folder.resolve()))
+    except ValueError:
+        return str(path.resolve())
 
 
 def _run_quality(args: argparse.Namespace) -> int:

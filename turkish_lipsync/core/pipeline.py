@@ -59,6 +59,9 @@ class LipSyncOptions:
     fps: float = 25.0
     recording: Path | None = None  # a recording of the text to align to instead of the synthetic voice
     engine: str = "espeak"
+    # A Rhubarb/Papagayo/Moho cue file timing the visemes instead of an engine (interchange/cue_timing.py);
+    # the recording is then its audio as it is, not aligned.
+    cues: Path | None = None
 
     @classmethod
     def from_attributes(cls, source: object, **given) -> LipSyncOptions:
@@ -82,6 +85,8 @@ class LipSyncOptions:
         _require_range("speaking rate", self.rate, RATE_RANGE, "a multiplier such as 0.8 or 1.2")
         _require_range("emotion strength", self.emotion_strength, (0.0, 1.0), "a share such as 0.5")
         _require_range("frame rate", self.fps, FPS_RANGE, "frames per second such as 25 or 29.97")
+        if self.cues is not None:
+            object.__setattr__(self, "cues", Path(self.cues))
         if self.recording is not None:
             object.__setattr__(self, "recording", Path(self.recording))
             if self.timing == "table":
@@ -115,12 +120,17 @@ def lip_sync(source: str, options: LipSyncOptions | None = None) -> LipSyncResul
     from .text.utterance import build_utterance
 
     options = options or LipSyncOptions()
-    if not source.strip():
-        raise TextError("The text is empty: write some Turkish text (plain or JSML) to speak.")
-    utterance = with_rate(build_utterance(source), options.rate)
-    speech = synthesize_timeline(
-        utterance, options.timing, recording=options.recording, engine=options.engine
-    )
+    if options.cues is not None:
+        from .interchange.cue_timing import speech_from_cues
+
+        utterance, speech = speech_from_cues(source, options.cues, options.recording, options.fps)
+    else:
+        if not source.strip():
+            raise TextError("The text is empty: write some Turkish text (plain or JSML) to speak.")
+        utterance = with_rate(build_utterance(source), options.rate)
+        speech = synthesize_timeline(
+            utterance, options.timing, recording=options.recording, engine=options.engine
+        )
     tracks = weight_tracks(
         speech.timeline, options.fps, mode=options.motion, emotion_strength=options.emotion_strength
     )

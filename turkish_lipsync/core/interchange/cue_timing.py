@@ -22,8 +22,13 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import TextError
 from ..model import Timeline, Utterance
+from ..speech.base import Synthesis
+from ..speech.recording import read_audio
+from ..speech.timeline import Speech
 from ..speech.timing import build_timeline, letter_durations
+from ..text.utterance import build_utterance
 from .cues import CueFileError, MouthCue, read_rhubarb_json, read_rhubarb_tsv, read_rhubarb_xml
 from .papagayo import read_moho_dat, read_pgo, rest_between
 from .shapes import REST, shape_for_viseme
@@ -118,6 +123,38 @@ def timeline_from_cues(utterance: Utterance, source: CueSource) -> tuple[Timelin
         warnings.append(f"{source.path}: {len(empty)} word(s) have no phonemes and get no mouth motion.")
     duration = max(source.duration, float(ends.max(initial=0.0)))
     return build_timeline(utterance, starts, ends, duration, CUE_TIMING), tuple(warnings)
+
+
+def speech_from_cues(
+    source: str, cue_path: Path | str, recording: Path | str | None = None, fps: float = 24.0
+) -> tuple[Utterance, Speech]:
+    """The utterance and its speech timed by a cue file: the text is the source, else the file's own text;
+    the audio is the recording, else the sound file the cue file names (beside it), else none."""
+    cue_source = read_cue_source(cue_path, fps)
+    text = source if source.strip() else cue_source.text
+    if not text.strip():
+        raise TextError(
+            f"{cue_source.path} holds no text (Rhubarb files never do): "
+            "give the Turkish text it was made from"
+        )
+    utterance = build_utterance(text)
+    timeline, warnings = timeline_from_cues(utterance, cue_source)
+    audio = Path(recording) if recording is not None else None
+    if audio is None and cue_source.sound_file:
+        named = cue_source.path.parent / cue_source.sound_file
+        if named.is_file():
+            audio = named
+        else:
+            warnings += (
+                f"{cue_source.path} names the sound {cue_source.sound_file}, which is not there: "
+                "the animation has no audio; give the recording as well.",
+            )
+    synthesis = None
+    if audio is not None:
+        samples, rate = read_audio(audio)
+        pcm = np.clip(np.round(samples * 32768), -32768, 32767).astype(np.int16)  # 16-bit WAVs exactly
+        synthesis = Synthesis(pcm, rate, (), (), "recording")
+    return utterance, Speech(timeline, synthesis, warnings)
 
 
 def _speech_runs(cues: tuple[MouthCue, ...]) -> list[list[MouthCue]]:
