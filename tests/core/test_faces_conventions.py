@@ -197,3 +197,11 @@ def test_bad_user_mapping_is_refused_with_its_path(tmp_path, text, message):
 def test_missing_user_mapping_says_so(tmp_path):
     with pytest.raises(DataError, match="not found"):
         read_user_mapping(tmp_path / "none.toml")
+
+
+def test_without_another_basis_the_report_says_what_is_missing():
+    vrm = _by_name()["vrm"]
+    plans = plan_keys(match_convention(["ah", "ih", "uu", "ee", "oh"], vrm), load_recipes())
+    assert plans[viseme_key_name("bpa")].describe(None) == "rest shape (lip press missing: no other basis)"
+    assert plans[emotion_key_name("sad")].describe(None) == "at rest: no other basis"
+    assert plans[viseme_key_name("o")].describe(None) == "own keys: oh 1"

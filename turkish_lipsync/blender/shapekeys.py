@@ -6,15 +6,25 @@ it was; only the keys this module owns are replaced, so the user's keys, values 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import bpy
 import numpy as np
 
-from ..core.errors import HeadError
+from ..core.errors import HeadError, LipSyncError
 from ..core.faces import transfer
 from ..core.faces.arkit_names import ARKIT_UNITS, has_arkit_basis, match_arkit_keys
+from ..core.faces.conventions import (
+    ConventionMatch,
+    convention_key_deltas,
+    load_conventions,
+    match_convention,
+    plan_keys,
+    read_user_mapping,
+    recognise_convention,
+)
 from ..core.faces.landmarks import find_landmarks
 from ..core.faces.recipes import VISEME_NAMES, key_deltas, load_recipes
 from ..core.faces.reference import ReferenceHead, load_reference_head
@@ -23,9 +33,11 @@ from . import mesh
 from .heads import find_head_parts, reference_part_of
 from .landmarks import read_landmark_markers
 
-SOURCES = ("auto", "arkit", "reference", "transfer", "obj_folder")
+SOURCES = ("auto", "convention", "arkit", "reference", "transfer", "obj_folder")
 # Mesh property listing the ARKit-named keys this module wrote (so a rebuild never touches the user's own).
 BUILT_ARKIT_PROPERTY = "tr_built_arkit_keys"
+# Mesh property: built key name -> where it came from (the panel lists it).
+KEY_SOURCES_PROPERTY = "tr_key_sources"
 _MATCH_GRID = 1e-4  # metres: vertices this close to a reference vertex are that vertex
 
 
@@ -34,34 +46,54 @@ class BuildReport:
     """What a build did: shown to the user and checked in tests."""
 
     head: str
-    source: str  # "arkit", "reference", "transfer" or "obj_folder"
+    source: str  # "convention", "arkit", "reference", "transfer" or "obj_folder"
     keys: tuple[str, ...]  # key names written on the head
     objects: tuple[str, ...]  # every object that received the keys (head first)
     missing_units: tuple[str, ...] = ()  # ARKit units the basis lacked (treated as zero)
     warnings: tuple[str, ...] = ()  # what the user must hear about the result (the operator reports them)
+    key_sources: Mapping[str, str] = field(default_factory=dict)  # key name -> where it came from
+    convention: str = ""  # the title of the convention (or mapping file) the head's own keys follow
 
 
 # ---------------------------------------------------------------- the ARKit basis, by source
 
 
-def own_arkit_units(obj: bpy.types.Object) -> dict[str, np.ndarray]:
-    """The object's own ARKit-named keys as (N, 3) local deltas against each key's relative key."""
+def own_key_names(obj: bpy.types.Object) -> list[str]:
+    """The user's own shape keys on obj: neither the rest key nor any key a build wrote."""
+    shape_keys = obj.data.shape_keys
+    if shape_keys is None:
+        return []
+    built = set(obj.data.get(BUILT_ARKIT_PROPERTY, ()))
+    return [
+        block.name
+        for block in shape_keys.key_blocks
+        if block != shape_keys.reference_key
+        and not block.name.startswith(OWNED_PREFIX)
+        and block.name not in built
+    ]
+
+
+def own_key_deltas(obj: bpy.types.Object, key_names) -> dict[str, np.ndarray]:
+    """(N, 3) local deltas of the named keys (those obj has) against each key's relative key."""
     shape_keys = obj.data.shape_keys
     if shape_keys is None:
         return {}
-    blocks = [block for block in shape_keys.key_blocks if block != shape_keys.reference_key]
-    built = set(obj.data.get(BUILT_ARKIT_PROPERTY, ()))
-    names = [
-        block.name for block in blocks if not block.name.startswith(OWNED_PREFIX) and block.name not in built
-    ]
     count = len(obj.data.vertices)
-    units: dict[str, np.ndarray] = {}
-    for unit, key_name in match_arkit_keys(names).items():
-        block = shape_keys.key_blocks[key_name]
-        units[unit] = mesh.read_coordinates(block.data, count) - mesh.read_coordinates(
-            block.relative_key.data, count
-        )
-    return units
+    deltas: dict[str, np.ndarray] = {}
+    for key_name in key_names:
+        block = shape_keys.key_blocks.get(key_name)
+        if block is not None:
+            deltas[key_name] = mesh.read_coordinates(block.data, count) - mesh.read_coordinates(
+                block.relative_key.data, count
+            )
+    return deltas
+
+
+def own_arkit_units(obj: bpy.types.Object) -> dict[str, np.ndarray]:
+    """The object's own ARKit-named keys as (N, 3) local deltas against each key's relative key."""
+    matched = match_arkit_keys(own_key_names(obj))
+    deltas = own_key_deltas(obj, matched.values())
+    return {unit: deltas[key_name] for unit, key_name in matched.items()}
 
 
 def _reference_units_by_part(obj: bpy.types.Object, reference: ReferenceHead) -> dict[str, np.ndarray] | None:
@@ -245,14 +277,16 @@ def build_shape_keys(
     parts: list[bpy.types.Object] | None = None,
     source: str = "auto",
     obj_folder: str | Path | None = None,
+    mapping_file: str | Path | None = None,
     empowered: bool = False,
     rho: float = 3.0,
     arkit_keys: bool = False,
 ) -> BuildReport:
     """Write TR_viseme_* (37), TR_emotion_* (6 + 6 mouth releases), blinks and brow raise on head and parts.
 
-    source: "auto" (own ARKit keys, else the reference head's units when the mesh is a piece of it, else a
-    transfer), "arkit", "reference", "transfer", or "obj_folder" (the thesis's homeomorphic OBJ models).
+    source: "auto" (the head's own visemes of a known convention or of mapping_file, else its own ARKit
+    keys, else the reference head's units when the mesh is a piece of it, else a transfer), "convention",
+    "arkit", "reference", "transfer", or "obj_folder" (the thesis's homeomorphic OBJ models).
     empowered stores emotions as rho * (E - N) (thesis eq. 5.2). arkit_keys also writes the 52 units
     under Apple's names where the object has no such keys of its own.
     """
@@ -270,21 +304,34 @@ def build_shape_keys(
     shaping = _Shaping(load_recipes(), empowered, rho)
 
     # Compute every array first: nothing is written until all of them exist and are sound.
-    if source == "obj_folder" or (source == "auto" and obj_folder is not None):
-        used_source, planned, unit_sets, warnings = _plan_from_obj_folder(head, parts, obj_folder, shaping)
+    match = _convention_match(head, source, mapping_file, obj_folder)
+    convention = match.convention.title if match is not None else ""
+    if match is not None:
+        used_source = "convention"
+        planned, unit_sets, warnings, key_sources = _plan_from_convention(head, parts, match, shaping)
+    elif source == "obj_folder" or (source == "auto" and obj_folder is not None):
+        used_source, planned, unit_sets, warnings, key_sources = _plan_from_obj_folder(
+            head, parts, obj_folder, shaping
+        )
     else:
         used_source, unit_sets = _unit_sets(head, parts, source, load_reference_head())
         planned = {obj.name: shaping.keys(unit_sets.get(obj.name, {}), obj) for obj in objects}
         if arkit_keys:
             _plan_arkit_keys(objects, unit_sets, planned)
         warnings = []
-    missing = () if used_source == "obj_folder" else _missing_units(unit_sets.get(head.name, {}))
+        key_sources = dict.fromkeys(planned[head.name], used_source)
+    missing = (
+        () if used_source in ("obj_folder", "convention") else _missing_units(unit_sets.get(head.name, {}))
+    )
     if missing:
         warnings.append(_missing_units_warning(head.name, missing))
     _check_planned(objects, planned)
 
     for obj in objects:
         _write_keys(obj, planned[obj.name], arkit_keys=arkit_keys)
+    head.data[KEY_SOURCES_PROPERTY] = {
+        key: key_sources[key] for key in planned[head.name] if key in key_sources
+    }
     return BuildReport(
         head=head.name,
         source=used_source,
@@ -292,7 +339,64 @@ def build_shape_keys(
         objects=tuple(obj.name for obj in objects),
         missing_units=missing,
         warnings=tuple(warnings),
+        key_sources=key_sources,
+        convention=convention,
     )
+
+
+def _convention_match(head, source: str, mapping_file, obj_folder) -> ConventionMatch | None:
+    """The head's own keys as a convention's shapes (or the user's mapping), when that is the source."""
+    if source not in ("auto", "convention") or (source == "auto" and obj_folder is not None):
+        return None
+    names = own_key_names(head)
+    if mapping_file:
+        mapping = read_user_mapping(mapping_file)
+        match = match_convention(names, mapping)
+        if not match.shapes and not match.expressions:
+            raise HeadError(
+                f"None of the keys named in {mapping_file} is on {head.name!r}; check their spelling "
+                "against the head's shape keys (names must match exactly)."
+            )
+        return match
+    match = recognise_convention(names)
+    if match is None and source == "convention":
+        titles = ", ".join(convention.title for convention in load_conventions())
+        raise HeadError(
+            f"The shape keys of {head.name!r} follow none of the known viseme conventions ({titles}); "
+            "give a mapping file (TOML) naming its keys, or choose another source."
+        )
+    return match
+
+
+def _plan_from_convention(head, parts, match: ConventionMatch, shaping: _Shaping):
+    """TR keys as weighted sums of the head's own keys; what the convention lacks from the other basis."""
+    plans = plan_keys(match, shaping.recipes)
+    warnings: list[str] = []
+    fallback, unit_sets = None, {}
+    if any(plan.units for plan in plans.values()):
+        try:
+            fallback, unit_sets = _unit_sets(head, parts, "auto", load_reference_head())
+        except LipSyncError as error:
+            lacking = sorted(key for key, plan in plans.items() if plan.units)
+            warnings.append(
+                f"{len(lacking)} keys of {head.name!r} need what its {match.convention.title} lack "
+                f"({', '.join(lacking[:4])}...), but no other basis could be built, so that part stays at "
+                f"rest: {error}"
+            )
+    own_names = {name for plan in plans.values() for name in (*plan.shapes, plan.release_of) if name}
+    planned = {}
+    for obj in [head, *parts]:
+        own = own_key_deltas(obj, own_names)
+        planned[obj.name] = convention_key_deltas(
+            plans,
+            own,
+            unit_sets.get(obj.name, {}),
+            len(obj.data.vertices),
+            empowered=shaping.empowered,
+            rho=shaping.rho,
+        )
+    key_sources = {key: plan.describe(fallback) for key, plan in plans.items()}
+    return planned, unit_sets, warnings, key_sources
 
 
 @dataclass(frozen=True)
@@ -313,9 +417,9 @@ def _plan_from_obj_folder(head, parts, obj_folder, shaping: _Shaping):
     obj_keys = obj_folder_keys(head, obj_folder)
     warnings: list[str] = []
     try:
-        _, unit_sets = _unit_sets(head, parts, "auto", load_reference_head())
+        basis, unit_sets = _unit_sets(head, parts, "auto", load_reference_head())
     except HeadError as error:
-        unit_sets = {}
+        basis, unit_sets = "nothing", {}
         warnings.append(f"No ARKit basis on {head.name!r} for blinks and brows, so they stay still: {error}")
     planned = {
         obj.name: shaping.keys(unit_sets[obj.name], obj) if unit_sets.get(obj.name) else {}
@@ -327,7 +431,8 @@ def _plan_from_obj_folder(head, parts, obj_folder, shaping: _Shaping):
     for part in parts:  # the models move the head only; parts keep the visemes' names at rest
         for key_name in obj_keys:
             planned[part.name].setdefault(key_name, np.zeros((len(part.data.vertices), 3), np.float32))
-    return "obj_folder", planned, unit_sets, warnings
+    key_sources = {key: "obj_folder" if key in obj_keys else basis for key in planned[head.name]}
+    return "obj_folder", planned, unit_sets, warnings, key_sources
 
 
 def _plan_arkit_keys(objects, unit_sets, planned) -> None:

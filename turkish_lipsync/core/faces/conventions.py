@@ -26,8 +26,10 @@ CONVENTIONS_DIR = DATA_DIR / "conventions"
 EXPRESSIONS: tuple[str, ...] = (*EMOTIONS, *EXTRA_KEYS)
 _MAX_WEIGHT = 2.0
 # A vertex counts fully as mouth (released under a viseme) where a mouth shape moves it by at least this
-# share of the largest mouth motion; less moved vertices are released in proportion.
+# share of the largest mouth motion, and not at all below the floor (the eyes and brows a wide-open jaw
+# barely stirs); in between it is released in proportion.
 _MOUTH_SHARE = 0.25
+_MOUTH_FLOOR = 0.05
 
 
 @dataclass(frozen=True)
@@ -73,13 +75,18 @@ class KeyPlan:
         """Where the key came from, in words: 'azure: aa_02 1', 'vrm: ah 0.3 + transfer (lip closure)'."""
         if self.release_of:
             return f"own key {self.release_of}, its mouth part"
-        own = ", ".join(f"{name} {weight:g}" for name, weight in self.shapes.items())
+        own = f"own keys: {', '.join(f'{name} {weight:g}' for name, weight in self.shapes.items())}"
+        if not self.shapes:
+            own = "rest shape"
         if not self.units:
-            return f"own keys: {own}" if own else "rest shape"
-        basis = fallback or "nothing (no other basis)"
-        if not own:
-            return f"{basis} ({self.fills})" if self.fills else basis
-        return f"own keys: {own} + {basis} ({self.fills})"
+            return own
+        if fallback is None:
+            return (
+                f"{own} ({self.fills} missing: no other basis)" if self.fills else "at rest: no other basis"
+            )
+        if not self.shapes:
+            return f"{fallback} ({self.fills})" if self.fills else fallback
+        return f"{own} + {fallback} ({self.fills})"
 
 
 # ---------------------------------------------------------------- names
@@ -188,7 +195,7 @@ def mouth_weights(mouth_shapes: Iterable[np.ndarray], vertex_count: int) -> np.n
     largest = float(motion.max()) if vertex_count else 0.0
     if largest <= 0:
         return motion
-    return np.clip(motion / (_MOUTH_SHARE * largest), 0.0, 1.0)
+    return np.clip((motion / largest - _MOUTH_FLOOR) / (_MOUTH_SHARE - _MOUTH_FLOOR), 0.0, 1.0)
 
 
 def convention_key_deltas(

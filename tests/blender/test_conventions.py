@@ -1,0 +1,199 @@
+"""Heads with visemes of their own: Vitruvian's Azure visemes and Godette's VRM vowels build the TR keys."""
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+from tests.heads_on_disk import HEADS  # noqa: E402
+from turkish_lipsync.blender import heads, mesh, shapekeys  # noqa: E402
+from turkish_lipsync.core.errors import HeadError  # noqa: E402
+from turkish_lipsync.core.model import emotion_key_name, viseme_key_name  # noqa: E402
+
+VITRUVIAN = HEADS / "vitruvian" / "vitruvian_head_facs.glb"
+GODETTE = HEADS / "godette" / "Godette_vrm_v4_named.glb"
+BILABIALS = ("bpa", "bpe", "bpo", "ma", "me", "mo")
+OPEN_VOWELS = ("a", "e", "o")
+
+
+def _import(path, name):
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    heads.import_head(path)
+    return bpy.data.objects[name]
+
+
+def _own_keys(head):
+    """Every key of the head's own, as (value, coordinates), to check that a build leaves them alone."""
+    blocks = head.data.shape_keys.key_blocks
+    count = len(head.data.vertices)
+    return {
+        block.name: (block.value, mesh.read_coordinates(block.data, count))
+        for block in blocks
+        if not block.name.startswith("TR_")
+    }
+
+
+def _shape(head, key_name):
+    """World coordinates of the head with one key at full weight (the key's own coordinates)."""
+    block = head.data.shape_keys.key_blocks[key_name]
+    return mesh.to_world(head, mesh.read_coordinates(block.data, len(head.data.vertices)))
+
+
+class MidlineLips:
+    """The midline gap between the lips: lowest upper-lip vertex minus highest lower-lip vertex (metres).
+
+    The lips are told apart by the head's own open mouth, which drops the lower lip; only vertices near the
+    front of the face's profile at their height count (within a 40th of the head's height), not the teeth.
+    """
+
+    def __init__(self, head, open_key, forward):
+        rest = mesh.world_rest_coordinates(head)
+        height = float(np.ptp(rest[:, 2]))
+        drop = -(_shape(head, open_key) - rest)[:, 2]
+        midline = np.where(np.abs(rest[:, 0] - np.median(rest[:, 0])) < 1e-3 * height)[0]
+        depth = rest[midline] @ np.asarray(forward, dtype=np.float32)
+        heights = rest[midline, 2]
+        level = np.abs(heights[:, None] - heights[None]) < 0.01 * height
+        profile = np.where(level, depth[None], -np.inf).max(axis=1)  # the face's front at each height
+        front = midline[depth > profile - 0.025 * height]
+        lower = front[drop[front] > 0.5 * drop.max()]
+        top_of_lower = rest[lower, 2].max()
+        near = front[np.abs(rest[front, 2] - top_of_lower) < 0.03 * height]
+        self.lower = near[drop[near] > 0.5 * drop.max()]
+        self.upper = near[drop[near] < 0.1 * drop.max()]
+        assert len(self.lower) and len(self.upper)
+
+    def gap(self, shape):
+        return float(shape[self.upper, 2].min() - shape[self.lower, 2].max())
+
+
+@pytest.fixture(scope="module")
+def vitruvian():
+    if not VITRUVIAN.is_file():
+        pytest.skip("shared heads not found")
+    head = _import(VITRUVIAN, "Vitruvian_head")
+    before = _own_keys(head)
+    report = shapekeys.build_shape_keys(head)
+    return head, report, before
+
+
+@pytest.fixture(scope="module")
+def godette():
+    if not GODETTE.is_file():
+        pytest.skip("shared heads not found")
+    head = _import(GODETTE, "Face")
+    before = _own_keys(head)
+    report = shapekeys.build_shape_keys(head)
+    return head, report, before
+
+
+def test_vitruvian_builds_from_its_azure_visemes_and_emotions(vitruvian):
+    head, report, _ = vitruvian
+    assert report.source == "convention" and report.convention.startswith("Azure")
+    sources = report.key_sources
+    assert sources[viseme_key_name("a")] == "own keys: aa_02 1"
+    assert sources[viseme_key_name("bpa")] == "own keys: p_b_m_21 1"
+    assert "w_uw_07" in sources[viseme_key_name("u")]
+    assert sources[emotion_key_name("happy")] == "own keys: Happy 1"
+    assert sources[emotion_key_name("angry")] == "own keys: Angry 1"
+    assert sources[emotion_key_name("afraid")] == "own keys: Scared 1"
+    assert sources["TR_blink_left"] == "own keys: Eyes_Closed_Left 1"
+    assert sources[emotion_key_name("surprised")] == "transfer"  # no surprise on the head: transferred
+    assert dict(head.data[shapekeys.KEY_SOURCES_PROPERTY]) == dict(sources)  # what the panel lists
+    own = _shape(head, "aa_02") - mesh.world_rest_coordinates(head)
+    built = _shape(head, viseme_key_name("a")) - mesh.world_rest_coordinates(head)
+    np.testing.assert_allclose(built, own, atol=1e-6)
+
+
+def test_vitruvian_bilabials_close_and_open_vowels_open(vitruvian):
+    head, _, _ = vitruvian
+    lips = MidlineLips(head, "Mouth_Large_Opened", forward=(0, -1, 0))
+    for viseme in BILABIALS:
+        assert lips.gap(_shape(head, viseme_key_name(viseme))) < 0.001, viseme
+    for viseme in OPEN_VOWELS:
+        assert lips.gap(_shape(head, viseme_key_name(viseme))) > 0.003, viseme
+    assert lips.gap(_shape(head, viseme_key_name("a"))) > 0.01
+    assert lips.gap(_shape(head, viseme_key_name("a"))) > 0.4 * lips.gap(_shape(head, "Mouth_Large_Opened"))
+
+
+def test_own_emotion_is_released_only_around_the_mouth(vitruvian):
+    head, _, _ = vitruvian
+    rest = mesh.world_rest_coordinates(head)
+    happy = _shape(head, emotion_key_name("happy")) - rest
+    release = _shape(head, emotion_key_name("happy") + "_mouth_release") - rest
+    opening = np.linalg.norm(_shape(head, viseme_key_name("a")) - rest, axis=1)
+    mouth_moved = opening > 0.5 * opening.max()
+    moved = np.linalg.norm(happy, axis=1) > 1e-4
+    assert (moved & ~mouth_moved).any()
+    together = happy + release
+    # Where the visemes move the face, the release cancels the smile; around the eyes and brows it stays.
+    assert np.abs(together[mouth_moved]).max() < 1e-5
+    upper_face = moved & (rest[:, 2] > rest[mouth_moved, 2].max() + 0.04)
+    assert upper_face.sum() > 100
+    np.testing.assert_allclose(together[upper_face], happy[upper_face], atol=1e-6)
+
+
+def test_a_build_leaves_the_heads_own_keys_alone_and_rebuilds_in_place(vitruvian):
+    head, report, before = vitruvian
+    after = _own_keys(head)
+    assert set(after) == set(before)
+    for name, (value, coordinates) in before.items():
+        assert after[name][0] == value
+        np.testing.assert_array_equal(after[name][1], coordinates)
+    count = len(head.data.shape_keys.key_blocks)
+    again = shapekeys.build_shape_keys(head)
+    assert len(head.data.shape_keys.key_blocks) == count
+    assert again.key_sources == report.key_sources
+
+
+def test_godette_builds_from_its_vrm_vowels_and_blinks(godette):
+    head, report, _ = godette
+    assert report.source == "convention" and report.convention == "VRM vowels"
+    sources = report.key_sources
+    assert sources[viseme_key_name("a")] == "own keys: ah 1"
+    assert sources[viseme_key_name("u")] == "own keys: uu 1"
+    assert sources["TR_blink_left"] == "own keys: blink_left 1"
+    assert sources["TR_blink_right"] == "own keys: blink_right 1"
+    # Godette faces +Y, so no transfer can fill what VRM lacks: the report and a warning say so.
+    assert sources[viseme_key_name("bpa")] == "rest shape (lip press missing: no other basis)"
+    assert any("no other basis" in warning for warning in report.warnings)
+
+
+def test_godette_bilabials_close_and_open_vowels_open(godette):
+    head, _, _ = godette
+    lips = MidlineLips(head, "ah", forward=(0, 1, 0))
+    assert lips.gap(mesh.world_rest_coordinates(head)) < 0.001  # VRM heads rest with closed lips
+    for viseme in BILABIALS:
+        assert lips.gap(_shape(head, viseme_key_name(viseme))) < 0.001, viseme
+    for viseme in ("a", "o"):  # Godette's own ee is a wide, flat mouth that keeps the midline shut
+        assert lips.gap(_shape(head, viseme_key_name(viseme))) > 0.01, viseme
+
+
+def test_a_users_mapping_file_names_the_keys(tmp_path):
+    if not GODETTE.is_file():
+        pytest.skip("shared heads not found")
+    head = _import(GODETTE, "Face")
+    mapping = tmp_path / "godette.toml"
+    mapping.write_text(
+        '[visemes.a]\nshapes = { oh = 0.5, ah = 0.5 }\n[expressions]\nhappy = "angled_eyebrows"\n',
+        encoding="utf-8",
+    )
+    report = shapekeys.build_shape_keys(head, mapping_file=mapping)
+    assert report.convention == "own mapping godette.toml"
+    assert report.key_sources[viseme_key_name("a")] == "own keys: oh 0.5, ah 0.5"
+    assert report.key_sources[emotion_key_name("happy")] == "own keys: angled_eyebrows 1"
+    rest = mesh.world_rest_coordinates(head)
+    expected = 0.5 * (_shape(head, "oh") - rest) + 0.5 * (_shape(head, "ah") - rest)
+    np.testing.assert_allclose(_shape(head, viseme_key_name("a")) - rest, expected, atol=1e-6)
+    missing = tmp_path / "other.toml"
+    missing.write_text('[visemes.a]\nshapes = { "Jaw Open" = 1.0 }\n', encoding="utf-8")
+    with pytest.raises(HeadError, match="None of the keys"):
+        shapekeys.build_shape_keys(head, mapping_file=missing)
+    assert report.key_sources == dict(head.data[shapekeys.KEY_SOURCES_PROPERTY])  # the failed build kept them
+
+
+def test_convention_source_on_a_head_without_visemes_says_what_to_do():
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    objects = heads.create_reference_head(bpy.context)
+    with pytest.raises(HeadError, match="mapping file"):
+        shapekeys.build_shape_keys(objects["head"], source="convention")

@@ -1,0 +1,80 @@
+"""The .glb export, read back: re-imported into Blender it plays the same weights at the same frames."""
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+from turkish_lipsync.blender import gltf_export, heads, pipeline, shapekeys  # noqa: E402
+from turkish_lipsync.core.errors import LipSyncError  # noqa: E402
+from turkish_lipsync.core.pipeline import LipSyncOptions  # noqa: E402
+
+TEXT = "<SENT><HAPPY>Merhaba</HAPPY>, benim adım Erdem.</SENT>"
+
+
+def _weights(objects, frames):
+    """object name -> (frames, keys) array of every non-basis key's value as the scene plays."""
+    scene = bpy.context.scene
+    result = {obj.name: [] for obj in objects}
+    for frame in frames:
+        scene.frame_set(frame)
+        for obj in objects:
+            result[obj.name].append([block.value for block in obj.data.shape_keys.key_blocks[1:]])
+    return {name: np.array(values) for name, values in result.items()}
+
+
+@pytest.fixture(scope="module")
+def exported(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("glb")
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    scene.render.fps = 30
+    objects = heads.create_reference_head(bpy.context)
+    head, teeth = objects["head"], objects["lower_teeth"]
+    shapekeys.build_shape_keys(head)
+    generated = pipeline.generate(bpy.context, head, TEXT, LipSyncOptions(), audio_folder=str(folder))
+    frames = range(scene.frame_start, scene.frame_end + 1)
+    played = _weights([head, teeth], frames)
+    key_names = {obj.name: [b.name for b in obj.data.shape_keys.key_blocks[1:]] for obj in (head, teeth)}
+    teeth.select_set(True)
+    bpy.context.view_layer.objects.active = teeth
+    result = gltf_export.export_gltf(bpy.context, head, folder / "speech")
+    selection = (teeth.select_get(), head.select_get(), bpy.context.view_layer.objects.active.name)
+    return result, generated, frames, played, key_names, selection
+
+
+def test_the_glb_and_the_wav_beside_it(exported):
+    result, generated, frames, _, _, selection = exported
+    assert result.path.endswith("speech.glb")
+    assert result.morph_targets == 52  # 37 visemes, 6 emotions + 6 releases, 2 blinks, a brow raise
+    assert result.animated_nodes >= 2  # the head and at least the teeth and tongue that follow the jaw
+    assert (result.frame_start, result.frame_end) == (frames.start, frames.stop - 1)
+    with open(generated.wav_path, "rb") as spoken, open(result.wav_path, "rb") as beside:
+        assert spoken.read() == beside.read()
+    assert result.wav_path.endswith("speech.wav")
+    assert selection == (True, False, "TR_Head_LowerTeeth")  # the user's selection came back
+
+
+def test_reimported_glb_plays_the_same_weights_at_the_same_frames(exported):
+    result, _, frames, played, key_names, _ = exported
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    bpy.context.scene.render.fps = 30
+    bpy.ops.import_scene.gltf(filepath=result.path)
+    imported = [bpy.data.objects[name] for name in played]
+    for obj in imported:
+        assert [b.name for b in obj.data.shape_keys.key_blocks[1:]] == key_names[obj.name]
+    replayed = _weights(imported, frames)
+    for name, weights in played.items():
+        assert weights.max() > 0.5  # the speech moves the keys
+        np.testing.assert_allclose(replayed[name], weights, atol=1e-4, err_msg=name)
+
+
+def test_a_head_without_animation_is_refused(tmp_path):
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    head = heads.create_reference_head(bpy.context)["head"]
+    with pytest.raises(LipSyncError, match="Build"):
+        gltf_export.export_gltf(bpy.context, head, tmp_path / "x.glb")
+    shapekeys.build_shape_keys(head)
+    with pytest.raises(LipSyncError, match="Generate Animation"):
+        gltf_export.export_gltf(bpy.context, head, tmp_path / "x.glb")
+    assert not (tmp_path / "x.glb").exists()
