@@ -93,7 +93,7 @@ def test_turkish_lower_and_upper() -> None:
         ("1000000000000000", "bir katrilyon"),
         ("007", "sıfır sıfır yedi"),
         ("3,5", "üç virgül beş"),
-        ("3.5", "üç nokta beş"),
+        ("3.5", "üç virgül beş"),  # a decimal point is said "virgül", as Turkish says decimals
         ("3,05", "üç virgül sıfır beş"),
         ("1.250,75", "bin iki yüz elli virgül yetmiş beş"),
         ("%25", "yüzde yirmi beş"),
@@ -110,9 +110,9 @@ def test_turkish_lower_and_upper() -> None:
         ("Bitti. 2. Madde", "bitti | ikinci madde"),
         ("2024'te 1990'larda", "iki bin yirmi dörtte bin dokuz yüz doksanlarda"),
         ("saat 14:30", "saat on dört otuz"),
-        ("25.12.2023", "yirmi beş on iki iki bin yirmi üç"),
+        ("25.12.2023", "yirmi beş aralık iki bin yirmi üç"),
         ("192.168.1.1", "yüz doksan iki nokta yüz altmış sekiz nokta bir nokta bir"),
-        ("1/2", "bir bölü iki"),
+        ("1/2", "yarım"),
         ("$5 ve 10€", "beş dolar ve on avro"),
         ("5 km 3 kg 10 cm 2 m", "beş kilometre üç kilogram on santimetre iki metre"),
         ("5km'den", "beş kilometreden"),
@@ -216,7 +216,10 @@ def test_punctuation_becomes_pauses() -> None:
 
 
 def test_hyphens_split_words_without_a_pause() -> None:
-    assert spoken("Kuzey-Güney hattı, 2023-2024") == "kuzey güney hattı | iki bin yirmi üç iki bin yirmi dört"
+    assert (
+        spoken("Kuzey-Güney hattı, 2023-2024")
+        == "kuzey güney hattı | iki bin yirmi üç ile iki bin yirmi dört"
+    )
 
 
 def test_emoji_and_symbols_are_dropped() -> None:

@@ -1,0 +1,194 @@
+"""The tables that say how written Turkish is spoken, read once from shapekeys/ and validated.
+
+abbreviations.toml holds words, letters, numbers and abbreviations; units.toml units and currencies.
+Every spoken form must be lowercase Turkish words, so a typo in a table fails at load with its file and key.
+"""
+
+from __future__ import annotations
+
+import unicodedata
+from dataclasses import dataclass
+from functools import cache, lru_cache
+
+from ..data import DATA_DIR, load_table
+from ..errors import DataError
+
+TURKISH_LETTERS: frozenset[str] = frozenset("abcçdefgğhıijklmnoöprsştuüvyz")
+VOWELS: frozenset[str] = frozenset("aeıioöuü")
+
+
+def turkish_lower(text: str) -> str:
+    """Lowercase by Turkish rules: I -> ı and İ -> i (Python's str.lower gives i and i + U+0307)."""
+    return text.replace("I", "ı").replace("İ", "i").lower()
+
+
+def turkish_upper(text: str) -> str:
+    """Uppercase by Turkish rules: i -> İ and ı -> I."""
+    return text.replace("i", "İ").replace("ı", "I").upper()
+
+
+@dataclass(frozen=True)
+class Currency:
+    name: str  # lira
+    subunit: str  # kuruş
+
+
+@dataclass(frozen=True)
+class PerTimeUnit:
+    """A rate such as km/sa, spoken with the time first: "saatte yüz kilometre"."""
+
+    before: str
+    after: str
+
+
+@dataclass(frozen=True)
+class Tables:
+    abbreviations: dict[str, str]
+    units_after_number: dict[str, str]
+    per_time_units: dict[str, PerTimeUnit]
+    currencies: dict[str, Currency]  # signs and codes: ₺, TL, $, USD
+    read_as_words: frozenset[str]
+    spoken_in_full: dict[str, str]  # acronyms said as their words: KDV
+    particles: frozenset[str]  # MI, DE: words, not acronyms, beside words in capitals
+    letter_names: dict[str, str]
+    foreign_letters: dict[str, str]
+    symbols: dict[str, str]
+    address_words: dict[str, str]  # separators inside e-mail and web addresses
+    directions: dict[str, str]  # K, G, D, B after degrees
+    fixed_expressions: dict[str, str]  # 7/24
+    digits: tuple[str, ...]
+    tens: tuple[str, ...]
+    hundred: str
+    scales: tuple[str, ...]
+    words: dict[str, str]  # decimal_comma, decimal_point, fraction, percent, minus, plus, ...
+    months: tuple[str, ...]  # ocak .. aralık, in order
+    regnal_titles: frozenset[str]
+    stems_before_suffix: dict[str, str]  # yarım -> yarı (yarısı)
+    soften_always: frozenset[str]  # one-syllable words that soften anyway: dört -> dördü
+    soften_never: frozenset[str]  # words of several syllables that keep their consonant: saat -> saate
+
+
+_NUMBER_WORDS = (
+    "decimal_comma",
+    "decimal_point",
+    "fraction",
+    "percent",
+    "minus",
+    "plus",
+    "half",
+    "quarter",
+    "and_a_half",
+    "whole",
+    "range",
+    "degree",
+    "minute",
+    "second",
+    "latitude",
+    "longitude",
+)
+
+
+@cache
+def text_tables() -> Tables:
+    """shapekeys/abbreviations.toml and shapekeys/units.toml, validated once."""
+    words_table = load_table("abbreviations")
+    units_table = load_table("units")
+
+    def section(table: dict, file: str, name: str) -> dict:
+        value = table.get(name)
+        if not isinstance(value, dict):
+            raise DataError(f"data file {DATA_DIR / file}: section [{name}] is missing")
+        return value
+
+    def spoken(file: str, where: str, value: object) -> str:
+        if not isinstance(value, str) or not value or not set(value) <= TURKISH_LETTERS | {" "}:
+            raise DataError(
+                f"data file {DATA_DIR / file}: {where} must be lowercase Turkish words, got {value!r}"
+            )
+        return value
+
+    def mapping(table: dict, file: str, name: str) -> dict[str, str]:
+        return {
+            key: spoken(file, f"[{name}] {key!r}", value) for key, value in section(table, file, name).items()
+        }
+
+    def word_list(table: dict, file: str, name: str, key: str, length: int | None = None) -> tuple[str, ...]:
+        values = section(table, file, name).get(key)
+        if not isinstance(values, list) or length is not None and len(values) != length:
+            count = f"{length} " if length is not None else ""
+            raise DataError(f"data file {DATA_DIR / file}: [{name}] {key} must be a list of {count}words")
+        return tuple(value and spoken(file, f"[{name}] {key}", value) for value in values)
+
+    main = "abbreviations.toml"
+    units = "units.toml"
+    numbers = section(words_table, main, "numbers")
+    scales = word_list(words_table, main, "numbers", "scales")
+    if len(scales) < 2:
+        raise DataError(f"data file {DATA_DIR / main}: [numbers] scales must list at least '' and 'bin'")
+    acronyms = section(words_table, main, "acronyms")
+    for key in ("read_as_words", "particles"):
+        if not isinstance(acronyms.get(key, []), list):
+            raise DataError(f"data file {DATA_DIR / main}: [acronyms] {key} must be a list")
+    letter_names = mapping(words_table, main, "letter_names")
+    missing = sorted(TURKISH_LETTERS - set(letter_names))
+    if missing:
+        raise DataError(f"data file {DATA_DIR / main}: [letter_names] lacks {', '.join(missing)}")
+    currencies = {}
+    for key, value in section(units_table, units, "currencies").items():
+        if not isinstance(value, dict):
+            raise DataError(f"data file {DATA_DIR / units}: [currencies] {key!r} must be {{ name, subunit }}")
+        currencies[key] = Currency(
+            name=spoken(units, f"[currencies] {key!r} name", value.get("name")),
+            subunit=spoken(units, f"[currencies] {key!r} subunit", value.get("subunit")),
+        )
+    per_time = {}
+    for key, value in section(units_table, units, "per_time").items():
+        if not isinstance(value, dict):
+            raise DataError(f"data file {DATA_DIR / units}: [per_time] {key!r} must be {{ before, after }}")
+        per_time[key] = PerTimeUnit(
+            before=spoken(units, f"[per_time] {key!r} before", value.get("before")),
+            after=spoken(units, f"[per_time] {key!r} after", value.get("after")),
+        )
+    return Tables(
+        abbreviations=mapping(words_table, main, "abbreviations"),
+        units_after_number=mapping(units_table, units, "after_number"),
+        per_time_units=per_time,
+        currencies=currencies,
+        read_as_words=frozenset(acronyms.get("read_as_words", [])),
+        spoken_in_full=mapping(words_table, main, "spoken_in_full"),
+        particles=frozenset(acronyms.get("particles", [])),
+        letter_names=letter_names,
+        foreign_letters=mapping(words_table, main, "foreign_letters"),
+        symbols=mapping(words_table, main, "symbols"),
+        address_words=mapping(words_table, main, "address_words"),
+        directions=mapping(units_table, units, "directions"),
+        fixed_expressions=mapping(words_table, main, "fixed_expressions"),
+        digits=word_list(words_table, main, "numbers", "digits", 10),
+        tens=word_list(words_table, main, "numbers", "tens", 10),
+        hundred=spoken(main, "[numbers] hundred", numbers.get("hundred")),
+        scales=scales,
+        words={key: spoken(main, f"[numbers] {key}", numbers.get(key)) for key in _NUMBER_WORDS},
+        months=word_list(words_table, main, "dates", "months", 12),
+        regnal_titles=frozenset(word_list(words_table, main, "roman_numerals", "titles")),
+        stems_before_suffix=mapping(words_table, main, "stems_before_suffix"),
+        soften_always=frozenset(word_list(words_table, main, "suffixes", "soften_always")),
+        soften_never=frozenset(word_list(words_table, main, "suffixes", "soften_never")),
+    )
+
+
+@lru_cache(maxsize=4096)
+def fold_letter(char: str) -> str:
+    """A source letter as Turkish letters: "" for letters Turkish cannot say (other scripts)."""
+    lower = turkish_lower(char)
+    if lower in TURKISH_LETTERS:
+        return lower
+    foreign = text_tables().foreign_letters
+    if lower in foreign:
+        return foreign[lower]
+    folded = []
+    for base in unicodedata.normalize("NFKD", lower):
+        if base in TURKISH_LETTERS:
+            folded.append(base)
+        elif base in foreign:
+            folded.append(foreign[base])
+    return "".join(folded)
