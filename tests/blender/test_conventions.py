@@ -6,6 +6,7 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from tests.heads_on_disk import HEADS  # noqa: E402
+from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import heads, mesh, shapekeys  # noqa: E402
 from turkish_lipsync.core.errors import HeadError  # noqa: E402
 from turkish_lipsync.core.model import emotion_key_name, viseme_key_name  # noqa: E402
@@ -169,15 +170,20 @@ def test_godette_bilabials_close_and_open_vowels_open(godette):
         assert lips.gap(_shape(head, viseme_key_name(viseme))) > 0.01, viseme
 
 
-def test_a_users_mapping_file_names_the_keys(tmp_path):
-    if not GODETTE.is_file():
-        pytest.skip("shared heads not found")
-    head = _import(GODETTE, "Face")
-    mapping = tmp_path / "godette.toml"
+def _godette_mapping(folder):
+    mapping = folder / "godette.toml"
     mapping.write_text(
         '[visemes.a]\nshapes = { oh = 0.5, ah = 0.5 }\n[expressions]\nhappy = "angled_eyebrows"\n',
         encoding="utf-8",
     )
+    return mapping
+
+
+def test_a_users_mapping_file_names_the_keys(tmp_path):
+    if not GODETTE.is_file():
+        pytest.skip("shared heads not found")
+    head = _import(GODETTE, "Face")
+    mapping = _godette_mapping(tmp_path)
     report = shapekeys.build_shape_keys(head, mapping_file=mapping)
     assert report.convention == "own mapping godette.toml"
     assert report.key_sources[viseme_key_name("a")] == "own keys: oh 0.5, ah 0.5"
@@ -197,3 +203,19 @@ def test_convention_source_on_a_head_without_visemes_says_what_to_do():
     objects = heads.create_reference_head(bpy.context)
     with pytest.raises(HeadError, match="mapping file"):
         shapekeys.build_shape_keys(objects["head"], source="convention")
+
+
+def test_the_build_operator_takes_the_mapping_file_of_the_panel(tmp_path):
+    if not GODETTE.is_file():
+        pytest.skip("shared heads not found")
+    blender.register()
+    try:
+        head = _import(GODETTE, "Face")
+        settings = bpy.context.scene.turkish_lipsync
+        settings.head = head
+        settings.key_source = "convention"
+        settings.mapping_file = str(_godette_mapping(tmp_path))
+        assert bpy.ops.turkish_lipsync.build_shape_keys() == {"FINISHED"}
+        assert head.data[shapekeys.KEY_SOURCES_PROPERTY][viseme_key_name("a")] == "own keys: oh 0.5, ah 0.5"
+    finally:
+        blender.unregister()

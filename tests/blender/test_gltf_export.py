@@ -5,6 +5,7 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
+from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import gltf_export, heads, pipeline, shapekeys  # noqa: E402
 from turkish_lipsync.core.errors import LipSyncError  # noqa: E402
 from turkish_lipsync.core.pipeline import LipSyncOptions  # noqa: E402
@@ -78,3 +79,21 @@ def test_a_head_without_animation_is_refused(tmp_path):
     with pytest.raises(LipSyncError, match="Generate Animation"):
         gltf_export.export_gltf(bpy.context, head, tmp_path / "x.glb")
     assert not (tmp_path / "x.glb").exists()
+
+
+def test_the_panels_export_operator(tmp_path):
+    blender.register()
+    try:
+        bpy.ops.wm.read_factory_settings(use_empty=True)
+        head = heads.create_reference_head(bpy.context)["head"]
+        settings = bpy.context.scene.turkish_lipsync
+        settings.head = head
+        settings.gltf_path = str(tmp_path / "panel.glb")
+        shapekeys.build_shape_keys(head)
+        with pytest.raises(RuntimeError, match="Generate the animation first"):
+            bpy.ops.turkish_lipsync.export_gltf()
+        pipeline.generate(bpy.context, head, "Merhaba", LipSyncOptions(timing="table"))
+        assert bpy.ops.turkish_lipsync.export_gltf() == {"FINISHED"}
+        assert gltf_export.read_glb_document(tmp_path / "panel.glb")["animations"]
+    finally:
+        blender.unregister()

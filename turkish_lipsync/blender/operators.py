@@ -13,7 +13,7 @@ import numpy as np
 from ..core.errors import HeadError, LipSyncError
 from ..core.faces.landmarks import find_landmarks
 from ..core.pipeline import LipSyncOptions
-from . import landmarks, mesh, pipeline
+from . import gltf_export, landmarks, mesh, pipeline
 from .preferences import ADDON_PACKAGE, configure_speech_engine
 
 # What an operator's work returns: the line to report, and the warnings the user must see.
@@ -134,6 +134,7 @@ class TURKISH_LIPSYNC_OT_build_shape_keys(bpy.types.Operator):
     def build(context) -> Outcome:
         settings = settings_of(context)
         from_folder = settings.key_source == "obj_folder"
+        mapped = settings.key_source in ("auto", "convention") and settings.mapping_file
         with progress_reporter(context, "Build shape keys") as progress:
             report = pipeline.build_keys(
                 context,
@@ -141,12 +142,16 @@ class TURKISH_LIPSYNC_OT_build_shape_keys(bpy.types.Operator):
                 arkit_keys=settings.arkit_keys,
                 source=settings.key_source,
                 obj_folder=bpy.path.abspath(settings.obj_folder) if from_folder else None,
+                mapping_file=bpy.path.abspath(settings.mapping_file) if mapped else None,
                 empowered=settings.empowered,
                 rho=settings.rho,
                 progress=progress,
             )
         settings.head = bpy.data.objects[report.head]
-        return f"Shape keys built on {report.head} (from {report.source})", report.warnings
+        return (
+            f"Shape keys built on {report.head} (from {report.convention or report.source})",
+            report.warnings,
+        )
 
 
 class TURKISH_LIPSYNC_OT_generate(bpy.types.Operator):
@@ -370,12 +375,43 @@ class TURKISH_LIPSYNC_OT_render(bpy.types.Operator):
         )
 
 
+class TURKISH_LIPSYNC_OT_export_gltf(bpy.types.Operator):
+    """Export the head, its shape keys and the speech animation as .glb, the speech WAV beside it"""
+
+    bl_idname = "turkish_lipsync.export_gltf"
+    bl_label = "Export glTF"
+    bl_options = {"REGISTER"}
+
+    @classmethod
+    def poll(cls, context) -> bool:
+        if not (_in_object_mode(cls, context) and _head_chosen(cls, context)):
+            return False
+        key = chosen_head(context).data.shape_keys
+        if key is None or key.animation_data is None or key.animation_data.action is None:
+            cls.poll_message_set("Generate the animation first: the head has no speech to export")
+            return False
+        if not settings_of(context).gltf_path:
+            cls.poll_message_set("Choose the glTF file to write in the Lip Sync panel")
+            return False
+        return True
+
+    def execute(self, context):
+        return run_reported(self, lambda: self.export(context))
+
+    @staticmethod
+    def export(context) -> Outcome:
+        result = gltf_export.export_gltf(context, chosen_head(context), settings_of(context).gltf_path)
+        sound = f", the speech in {result.wav_path}" if result.wav_path else ", no speech WAV in the scene"
+        return f"Exported {result.path} ({result.morph_targets} morph targets){sound}", ()
+
+
 CLASSES = (
     TURKISH_LIPSYNC_OT_build_shape_keys,
     TURKISH_LIPSYNC_OT_show_landmarks,
     TURKISH_LIPSYNC_OT_clear_landmarks,
     TURKISH_LIPSYNC_OT_generate,
     TURKISH_LIPSYNC_OT_render,
+    TURKISH_LIPSYNC_OT_export_gltf,
 )
 
 register, unregister = bpy.utils.register_classes_factory(CLASSES)

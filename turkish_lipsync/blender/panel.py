@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import bpy
 
+from .shapekeys import KEY_SOURCES_PROPERTY
+
 
 class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
     bl_label = "Turkish Lip Sync"
@@ -22,6 +24,8 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
         column.prop(settings, "key_source")
         if settings.key_source == "obj_folder":
             column.prop(settings, "obj_folder")
+        if settings.key_source in ("auto", "convention"):
+            column.prop(settings, "mapping_file")
         column.prop(settings, "arkit_keys")
         column.prop(settings, "empowered")
         row = column.row()
@@ -33,6 +37,7 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
             row.operator("turkish_lipsync.show_landmarks", icon="EMPTY_DATA")
             row.operator("turkish_lipsync.clear_landmarks", icon="X", text="")
         column.operator("turkish_lipsync.build_shape_keys", icon="SHAPEKEY_DATA")
+        self.draw_key_sources(layout, settings.head)
 
         layout.separator()
         column = layout.column(heading="Speech")
@@ -56,6 +61,27 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
         column.prop(settings, "render_samples")
         column.prop(settings, "output_path")
         column.operator("turkish_lipsync.render", icon="RENDER_ANIMATION")
+
+        layout.separator()
+        column = layout.column(heading="Export")
+        column.prop(settings, "gltf_path")
+        column.operator("turkish_lipsync.export_gltf", icon="EXPORT")
+
+    @staticmethod
+    def draw_key_sources(layout, head) -> None:
+        """A closed sub-panel listing where each built key came from (the head's own keys, a transfer...)."""
+        sources = head.data.get(KEY_SOURCES_PROPERTY) if head is not None and head.type == "MESH" else None
+        if not sources:
+            return
+        header, body = layout.panel("TURKISH_LIPSYNC_key_sources", default_closed=True)
+        header.label(text="Key Sources")
+        if body is None:
+            return
+        body.use_property_split = False
+        for key_name, source in sources.items():
+            row = body.row()
+            row.label(text=key_name.removeprefix("TR_"), translate=False)
+            row.label(text=source, translate=False)
 
 
 CLASSES = (VIEW3D_PT_turkish_lipsync,)

@@ -72,14 +72,15 @@ def build_keys(
     progress=None,
     source: str = "auto",
     obj_folder: str | None = None,
+    mapping_file: str | None = None,
     empowered: bool = False,
     rho: float = 3.0,
 ) -> BuildReport:
     """Build (or rebuild) the TR_* shape keys on head, creating the reference head when head is None.
 
-    source, obj_folder, empowered and rho go to shapekeys.build_shape_keys. A reference head created here
-    is removed again when the build fails, so a failure leaves the file as it was. Returns the build's
-    report (the head's name, where the keys came from, warnings for the user).
+    source, obj_folder, mapping_file, empowered and rho go to shapekeys.build_shape_keys. A reference head
+    created here is removed again when the build fails, so a failure leaves the file as it was. Returns the
+    build's report (the head's name, where the keys came from, warnings for the user).
     """
     progress = progress or _no_progress
     created: list[bpy.types.Object] = []
@@ -93,6 +94,7 @@ def build_keys(
             head,
             source=source,
             obj_folder=obj_folder or None,
+            mapping_file=mapping_file or None,
             empowered=empowered,
             rho=rho,
             arkit_keys=arkit_keys,

@@ -86,7 +86,12 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
             (
                 "auto",
                 "Auto",
-                "The head's own ARKit keys if it has them, else transferred from the reference head",
+                "The head's own visemes or ARKit keys, else a transfer from the reference head",
+            ),
+            (
+                "convention",
+                "Own Visemes",
+                "The head's own visemes (Oculus, VRM, Azure, Papagayo) or those a mapping file names",
             ),
             ("arkit", "Own ARKit Keys", "Build from the head's own ARKit-named shape keys (jawOpen, ...)"),
             (
@@ -102,6 +107,12 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
         ),
         default="auto",
         description="What the mouth shapes and emotions are built from",
+    )
+    mapping_file: StringProperty(
+        name="Mapping File",
+        subtype="FILE_PATH",
+        description="Your own TOML file naming the head's keys for the Turkish visemes (empty: the keys are "
+        "recognised by their names)",
     )
     obj_folder: StringProperty(
         name="OBJ Folder",
@@ -157,6 +168,13 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
         subtype="FILE_PATH",
         default="//lipsync.mp4",
         description="The MP4 file to write (H.264 video with AAC audio)",
+    )
+    gltf_path: StringProperty(
+        name="glTF File",
+        subtype="FILE_PATH",
+        default="//speech.glb",
+        description="The .glb file Export glTF writes: the head, its shape keys and the speech animation "
+        "(the speech WAV goes beside it)",
     )
 
 

@@ -14,6 +14,8 @@ TURKISH = {
     "Head": "Kafa",
     "Speech": "Konuşma",
     "Render": "Görüntü Oluşturma",
+    "Export": "Dışa Aktar",
+    "Key Sources": "Anahtarların Kaynakları",
     # operators
     "Build Shape Keys": "Şekil Anahtarlarını Oluştur",
     "Generate Animation": "Animasyonu Üret",
@@ -120,8 +122,35 @@ TURKISH = {
     "Shape-Key Source": "Şekil Anahtarı Kaynağı",
     "What the mouth shapes and emotions are built from": "Ağız şekillerinin ve duyguların neyden kurulacağı",
     "Auto": "Otomatik",
-    "The head's own ARKit keys if it has them, else transferred from the reference head": (
-        "Varsa kafanın kendi ARKit anahtarları, yoksa referans kafadan aktarılanlar"
+    "The head's own visemes or ARKit keys, else a transfer from the reference head": (
+        "Kafanın kendi vizemleri ya da ARKit anahtarları, yoksa referans kafadan bir aktarım"
+    ),
+    "Own Visemes": "Kendi Vizemleri",
+    "The head's own visemes (Oculus, VRM, Azure, Papagayo) or those a mapping file names": (
+        "Kafanın kendi vizemleri (Oculus, VRM, Azure, Papagayo) ya da bir eşleme dosyasının adlandırdıkları"
+    ),
+    "Mapping File": "Eşleme Dosyası",
+    "Your own TOML file naming the head's keys for the Turkish visemes (empty: the keys are recognised by "
+    "their names)": (
+        "Türkçe vizemler için kafanın anahtarlarını adlandıran kendi TOML dosyanız "
+        "(boş: anahtarlar adlarından tanınır)"
+    ),
+    "glTF File": "glTF Dosyası",
+    "The .glb file Export glTF writes: the head, its shape keys and the speech animation (the speech WAV "
+    "goes beside it)": (
+        "glTF Dışa Aktar'ın yazdığı .glb dosyası: kafa, şekil anahtarları ve konuşma animasyonu "
+        "(konuşmanın WAV dosyası yanına konur)"
+    ),
+    "Export glTF": "glTF Dışa Aktar",
+    "Export the head, its shape keys and the speech animation as .glb, the speech WAV beside it": (
+        "Kafayı, şekil anahtarlarını ve konuşma animasyonunu .glb olarak dışa aktarır; konuşmanın WAV "
+        "dosyası yanına konur"
+    ),
+    "Generate the animation first: the head has no speech to export": (
+        "Önce animasyonu üretin: kafada dışa aktarılacak konuşma yok"
+    ),
+    "Choose the glTF file to write in the Lip Sync panel": (
+        "Dudak Senkronu panelinde yazılacak glTF dosyasını seçin"
     ),
     "Own ARKit Keys": "Kendi ARKit Anahtarları",
     "Build from the head's own ARKit-named shape keys (jawOpen, ...)": (
