@@ -7,6 +7,12 @@ Runs inside Blender and with the bpy module:
 
 On any error it prints one line and exits non-zero. Given a .blend with --head, it changes only the TR_* keys,
 their F-curves, the TR_speech strip and the frame range (plus camera and lights only where there are none).
+
+On a render farm (farm/flamenco/turkish_lipsync.js), each worker renders a chunk of the saved .blend and one
+task joins the chunks with the speech, copying the video (the join needs PyAV, not Blender):
+
+    blender -b saved.blend -P scripts/render.py -- --frames 1-50 --engine cycles --out chunks/0001-0050.mp4
+    python scripts/render.py --join chunks/0001-0050.mp4 chunks/0051-0100.mp4 --audio speech.wav --out out.mp4
 """
 
 from __future__ import annotations
@@ -69,9 +75,32 @@ def _positive(text: str) -> int:
     return value
 
 
+def _frame_range(text: str) -> tuple[int, int]:
+    """START-END (or one frame), as Flamenco's frame chunker writes them."""
+    first, _, last = text.partition("-")
+    try:
+        start, end = int(first), int(last or first)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"frames {text!r} are not START-END, e.g. 1-50") from None
+    if end < start:
+        raise argparse.ArgumentTypeError(f"frames {text!r} end before they start")
+    return start, end
+
+
+def _export(text: str) -> tuple[str, Path]:
+    from turkish_lipsync.core.interchange import EXPORT_FORMATS
+
+    export_format, _, path = text.partition("=")
+    if export_format not in EXPORT_FORMATS or not path:
+        raise argparse.ArgumentTypeError(
+            f"--export {text!r} is not FORMAT=PATH with FORMAT one of {', '.join(EXPORT_FORMATS)}"
+        )
+    return export_format, Path(path)
+
+
 def parse_arguments(argv: list[str]) -> argparse.Namespace:
     parser = OneLineArgumentParser(prog="render.py", description=__doc__.split("\n\n")[0])
-    source = parser.add_mutually_exclusive_group(required=True)
+    source = parser.add_mutually_exclusive_group()
     source.add_argument("--text", help="Turkish text to speak (plain or JSML)")
     source.add_argument("--jsml", type=Path, help="a UTF-8 file with Turkish text (plain or JSML)")
     parser.add_argument(
@@ -111,7 +140,43 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
         "--still", type=Path, help="also render one frame to this PNG (widest mouth by default)"
     )
     parser.add_argument("--still-frame", type=int, help="the frame for --still")
+    parser.add_argument(
+        "--cues",
+        type=Path,
+        help="time the visemes by a Rhubarb .tsv/.json/.xml, Papagayo .pgo or Moho .dat file (a .pgo brings "
+        "its own text; --audio is then the sound as it is)",
+    )
+    parser.add_argument(
+        "--export",
+        type=_export,
+        action="append",
+        default=[],
+        metavar="FORMAT=PATH",
+        help="also write the animation for other tools (repeatable): rhubarb-tsv, rhubarb-json, rhubarb-xml, "
+        "moho-dat, papagayo-pgo, arkit-csv",
+    )
+    parser.add_argument(
+        "--frames",
+        type=_frame_range,
+        metavar="START-END",
+        help="farm chunk: render only these frames of the saved .blend (--head, or the file Blender opened) "
+        "to --out (.mp4/.mkv: lossless video without sound; otherwise a folder of PNG frames)",
+    )
+    parser.add_argument(
+        "--join",
+        type=Path,
+        nargs="+",
+        metavar="CHUNK",
+        help="join chunk videos in this order with the speech (--audio WAV) into --out, copying the video",
+    )
     arguments = parser.parse_args(argv)
+    if arguments.join or arguments.frames:
+        _check_farm_arguments(parser, arguments)
+        return arguments
+    if arguments.text is None and arguments.jsml is None and arguments.cues is None:
+        parser.error("give the text: --text TEXT or --jsml FILE (or --cues with a Papagayo .pgo)")
+    if arguments.cues is not None and not arguments.cues.is_file():
+        parser.error(f"--cues {arguments.cues} does not exist")
     if not arguments.no_render and arguments.out is None:
         parser.error("--out OUT.mp4 is required unless --no-render is given")
     if arguments.out is not None and arguments.out.suffix.lower() != ".mp4":
@@ -128,6 +193,39 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
         parser.error(f"--audio {arguments.audio} does not exist")
     arguments.engine = arguments.engine.upper()
     return arguments
+
+
+def _check_farm_arguments(parser: argparse.ArgumentParser, arguments: argparse.Namespace) -> None:
+    """--frames renders a chunk of a saved scene and --join joins chunks: neither speaks a text."""
+    speech_flags = {
+        "--text": arguments.text,
+        "--jsml": arguments.jsml,
+        "--cues": arguments.cues,
+        "--export": arguments.export,
+        "--save-blend": arguments.save_blend,
+        "--still": arguments.still,
+    }
+    used = [flag for flag, value in speech_flags.items() if value]
+    mode = "--join" if arguments.join else "--frames"
+    if arguments.join and arguments.frames:
+        parser.error("--frames renders a chunk and --join joins chunks: run them as separate tasks")
+    if used:
+        parser.error(f"{mode} works on a saved scene or rendered chunks; drop {', '.join(used)}")
+    if arguments.out is None:
+        parser.error(f"{mode} needs --out")
+    if arguments.join:
+        if arguments.out.suffix.lower() != ".mp4":
+            parser.error(f"--out {arguments.out} must end in .mp4")
+        missing = [str(chunk) for chunk in arguments.join if not chunk.is_file()]
+        if missing:
+            parser.error(f"--join: no such chunk {', '.join(missing)}")
+        if arguments.audio is not None and not arguments.audio.is_file():
+            parser.error(f"--audio {arguments.audio} does not exist")
+    elif arguments.head is not None and arguments.head.suffix.lower() != ".blend":
+        parser.error(f"--frames renders a saved scene: --head {arguments.head} must be a .blend")
+    elif arguments.head is not None and not arguments.head.is_file():
+        parser.error(f"--head {arguments.head} does not exist")
+    arguments.engine = arguments.engine.upper()
 
 
 def script_arguments() -> list[str]:
@@ -153,6 +251,73 @@ def _print_progress(fraction: float, message: str) -> None:
 def _print_warnings(warnings: tuple[str, ...]) -> None:
     for warning in warnings:
         print(f"render.py: warning: {warning}", file=sys.stderr, flush=True)
+
+
+def run_join(arguments: argparse.Namespace) -> None:
+    """Join rendered chunks with the speech, copying the video: no Blender needed."""
+    from turkish_lipsync.core.video import join_videos
+
+    if arguments.audio is None:
+        _print_warnings(("no --audio given: the joined video is silent.",))
+    joined = join_videos(arguments.join, arguments.out, arguments.audio)
+    print(
+        f"Joined {len(arguments.join)} chunks ({', '.join(map(str, joined.chunk_frames))} frames), "
+        f"{joined.frame_count} frames, {joined.seconds:.2f} s, to {joined.path}",
+        flush=True,
+    )
+
+
+def run_chunk(arguments: argparse.Namespace) -> None:
+    """Render one frame range of a saved scene, as a farm worker does."""
+    import bpy
+
+    from turkish_lipsync.blender import farm, heads, pipeline
+    from turkish_lipsync.core.errors import LipSyncError
+
+    if arguments.head is not None:
+        bpy.ops.wm.open_mainfile(filepath=str(arguments.head.resolve()))
+    elif not bpy.data.filepath:
+        raise LipSyncError(
+            "--frames renders a saved scene: give it with --head SAVED.blend, or open it in Blender "
+            "(blender -b SAVED.blend -P render.py -- --frames ...)"
+        )
+    context = bpy.context
+    candidates = [o for o in context.scene.objects if o.type == "MESH" and pipeline.has_lipsync_keys(o)]
+    head = candidates[0] if candidates else heads.find_head(context.scene.objects)
+    first, last = arguments.frames
+    chunk = farm.render_chunk(
+        context,
+        head,
+        str(arguments.out),
+        first,
+        last,
+        engine=arguments.engine,
+        samples=arguments.samples,
+        resolution=arguments.resolution,
+        progress=_print_progress,
+    )
+    print(
+        f"Rendered frames {chunk.first_frame}-{chunk.last_frame} with {chunk.engine} in "
+        f"{chunk.seconds:.1f} s to {chunk.path}",
+        flush=True,
+    )
+
+
+def write_exports(arguments: argparse.Namespace, result, source: str) -> None:
+    """The --export files of a generated animation (the speech WAV named relative to each file)."""
+    import os
+
+    from turkish_lipsync.core.interchange import export_text, write_export
+
+    for export_format, path in arguments.export:
+        sound = ""
+        if result.wav_path:
+            sound = os.path.relpath(result.wav_path, path.resolve().parent)
+        contents, warnings = export_text(
+            export_format, result.timeline, result.fps, tracks=result.tracks, sound_file=sound, text=source
+        )
+        _print_warnings(warnings)
+        print(f"Exported {export_format} to {write_export(path, contents)}", flush=True)
 
 
 def run(arguments: argparse.Namespace) -> None:
@@ -184,7 +349,7 @@ def run(arguments: argparse.Namespace) -> None:
         except (OSError, UnicodeDecodeError) as error:
             raise TextError(f"Cannot read {arguments.jsml}: {error}. Give a UTF-8 text file.") from error
     else:
-        source = arguments.text
+        source = arguments.text or ""  # with --cues alone, the cue file's own text
 
     if arguments.head is None:
         head = None
@@ -218,6 +383,7 @@ def run(arguments: argparse.Namespace) -> None:
             emotion_strength=arguments.emotion_strength,
             rate=arguments.rate,
             recording=arguments.audio,
+            cues=arguments.cues,
         ),
         audio_folder=audio_folder,
         progress=_print_progress,
@@ -228,6 +394,8 @@ def run(arguments: argparse.Namespace) -> None:
         f"{result.frame_end} at {result.fps:.3f} fps; audio: {result.wav_path or 'none'}",
         flush=True,
     )
+    if arguments.export:
+        write_exports(arguments, result, source)
     if not arguments.no_render:
         rendered = pipeline.render_video(
             context,
@@ -265,7 +433,12 @@ def run(arguments: argparse.Namespace) -> None:
 def main(argv: list[str] | None = None) -> int:
     arguments = parse_arguments(script_arguments() if argv is None else argv)
     try:
-        run(arguments)
+        if arguments.join:
+            run_join(arguments)
+        elif arguments.frames:
+            run_chunk(arguments)
+        else:
+            run(arguments)
     except LipSyncError as error:
         print(f"render.py: error: {error}", file=sys.stderr)
         return 1
