@@ -61,7 +61,6 @@ DEFAULT_PITCH_HZ = 120.0
 # Attributes JSML defines that change nothing here; accepted and ignored so valid JSML parses.
 _IGNORED_ATTRIBUTES = {
     "PROS": {"RANGE"},
-    "SAYAS": {"CLASS", "SUB"},
     "MARKER": {"MARK"},
     "ENGINE": {"ENGID", "DATA"},
     "JSML": {"LANG", "VERSION"},
@@ -106,15 +105,18 @@ def pause_seconds() -> dict[str, dict[str, float]]:
 
 
 class _Open:
-    """An element on the stack of open elements."""
+    """An element on the stack of open elements; a SAYAS that overrides its reading holds the new text."""
 
-    __slots__ = ("name", "written", "offset", "style")
+    __slots__ = ("name", "written", "offset", "style", "substitute")
 
-    def __init__(self, name: str, written: str, offset: int, style: Style) -> None:
+    def __init__(
+        self, name: str, written: str, offset: int, style: Style, substitute: str | None = None
+    ) -> None:
         self.name = name
         self.written = written
         self.offset = offset
         self.style = style
+        self.substitute = substitute
 
 
 class _Parser:
@@ -259,6 +261,8 @@ class _Parser:
                     index,
                 )
             raise self.error(f"</{written}> closes nothing: no <{written}> is open", index)
+        if top.substitute is not None:
+            self.substitute_text(top)
         self.flush_text()
         self.stack.pop()
         if name == "SENT":
@@ -343,11 +347,17 @@ class _Parser:
             allowed |= {"RATE", "PITCH", "VOL"}
         elif name == "EMP":
             allowed |= {"LEVEL"}
+        elif name == "SAYAS":
+            allowed |= {"SUB", "CLASS"}
         for key, (_value, where) in attributes.items():
             if key not in allowed:
                 expected = ", ".join(sorted(allowed)) or "none"
                 raise self.error(f"<{written}> has no attribute {key}; it accepts: {expected}", where)
 
+        if self.stack and self.stack[-1].substitute is not None and name not in _EMPTY_ELEMENTS:
+            raise self.error(
+                f"<{written}> inside a <SAYAS> that gives its reading; SAYAS holds plain text", index
+            )
         if name in _EMPTY_ELEMENTS:
             if name == "BREAK":
                 self.add_pause(self.break_seconds(attributes), index, "break")
@@ -369,8 +379,35 @@ class _Parser:
             style = replace(style, emphasis=level[0].lower() in ("strong", "moderate"))
         elif name == "PARA" or name == "SENT":
             pass
+        substitute = self.sayas_reading(attributes, index) if name == "SAYAS" else None
         self.flush_text()
-        self.stack.append(_Open(name, written, index, style))
+        self.stack.append(_Open(name, written, index, style, substitute))
+
+    def sayas_reading(self, attributes: dict[str, tuple[str, int]], index: int) -> str | None:
+        """What a SAYAS says instead of its text: SUB="..." (any reading), or CLASS="literal" (letter by
+        letter) and CLASS="digits" (digit by digit), filled in when the element closes; other classes
+        (date, time, number, currency...) are read from the text as usual."""
+        if "SUB" in attributes:
+            value, where = attributes["SUB"]
+            if not value.strip():
+                raise self.error('SUB="" says nothing; give the words to say, e.g. SUB="on beş mart"', where)
+            return value
+        if "CLASS" in attributes and attributes["CLASS"][0].strip().lower() in _SPELLED_CLASSES:
+            return ""  # spelled from the text at the closing tag
+        return None
+
+    def substitute_text(self, element: _Open) -> None:
+        """Replace the text of a SAYAS with its reading; each of its characters points at the written
+        text, spread over it evenly, so the reading stays where it was written."""
+        written = "".join(self.text_parts)
+        offsets = [offset for part in self.offset_parts for offset in part]
+        reading = element.substitute or _spelled(written)
+        if not offsets:
+            offsets = [element.offset]
+        self.text_parts[:] = [reading]
+        self.offset_parts[:] = [
+            tuple(offsets[index * len(offsets) // len(reading)] for index in range(len(reading)))
+        ]
 
     def fraction(self, value: str, where: int, key: str, expected: str) -> float:
         text = value.strip()
@@ -458,6 +495,23 @@ def _relative(value: str, current: float, words: dict[str, float], unit: float) 
     if number_text[0] in "+-":
         return current + number / unit
     return number / unit
+
+
+_SPELLED_CLASSES = frozenset({"literal", "characters", "spell", "digits"})
+
+
+def _spelled(text: str) -> str:
+    """Letters and digits one by one, as a SAYAS of CLASS literal or digits says them (ABC -> a be ce)."""
+    from .tables import fold_letter, text_tables
+
+    tables = text_tables()
+    names = []
+    for char in text:
+        if char.isdigit() and char.isascii():
+            names.append(tables.digits[int(char)])
+        else:
+            names.extend(tables.letter_names.get(letter, letter) for letter in fold_letter(char))
+    return " ".join(names) or text
 
 
 def parse_jsml(source: str) -> tuple[TextRun | Pause, ...]:
