@@ -1,4 +1,8 @@
-"""Aligning a recording of the text to the synthetic speech (real eSpeak NG rendition as the "recording")."""
+"""Aligning a recording of the text to the synthetic speech (real eSpeak NG renditions as the "recordings").
+
+Other speakers are stood in for by eSpeak NG's other voice variants (another timbre, pitch and rate),
+spoken in the test; the truth is that rendition's own phone events.
+"""
 
 import tracemalloc
 import wave
@@ -8,8 +12,11 @@ import pytest
 import soundfile
 
 from turkish_lipsync.core.errors import AudioError
-from turkish_lipsync.core.speech import read_audio, synthesize_timeline
-from turkish_lipsync.core.speech.recording import dtw_path, resample, speech_features
+from turkish_lipsync.core.speech import espeak, read_audio, synthesize_timeline
+from turkish_lipsync.core.speech.dtw import dtw_path
+from turkish_lipsync.core.speech.features import frame_count
+from turkish_lipsync.core.speech.recording import resample
+from turkish_lipsync.core.speech.voice_activity import speech_frames
 from turkish_lipsync.core.text.utterance import build_utterance
 
 TEXT = (
@@ -165,9 +172,93 @@ def test_dtw_memory_grows_with_the_audio_not_its_square():
     assert peak < 8e6  # measured: about 1 MB
 
 
-def test_features_mark_silence_as_unvoiced():
-    rate = 22050
-    samples = np.concatenate((np.zeros(rate // 2), 0.3 * np.sin(2 * np.pi * 200 * np.arange(rate) / rate)))
-    features, voiced = speech_features(samples.astype(np.float32), rate)
-    assert features.shape[1] == 12
-    assert not voiced[:40].any() and voiced[60:140].all()
+def test_a_tone_is_not_speech_but_a_voice_is():
+    rate = 16000
+    time = np.arange(rate) / rate
+    voice = 0.3 * np.sign(np.sin(2 * np.pi * 140 * time)) * (0.6 + 0.4 * np.sin(2 * np.pi * 3 * time))
+    samples = np.concatenate((np.zeros(rate // 2), voice)).astype(np.float32)
+    samples += np.random.default_rng(2).normal(0, 0.003, samples.size).astype(np.float32)
+    speech = speech_frames(samples, frame_count(samples.size))
+    assert not speech[:45].any() and speech[60:140].mean() > 0.9
+
+
+OTHER_TEXT = (
+    "Annem sabahları erkenden kalkar ve bütün aileye kahvaltı hazırlar. "
+    "Toplantı saat üçte başlayacak, lütfen geç kalmayın."
+)
+
+
+def other_voice(text, variant="tr+f3", pitch=25, rate=-15):
+    """The text in another eSpeak NG voice (timbre, pitch, rate): a stand-in for another speaker."""
+    library = espeak._library()
+    with library.lock:
+        library.handle.espeak_SetVoiceByName(variant.encode())
+    try:
+        speech = synthesize_timeline(
+            build_utterance(f'<PROS PITCH="{pitch:+d}%" RATE="{rate:+d}%">{text}</PROS>')
+        )
+    finally:
+        with library.lock:
+            library.handle.espeak_SetVoiceByName(b"tr")
+    voice = resample(speech.synthesis.samples.astype(np.float32) / 32768, speech.synthesis.sample_rate, 44100)
+    return voice, speech.timeline
+
+
+def noisy_take(path, voice, lead=1.0, snr=30, seed=4):
+    """The voice after `lead` seconds of room noise, with that noise throughout at `snr` dB, 44.1 kHz."""
+    rng = np.random.default_rng(seed)
+    padded = np.concatenate((np.zeros(int(lead * 44100)), voice, np.zeros(int(0.4 * 44100))))
+    loud = voice[np.abs(voice) > 0.01]
+    noise = rng.normal(size=padded.size) * np.sqrt(np.mean(loud**2) / 10 ** (snr / 10))
+    return write_pcm_wav(path, 0.8 * (padded + noise), 44100)
+
+
+@pytest.mark.parametrize(("variant", "pitch", "rate"), [("tr+f3", 25, -15), ("tr+m5", -30, 20)])
+def test_another_voice_in_a_noisy_room_is_aligned(tmp_path, variant, pitch, rate):
+    voice, truth = other_voice(OTHER_TEXT, variant, pitch, rate)
+    path = noisy_take(tmp_path / "take.wav", voice)
+    speech = synthesize_timeline(build_utterance(OTHER_TEXT), recording=path)
+    error = np.abs(np.array([w.start for w in speech.timeline.words]) - [w.start + 1.0 for w in truth.words])
+    assert np.median(error) < 0.020 and np.percentile(error, 90) < 0.050 and error.max() < 0.150
+    assert speech.warnings == ()
+
+
+def test_leading_noise_is_not_taken_for_speech(tmp_path):
+    voice, truth = other_voice(OTHER_TEXT)
+    path = noisy_take(tmp_path / "take.wav", voice, lead=2.0, snr=25)
+    first = synthesize_timeline(build_utterance(OTHER_TEXT), recording=path).timeline.words[0]
+    assert first.start == pytest.approx(2.0 + truth.words[0].start, abs=0.05)
+    samples, rate = read_audio(path)
+    analysis = resample(samples, rate, 16000)
+    assert not speech_frames(analysis, frame_count(analysis.size))[:190].any()
+
+
+def test_a_recording_of_other_words_is_refused_naming_them(tmp_path):
+    voice, _ = other_voice(OTHER_TEXT)
+    path = noisy_take(tmp_path / "take.wav", voice)
+    text = "Kütüphaneden aldığım kitabı iki hafta içinde geri vermem gerekiyor. Yarın hava çok soğuk olacak."
+    with pytest.raises(AudioError, match="does not read this text") as raised:
+        synthesize_timeline(build_utterance(text), recording=path)
+    assert str(path) in str(raised.value) and "'kütüphaneden'" in str(raised.value)
+
+
+def test_a_word_left_out_is_named_and_the_rest_aligned(tmp_path):
+    voice, truth = other_voice(OTHER_TEXT.replace("bütün ", ""))
+    path = noisy_take(tmp_path / "take.wav", voice, snr=40)
+    speech = synthesize_timeline(build_utterance(OTHER_TEXT), recording=path)
+    assert len(speech.warnings) == 1 and "'bütün'" in speech.warnings[0]
+    found = [w.start for w in speech.timeline.words if w.text != "bütün"]
+    error = np.abs(np.array(found) - [w.start + 1.0 for w in truth.words])
+    assert np.median(error) < 0.030
+
+
+def test_an_extra_word_is_named_by_its_neighbours(tmp_path):
+    voice, truth = other_voice(OTHER_TEXT.replace("bütün aileye", "bütün büyük aileye"))
+    path = noisy_take(tmp_path / "take.wav", voice, snr=40)
+    speech = synthesize_timeline(build_utterance(OTHER_TEXT), recording=path)
+    assert len(speech.warnings) == 1 and "around 'bütün'" in speech.warnings[0]
+    error = np.abs(
+        np.array([w.start for w in speech.timeline.words])
+        - [w.start + 1.0 for w in truth.words if w.text != "büyük"]
+    )
+    assert np.median(error) < 0.030

@@ -1,12 +1,16 @@
 """A user's own recording of the text: read it, align the synthetic rendition to it, warp the events.
 
 The recording is read (WAV through the stdlib, FLAC/OGG and float WAV through soundfile), mixed to
-mono and resampled to the synthesis rate. Both signals are trimmed to their speech, described by
-MFCCs (numpy only) and aligned by dynamic time warping. The DTW is multi-resolution (solve at half the
-frame rate, then refine in a band around that path, as FastDTW does) so its memory grows with the
-length of the audio, not with its square: 10 minutes take about 20 MB instead of some 30 GB.
-No DTW library is used: the ones that install cleanly either hold the full cost matrix (dtw-python)
-or bring numba and librosa into a Blender extension; the recurrence below is 40 lines of numpy.
+mono and resampled (soxr). The text is synthesised in chunks of sentences, so a take of any length
+needs only its features in memory, not the synthetic audio. Both signals become speaker- and
+room-normalised cepstra (features.py), the recording's speech is found by voice activity detection
+(voice_activity.py), and the two are matched by dynamic time warping (dtw.py) with the synthetic
+speech padded by silence, so noise, a breath or a click before the first word is matched to silence
+instead of being taken for speech. The recording's vocal tract length is searched over a few warps.
+Only matches of speech with speech become knots of the warp; pauses are crossed linearly.
+
+How far each synthetic word lies from what the recording says there gives every word and phrase a
+confidence: a recording of other words is refused, a word left out or added is named in a warning.
 """
 
 from __future__ import annotations
@@ -19,19 +23,31 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import AudioError
-from .base import Synthesis
+from ..model import Utterance
+from .base import PhoneEvent, SpeechEngine, Synthesis, WordEvent
+from .dtw import dtw_path
+from .features import (
+    ANALYSIS_RATE,
+    HOP,
+    TOP_HERTZ,
+    WINDOW,
+    band_levels,
+    cepstra,
+    common_floor,
+    frame_count,
+    mel_energies,
+)
+from .voice_activity import runs, speech_frames
 
 MAX_LENGTH_RATIO = 3.0  # recordings this many times longer or shorter than the synthetic speech are refused
-FRAME_SECONDS = 0.025
-HOP_SECONDS = 0.010
-MEL_BANDS = 40
-MEL_TOP_HERTZ = 7600.0
-CEPSTRA = 13  # MFCC 1..12 are used (c0, the loudness, differs between voices)
-SILENCE_DB = 35.0  # frames this far below the loud frames count as silence at the ends
-DTW_RADIUS = 12  # frames of slack around the coarse path at each resolution
-DTW_FULL_CELLS = 250_000  # below this many cells the DTW is solved without a band
-_RESAMPLE_HALF_TAPS = 16
-_FEATURE_BLOCK = 4096  # frames per block when computing features (bounds the spectrogram's memory)
+CHUNK_LETTERS = 3_000  # about 5 minutes of speech synthesised at a time (split at sentences)
+SENTENCE_PAUSE = 0.3  # seconds: a word after a pause this long may start a chunk
+PADDING_FRAMES = 50  # silence added around the synthetic speech beyond the recording's own lead and tail
+VOCAL_TRACT_WARPS = (0.88, 0.94, 1.0, 1.06, 1.12)
+WARP_SEARCH_FRAMES = 6_000  # the warp is chosen on the first minute of a long take
+# Cost of a DTW step that stretches one signal (in units of the normalised cepstral distance, about 2 between
+# two voices saying the same thing): keeps the path near the diagonal where the distances do not decide.
+STEP_PENALTY = 2.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -117,233 +133,391 @@ def _read_with_soundfile(path: Path) -> tuple[np.ndarray, int]:
     return samples, int(rate)
 
 
+@dataclass(frozen=True)
+class PhraseMatch:
+    """A phrase of the text (words between pauses) as found in the recording, with how sure the match is."""
+
+    first_word: int
+    word_count: int
+    start: float  # seconds in the recording
+    end: float
+    confidence: float  # 0 (the recording says something else here) .. 1 (a close match)
+
+
+@dataclass(frozen=True, eq=False)
+class RecordingAlignment:
+    """The warp to recorded time, the recording with the warped events, and how well it fits the text."""
+
+    warp: TimeWarp
+    synthesis: Synthesis
+    phrases: tuple[PhraseMatch, ...]
+    warnings: tuple[str, ...]
+
+
+@dataclass(frozen=True, eq=False)
+class _Reference:
+    """The synthetic rendition of the whole text: its events and its 16 kHz audio (no engine-rate audio)."""
+
+    analysis: np.ndarray  # float32 at ANALYSIS_RATE
+    sample_rate: int  # the engine's
+    duration: float
+    phone_events: tuple[PhoneEvent, ...]
+    word_events: tuple[WordEvent, ...]
+
+
 def resample(samples: np.ndarray, source_rate: int, target_rate: int) -> np.ndarray:
-    """Band-limited resampling (Hann-windowed sinc), in blocks so memory stays proportional to the audio."""
+    """Band-limited resampling (soxr, high quality) to float32."""
+    samples = np.asarray(samples, dtype=np.float32)
     if source_rate == target_rate or samples.size == 0:
-        return samples.astype(np.float32, copy=False)
-    ratio = target_rate / source_rate
-    cutoff = 0.95 * min(1.0, ratio)  # of the source's Nyquist frequency
-    half = int(np.ceil(_RESAMPLE_HALF_TAPS / cutoff))
-    offsets = np.arange(-half + 1, half + 1)
-    count = int(round(samples.size * ratio))
-    output = np.empty(count, np.float32)
-    padded = np.concatenate(
-        (np.zeros(half, np.float32), samples.astype(np.float32), np.zeros(half + 1, np.float32))
-    )
-    block = max(1, 2**20 // offsets.size)
-    for begin in range(0, count, block):
-        positions = np.arange(begin, min(begin + block, count)) / ratio  # in source samples
-        base = np.floor(positions).astype(np.int64)
-        taps = base[:, None] + offsets[None, :]
-        distance = positions[:, None] - taps
-        weights = cutoff * np.sinc(cutoff * distance) * (0.5 + 0.5 * np.cos(np.pi * distance / half))
-        output[begin : begin + positions.size] = (padded[taps + half] * weights).sum(axis=1)
-    return output
+        return samples
+    import soxr
+
+    return soxr.resample(samples, source_rate, target_rate).astype(np.float32, copy=False)
 
 
-def speech_range(samples: np.ndarray, rate: int) -> tuple[int, int]:
-    """First and last sample of the speech: the ends quieter than SILENCE_DB below the loud frames are cut."""
-    frame = max(1, int(rate * 0.02))
-    count = samples.size // frame
-    if count == 0:
-        return 0, samples.size
-    blocks = samples[: count * frame].reshape(count, frame)
-    energy = np.sqrt(np.einsum("ij,ij->i", blocks, blocks) / frame)
-    loud = np.percentile(energy, 95)
-    voiced = np.flatnonzero(energy > max(loud * 10 ** (-SILENCE_DB / 20), 1e-4))
-    if voiced.size == 0:
-        return 0, 0
-    margin = frame  # keep a frame of the silence so onsets are not cut
-    return max(0, voiced[0] * frame - margin), min(samples.size, (voiced[-1] + 1) * frame + margin)
+def synthesize_reference(utterance: Utterance, engine: SpeechEngine) -> _Reference:
+    """The text spoken chunk by chunk (sentences up to CHUNK_LETTERS letters), only its 16 kHz copy kept."""
+    pieces: list[np.ndarray] = []
+    phones: list[PhoneEvent] = []
+    words: list[WordEvent] = []
+    offset = 0.0
+    rate = 0
+    for part, first_word in _chunks(utterance):
+        spoken = engine.synthesize(part)
+        rate = spoken.sample_rate
+        pieces.append(resample(spoken.samples.astype(np.float32) / 32768, rate, ANALYSIS_RATE))
+        phones.extend(
+            replace(
+                event,
+                start=event.start + offset,
+                end=event.end + offset,
+                word_index=event.word_index + first_word,
+            )
+            for event in spoken.phone_events
+        )
+        words.extend(
+            replace(event, start=event.start + offset, word_index=event.word_index + first_word)
+            for event in spoken.word_events
+        )
+        offset += spoken.duration
+    analysis = np.concatenate(pieces) if pieces else np.zeros(0, np.float32)
+    return _Reference(analysis, rate, offset, tuple(phones), tuple(words))
 
 
-def speech_features(
-    samples: np.ndarray, rate: int, top_hertz: float = MEL_TOP_HERTZ
-) -> tuple[np.ndarray, np.ndarray]:
-    """MFCC 1..12 per 10 ms frame (each normalised over the signal) and whether each frame is voiced.
+def _chunks(utterance: Utterance) -> list[tuple[Utterance, int]]:
+    """The utterance cut before words that follow a sentence's pause, each piece at most CHUNK_LETTERS long.
 
-    top_hertz: highest frequency described; both signals of an alignment must use the same one.
+    The pause between two pieces moves to the end of the first, so the voice ends it as a sentence.
     """
-    window, hop = frame_sizes(rate)
-    size = 1 << int(np.ceil(np.log2(window)))
-    filters = _mel_filters(rate, size, top_hertz)
-    transform = _dct_matrix(MEL_BANDS, CEPSTRA)[1:]
-    taper = np.hanning(window)
-    count = max(1, 1 + (samples.size - 1) // hop)
-    features = np.empty((count, CEPSTRA - 1))
-    energy = np.empty(count)
-    for begin in range(0, count, _FEATURE_BLOCK):
-        frames = np.arange(begin, min(begin + _FEATURE_BLOCK, count))
-        # Only this block's samples are copied (zero-padded past the end), not the whole signal.
-        piece = samples[begin * hop : frames[-1] * hop + window].astype(np.float64)
-        piece = np.pad(piece, (0, (frames.size - 1) * hop + window - piece.size))
-        rows = piece[(frames - begin)[:, None] * hop + np.arange(window)[None, :]] * taper
-        power = np.abs(np.fft.rfft(rows, size, axis=1)) ** 2
-        features[frames] = np.log(power @ filters.T + 1e-10) @ transform.T
-        energy[frames] = np.sqrt(np.mean(rows**2, axis=1))
-    features -= features.mean(axis=0)
-    features /= features.std(axis=0) + 1e-8
-    voiced = energy > max(np.percentile(energy, 95) * 10 ** (-SILENCE_DB / 20), 1e-4)
-    return features, voiced
+    words = utterance.words
+    bounds = [0]
+    letters = 0
+    for index, word in enumerate(words):
+        if index and letters >= CHUNK_LETTERS and word.pause_before >= SENTENCE_PAUSE:
+            bounds.append(index)
+            letters = 0
+        letters += word.letter_count
+    bounds.append(len(words))
+    pieces = []
+    for first, stop in zip(bounds[:-1], bounds[1:], strict=True):
+        part_words = list(words[first:stop])
+        if first:
+            part_words[0] = replace(part_words[0], pause_before=0.0)
+        final = words[stop].pause_before if stop < len(words) else utterance.final_pause
+        pieces.append((replace(utterance, words=tuple(part_words), final_pause=final), first))
+    if len(pieces) == 1:
+        return [(utterance, 0)]
+    return pieces
 
 
-def frame_sizes(rate: int) -> tuple[int, int]:
-    """Samples per analysis window and per hop (the hop is whole samples, so its seconds are hop / rate)."""
-    return int(round(FRAME_SECONDS * rate)), int(round(HOP_SECONDS * rate))
-
-
-def _mel_filters(rate: int, size: int, top_hertz: float) -> np.ndarray:
-    def to_mel(hertz):
-        return 2595 * np.log10(1 + np.asarray(hertz) / 700)
-
-    def to_hertz(mel):
-        return 700 * (10 ** (np.asarray(mel) / 2595) - 1)
-
-    edges = to_hertz(np.linspace(to_mel(60.0), to_mel(min(top_hertz, 0.45 * rate)), MEL_BANDS + 2))
-    bins = np.fft.rfftfreq(size, 1 / rate)
-    lower, centre, upper = edges[:-2, None], edges[1:-1, None], edges[2:, None]
-    rising = (bins[None, :] - lower) / (centre - lower)
-    falling = (upper - bins[None, :]) / (upper - centre)
-    return np.clip(np.minimum(rising, falling), 0, None)
-
-
-def _dct_matrix(inputs: int, outputs: int) -> np.ndarray:
-    n = np.arange(inputs)
-    return np.cos(np.pi / inputs * (n[None, :] + 0.5) * np.arange(outputs)[:, None])
-
-
-def dtw_path(x: np.ndarray, y: np.ndarray, radius: int = DTW_RADIUS) -> tuple[np.ndarray, np.ndarray]:
-    """The cheapest monotone path from (0, 0) to (len(x)-1, len(y)-1) through the frame distances."""
-    n, m = len(x), len(y)
-    if n * m <= DTW_FULL_CELLS or min(n, m) <= 4 * radius:
-        return _band_dtw(x, y, np.zeros(n, np.int64), np.full(n, m, np.int64))
-    coarse_i, coarse_j = dtw_path(_halve(x), _halve(y), radius)
-    low = np.full(n, m, np.int64)
-    high = np.zeros(n, np.int64)
-    for row_offset in (0, 1):
-        rows = np.minimum(2 * coarse_i + row_offset, n - 1)
-        np.minimum.at(low, rows, 2 * coarse_j)
-        np.maximum.at(high, rows, np.minimum(2 * coarse_j + 2, m))
-    low = np.minimum.accumulate(low[::-1])[::-1]  # rows the projection missed borrow from their neighbours
-    high = np.maximum.accumulate(high)
-    grown_low, grown_high = low.copy(), high.copy()
-    for shift in range(1, radius + 1):
-        grown_low[shift:] = np.minimum(grown_low[shift:], low[:-shift])
-        grown_high[:-shift] = np.maximum(grown_high[:-shift], high[shift:])
-    grown_low = np.clip(grown_low - radius, 0, m)
-    grown_high = np.clip(grown_high + radius, 0, m)
-    grown_low[0], grown_high[-1] = 0, m
-    return _band_dtw(x, y, grown_low, grown_high)
-
-
-def _halve(features: np.ndarray) -> np.ndarray:
-    if len(features) % 2:
-        features = np.concatenate((features, features[-1:]))
-    return 0.5 * (features[0::2] + features[1::2])
-
-
-def _band_dtw(
-    x: np.ndarray, y: np.ndarray, low: np.ndarray, high: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """DTW (symmetric steps, diagonal weighted twice) with row i restricted to columns low[i]:high[i].
-
-    Each row is solved at once: vertical and diagonal steps come from the row before, and the horizontal
-    steps are a running minimum of (cost so far - cumulative distance), so no Python loop runs over cells.
-    """
-    moves: list[np.ndarray] = []  # per row: 0 diagonal, 1 from above, 2 from the left
-    previous = np.empty(0)
-    previous_low = 0
-    for i in range(len(x)):
-        begin, end = int(low[i]), int(high[i])
-        distance = np.sqrt(((y[begin:end] - x[i]) ** 2).sum(axis=1))
-        if i == 0:
-            cost = np.cumsum(distance)
-            move = np.full(end - begin, 2, np.int8)
-        else:
-            above = np.full(end - begin, np.inf)
-            diagonal = np.full(end - begin, np.inf)
-            _copy_overlap(above, begin, previous, previous_low)
-            _copy_overlap(diagonal, begin - 1, previous, previous_low)
-            from_above = above + distance
-            from_diagonal = diagonal + 2 * distance
-            arrive = np.minimum(from_diagonal, from_above)
-            move = np.where(from_diagonal <= from_above, 0, 1).astype(np.int8)
-            cumulative = np.cumsum(distance)
-            relative = arrive - cumulative
-            best = np.minimum.accumulate(relative)
-            cost = best + cumulative
-            move[best < relative] = 2
-        moves.append(move)
-        previous, previous_low = cost, begin
-    path_i, path_j = [], []
-    i, j = len(x) - 1, len(y) - 1
-    while True:
-        path_i.append(i)
-        path_j.append(j)
-        if i == 0 and j == 0:
-            break
-        move = moves[i][j - int(low[i])]
-        if move == 0:
-            i, j = i - 1, j - 1
-        elif move == 1:
-            i -= 1
-        else:
-            j -= 1
-    return np.array(path_i[::-1]), np.array(path_j[::-1])
-
-
-def _copy_overlap(target: np.ndarray, target_low: int, source: np.ndarray, source_low: int) -> None:
-    """target[k] = source[k + target_low - source_low] where both exist."""
-    begin = max(target_low, source_low)
-    end = min(target_low + target.size, source_low + source.size)
-    if end > begin:
-        target[begin - target_low : end - target_low] = source[begin - source_low : end - source_low]
-
-
-def align_recording(synthesis: Synthesis, path: str | Path) -> tuple[TimeWarp, Synthesis]:
-    """The warp from synthetic to recorded time, and the recording as a Synthesis with warped events."""
+def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine) -> RecordingAlignment:
+    """Align the synthetic rendition of the utterance to the user's recording of it; see the module text."""
     path = Path(path)
-    recorded, recorded_rate = read_audio(path)
-    recorded = resample(recorded, recorded_rate, synthesis.sample_rate)
-    rate = synthesis.sample_rate
+    native, native_rate = read_audio(path)
+    reference = synthesize_reference(utterance, engine)
+    recorded = resample(native, native_rate, ANALYSIS_RATE)
+    output = resample(native, native_rate, reference.sample_rate)
+    del native
+    output = np.clip(np.round(output * 32767), -32768, 32767).astype(np.int16)
     # A telephone-quality recording has nothing above its Nyquist frequency: describe both up to there.
-    top_hertz = min(MEL_TOP_HERTZ, 0.45 * recorded_rate)
-    synthetic = synthesis.samples.astype(np.float32) / 32768
-    recorded_begin, recorded_end = speech_range(recorded, rate)
-    synthetic_begin, synthetic_end = speech_range(synthetic, rate)
-    if recorded_end - recorded_begin < int(0.1 * rate):
+    top_hertz = min(TOP_HERTZ, 0.45 * native_rate)
+    recorded_speech = speech_frames(recorded, frame_count(recorded.size))
+    synthetic_energies = mel_energies(reference.analysis, top_hertz=top_hertz)
+    synthetic_speech = speech_frames(reference.analysis, len(synthetic_energies))
+    _check_lengths(path, recorded_speech, synthetic_speech)
+    spoken = np.flatnonzero(recorded_speech)
+    lead = int(spoken[0]) + PADDING_FRAMES
+    tail = len(recorded_speech) - int(spoken[-1]) + PADDING_FRAMES
+    synthetic_energies = np.pad(synthetic_energies, ((lead, tail), (0, 0)))
+    synthetic_speech = np.pad(synthetic_speech, (lead, tail))
+    x, y = _best_warped_features(synthetic_energies, synthetic_speech, recorded, recorded_speech, top_hertz)
+    del recorded
+    path_x, path_y = dtw_path(x, y, step_penalty=STEP_PENALTY)
+    distances = np.sqrt(((x[path_x] - y[path_y]) ** 2).sum(axis=1))
+    warp = _warp_from_path(
+        path_x, path_y, synthetic_speech, recorded_speech, lead, output.size / reference.sample_rate
+    )
+    synthesis = warp_synthesis(
+        Synthesis(output, reference.sample_rate, reference.phone_events, reference.word_events, "recording"),
+        warp,
+        output,
+    )
+    fit = _Fit(
+        path_x,
+        path_y,
+        distances,
+        synthetic_speech,
+        recorded_speech,
+        lead,
+        _chance_distance(x, synthetic_speech, y, recorded_speech),
+    )
+    phrases, warnings = _judge(utterance, reference, warp, fit, path)
+    return RecordingAlignment(warp, synthesis, phrases, warnings)
+
+
+def _check_lengths(path: Path, recorded_speech: np.ndarray, synthetic_speech: np.ndarray) -> None:
+    recorded_frames = np.flatnonzero(recorded_speech)
+    synthetic_frames = np.flatnonzero(synthetic_speech)
+    if recorded_frames.size < 10:
         raise AudioError(f"recording {path} is silent (no speech found); record the text again")
-    if synthetic_end <= synthetic_begin:
+    if synthetic_frames.size == 0:
         raise AudioError("the synthetic speech is silent, so there is nothing to align the recording to")
-    ratio = (recorded_end - recorded_begin) / (synthetic_end - synthetic_begin)
+    recorded_span = recorded_frames[-1] - recorded_frames[0] + 1
+    synthetic_span = synthetic_frames[-1] - synthetic_frames[0] + 1
+    ratio = recorded_span / synthetic_span
     if not 1 / MAX_LENGTH_RATIO <= ratio <= MAX_LENGTH_RATIO:
+        seconds = HOP / ANALYSIS_RATE
         raise AudioError(
-            f"recording {path} has {(recorded_end - recorded_begin) / rate:.1f} s of speech but the text "
-            f"takes about {(synthetic_end - synthetic_begin) / rate:.1f} s to say (more than "
+            f"recording {path} has {recorded_span * seconds:.1f} s of speech but the text "
+            f"takes about {synthetic_span * seconds:.1f} s to say (more than "
             f"{MAX_LENGTH_RATIO:g} times apart); check that the recording reads exactly this text"
         )
-    x, x_voiced = speech_features(synthetic[synthetic_begin:synthetic_end], rate, top_hertz)
-    y, y_voiced = speech_features(recorded[recorded_begin:recorded_end], rate, top_hertz)
-    path_x, path_y = dtw_path(x, y)
-    # Silence matches silence at no cost, so the path through a pause is arbitrary: only matches of voiced
-    # frames become knots of the warp, each synthetic frame taking the mean recording frame matched to it,
-    # and pauses are crossed linearly.
-    both = x_voiced[path_x] & y_voiced[path_y]
+
+
+def _best_warped_features(
+    synthetic: np.ndarray,
+    synthetic_speech: np.ndarray,
+    recorded: np.ndarray,
+    recorded_speech: np.ndarray,
+    top_hertz: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Cepstra of both with a common noise floor, the recording's at the vocal-tract warp that fits best.
+
+    Each warp is tried on the first minute at a quarter of the frame rate; the one whose DTW path is
+    cheapest per step wins (another speaker's formants sit higher or lower than eSpeak's).
+    """
+    synthetic_levels = band_levels(synthetic, synthetic_speech)
+    best = None
+    for warp in VOCAL_TRACT_WARPS:
+        energies = mel_energies(recorded, warp, top_hertz)
+        recorded_levels = band_levels(energies, recorded_speech)
+        floor = common_floor(synthetic_levels, recorded_levels)
+        x = cepstra(synthetic, synthetic_levels[0], floor, synthetic_speech)
+        y = cepstra(energies, recorded_levels[0], floor, recorded_speech)
+        coarse_x, coarse_y = x[:WARP_SEARCH_FRAMES:4], y[:WARP_SEARCH_FRAMES:4]
+        path_x, path_y = dtw_path(coarse_x, coarse_y, step_penalty=STEP_PENALTY)
+        cost = float(np.sqrt(((coarse_x[path_x] - coarse_y[path_y]) ** 2).sum(axis=1)).mean())
+        if best is None or cost < best[0]:
+            best = (cost, x, y)
+    return best[1], best[2]
+
+
+def _chance_distance(x: np.ndarray, x_speech: np.ndarray, y: np.ndarray, y_speech: np.ndarray) -> float:
+    """Median distance between speech frames of the two signals paired at random (seeded: reproducible)."""
+    rng = np.random.default_rng(0)
+    xs = x[rng.choice(np.flatnonzero(x_speech), 4000)]
+    ys = y[rng.choice(np.flatnonzero(y_speech), 4000)]
+    return float(np.median(np.sqrt(((xs - ys) ** 2).sum(axis=1))))
+
+
+def _frame_seconds(frames: np.ndarray | float, lead: int = 0) -> np.ndarray:
+    """Centre time (seconds) of analysis frames, `lead` padding frames before time zero."""
+    return ((np.asarray(frames, dtype=np.float64) - lead) * HOP + WINDOW / 2) / ANALYSIS_RATE
+
+
+def _warp_from_path(
+    path_x: np.ndarray,
+    path_y: np.ndarray,
+    synthetic_speech: np.ndarray,
+    recorded_speech: np.ndarray,
+    lead: int,
+    recording_duration: float,
+) -> TimeWarp:
+    """Knots where speech meets speech, each synthetic frame at the mean recording frame matched to it.
+
+    Silence matches silence at no cost, so the path through a pause is arbitrary: pauses are crossed
+    linearly between the last and first words around them.
+    """
+    both = synthetic_speech[path_x] & recorded_speech[path_y]
     if both.sum() < 2:
         both[:] = True
-    weights = np.bincount(path_x[both], minlength=len(x))
+    frames = len(synthetic_speech)
+    weights = np.bincount(path_x[both], minlength=frames)
     knots = np.flatnonzero(weights)
-    matched = np.bincount(path_x[both], weights=path_y[both], minlength=len(x))[knots] / weights[knots]
-    knots = np.concatenate(([0], knots, [len(x) - 1]))
-    matched = np.maximum.accumulate(np.concatenate(([0.0], matched, [len(y) - 1.0])))
-    window, hop = frame_sizes(rate)
-    warp = TimeWarp(
-        synthetic=(synthetic_begin + window / 2 + hop * knots) / rate,
-        recorded=(recorded_begin + window / 2 + hop * matched) / rate,
-        recording_duration=recorded.size / rate,
+    matched = np.bincount(path_x[both], weights=path_y[both], minlength=frames)[knots] / weights[knots]
+    knots = np.concatenate(([path_x[0]], knots, [path_x[-1]]))
+    matched = np.maximum.accumulate(np.concatenate(([path_y[0]], matched, [path_y[-1]])))
+    unique = np.concatenate(([True], np.diff(knots) > 0))
+    return TimeWarp(
+        synthetic=_frame_seconds(knots[unique], lead),
+        recorded=_frame_seconds(matched[unique]),
+        recording_duration=recording_duration,
     )
-    samples = np.clip(np.round(recorded * 32767), -32768, 32767).astype(np.int16)
-    return warp, warp_synthesis(synthesis, warp, samples)
+
+
+@dataclass(frozen=True, eq=False)
+class _Fit:
+    """The DTW path and the feature distance along it, for judging how well the recording says the text."""
+
+    path_x: np.ndarray
+    path_y: np.ndarray
+    distances: np.ndarray
+    synthetic_speech: np.ndarray
+    recorded_speech: np.ndarray
+    lead: int
+    chance: float  # the median distance of unrelated speech frames of the two signals
+
+
+# Mean feature distance (normalised cepstra) along the path: the same text in other voices, rooms and codecs
+# stays below MATCHED_DISTANCE per sentence, other words lie above UNMATCHED_DISTANCE; scripts/
+# measure_recordings.py (tuning sentences: the same text 1.0-1.8 per sentence, another text 2.7-3.3).
+MATCHED_DISTANCE = 1.6
+UNMATCHED_DISTANCE = 2.6
+OTHER_TEXT_DISTANCE = 2.3  # the whole recording this far off: it reads another text
+UNMATCHED_WORD_DISTANCE = 2.9  # one word this far off (the same text stays below 2.3 per word)
+SQUEEZED = 0.25  # a word given less than this share of its expected length in the recording is missing
+# A word stretched this much beyond the recording's pace, and matched this loosely, has company: words the
+# text does not have were said next to it (a speaker's own lengthening stays close to the text).
+STRETCHED = 1.7
+STRETCHED_DISTANCE = 2.4
+EXTRA_SPEECH_FRAMES = 25  # a stretch of recorded speech this long (250 ms) matched to no synthetic speech
+OTHER_TEXT_SHARE = 0.5  # more than this share of the words unmatched: the recording reads another text
+
+
+def _word_frames(utterance: Utterance, reference: _Reference, lead: int) -> np.ndarray:
+    """Each word's first and last synthetic frame (padded indices); -1 for a word the engine did not voice."""
+    spans = np.full((len(utterance.words), 2), -1, np.int64)
+    for event in reference.phone_events:
+        first = lead + int(event.start * ANALYSIS_RATE / HOP)
+        last = lead + int(np.ceil(event.end * ANALYSIS_RATE / HOP))
+        span = spans[event.word_index]
+        span[0] = first if span[0] < 0 else min(span[0], first)
+        span[1] = max(span[1], last)
+    return spans
+
+
+def _judge(
+    utterance: Utterance, reference: _Reference, warp: TimeWarp, fit: _Fit, path: Path
+) -> tuple[tuple[PhraseMatch, ...], tuple[str, ...]]:
+    """A confidence per phrase; warnings naming the words where recording and text part."""
+    frames = len(fit.synthetic_speech)
+    spoken = fit.synthetic_speech[fit.path_x]
+    per_frame_count = np.bincount(fit.path_x[spoken], minlength=frames)
+    per_frame_sum = np.bincount(fit.path_x[spoken], weights=fit.distances[spoken], minlength=frames)
+    spans = _word_frames(utterance, reference, fit.lead)
+    word_distance = np.full(len(utterance.words), np.nan)
+    pace = np.full(len(utterance.words), np.nan)  # recorded length / synthetic length
+    for index, (first, last) in enumerate(spans):
+        if first < 0:
+            continue
+        count = per_frame_count[first : last + 1].sum()
+        word_distance[index] = per_frame_sum[first : last + 1].sum() / count if count else UNMATCHED_DISTANCE
+        synthetic = _frame_seconds(np.array([first, last]), fit.lead)
+        recorded = warp(synthetic)
+        pace[index] = (recorded[1] - recorded[0]) / max(synthetic[1] - synthetic[0], 1e-3)
+    pace /= np.nanmedian(pace)
+    unmatched = (word_distance > UNMATCHED_WORD_DISTANCE) | (pace < SQUEEZED)
+    crowded = (pace > STRETCHED) & (word_distance > STRETCHED_DISTANCE) & ~unmatched
+    phrases = _phrases(utterance, warp, spans, fit, word_distance, per_frame_count, per_frame_sum)
+    texts = [word.text for word in utterance.words]
+    if unmatched.mean() > OTHER_TEXT_SHARE or fit.distances[spoken].mean() > OTHER_TEXT_DISTANCE:
+        raise AudioError(
+            f"recording {path} does not read this text: {_word_list(texts, np.flatnonzero(unmatched))} "
+            "are not heard in it; check that the recording and the text belong together"
+        )
+    warnings = [
+        f"the recording seems not to say {_word_list(texts, run)} (word {run[0] + 1} of the text); "
+        "check the recording there: the face is timed on the rest"
+        for run in _consecutive(np.flatnonzero(unmatched))
+    ]
+    warnings.extend(
+        f"the recording says something the text does not around {texts[index]!r} (word {index + 1} of the "
+        f"text, at {float(warp(_frame_seconds(spans[index, 0], fit.lead))):.1f} s); the face keeps to the "
+        "text's words there"
+        for index in np.flatnonzero(crowded)
+    )
+    warnings.extend(_extra_speech(fit, spans, texts))
+    return phrases, tuple(warnings)
+
+
+def _phrases(
+    utterance: Utterance,
+    warp: TimeWarp,
+    spans: np.ndarray,
+    fit: _Fit,
+    word_distance: np.ndarray,
+    per_frame_count: np.ndarray,
+    per_frame_sum: np.ndarray,
+) -> tuple[PhraseMatch, ...]:
+    """Words between pauses, each phrase with its place in the recording and its confidence."""
+    starts = [index for index, word in enumerate(utterance.words) if index == 0 or word.pause_before > 0]
+    phrases = []
+    for first, stop in zip(starts, [*starts[1:], len(utterance.words)], strict=True):
+        voiced = [index for index in range(first, stop) if spans[index, 0] >= 0]
+        if not voiced:
+            continue
+        begin, end = spans[voiced[0], 0], spans[voiced[-1], 1]
+        count = per_frame_count[begin : end + 1].sum()
+        distance = per_frame_sum[begin : end + 1].sum() / count if count else UNMATCHED_DISTANCE
+        confidence = (UNMATCHED_DISTANCE - distance) / (UNMATCHED_DISTANCE - MATCHED_DISTANCE)
+        recorded = warp(_frame_seconds(np.array([begin, end]), fit.lead))
+        phrases.append(
+            PhraseMatch(
+                first, stop - first, float(recorded[0]), float(recorded[1]), float(np.clip(confidence, 0, 1))
+            )
+        )
+    return tuple(phrases)
+
+
+def _extra_speech(fit: _Fit, spans: np.ndarray, texts: list[str]) -> list[str]:
+    """Warnings for recorded speech the synthetic speech does not advance through (words not in the text)."""
+    recorded_frames = len(fit.recorded_speech)
+    matched = np.zeros(recorded_frames, np.int64)
+    matched[fit.path_y] = fit.path_x  # the path is monotone: the last synthetic frame matched to each
+    progress = np.cumsum(fit.synthetic_speech)[matched]  # synthetic speech frames passed
+    window = EXTRA_SPEECH_FRAMES
+    if recorded_frames <= window:
+        return []
+    speech_share = np.convolve(fit.recorded_speech, np.ones(window), "valid")[:-1] / window
+    advance = progress[window:] - progress[:-window]
+    stalled = (advance <= window // 8) & (speech_share >= 0.8)
+    warnings = []
+    firsts = spans[:, 0]
+    for start, _ in runs(stalled):
+        at = matched[start + window // 2]
+        before = np.flatnonzero((firsts >= 0) & (firsts <= at))
+        after = np.flatnonzero(firsts > at)
+        seconds = _frame_seconds(start + window // 2)
+        if not (before.size and after.size):
+            continue  # before the first word or after the last: a breath or a noise as likely as a word
+        place = f"between {texts[before[-1]]!r} and {texts[after[0]]!r}"
+        warnings.append(
+            f"the recording says something the text does not {place} (at {float(seconds):.1f} s); "
+            "the face keeps to the text's words there"
+        )
+    return warnings
+
+
+def _consecutive(indices: np.ndarray) -> list[np.ndarray]:
+    if indices.size == 0:
+        return []
+    return np.split(indices, np.flatnonzero(np.diff(indices) > 1) + 1)
+
+
+def _word_list(texts: list[str], indices: np.ndarray, shown: int = 6) -> str:
+    names = [repr(texts[index]) for index in indices[:shown]]
+    more = f" and {indices.size - shown} more" if indices.size > shown else ""
+    return ", ".join(names) + more
 
 
 def warp_synthesis(synthesis: Synthesis, warp: TimeWarp, samples: np.ndarray) -> Synthesis:

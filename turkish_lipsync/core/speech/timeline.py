@@ -24,8 +24,9 @@ class Speech:
     warnings: tuple[str, ...] = ()
 
 
-# The audio of one utterance is held in memory (about 160 MB an hour, with its working copies several times
-# that): longer texts are refused before the engine starts rather than exhausting memory.
+# The synthetic audio of one utterance is held in memory (about 160 MB an hour, with its working copies
+# several times that): longer texts are refused before the engine starts rather than exhausting memory.
+# A recording's script is exempt: its synthetic rendition is made and dropped chunk by chunk.
 MAX_SPOKEN_LETTERS = 60_000  # about 90 minutes of speech
 
 
@@ -54,22 +55,23 @@ def synthesize_timeline(
         return Speech(table_timeline(utterance), None)
     if timing == "recording" and recording is None:
         raise LipSyncError("recording timing needs a recording: give the audio file of the text read aloud")
-    if len(utterance.letters) > MAX_SPOKEN_LETTERS:
+    if recording is None and len(utterance.letters) > MAX_SPOKEN_LETTERS:
         raise TextError(
             f"the text has {len(utterance.letters):,} letters to speak, more than the {MAX_SPOKEN_LETTERS:,} "
             "(about 90 minutes of speech) one utterance may hold: split it into several texts, or use table "
             "timing, which needs no audio"
         )
     speech_engine = get_engine(engine)
-    synthesis = speech_engine.synthesize(utterance)
-    label = timing
-    if recording is not None:
-        _, synthesis = align_recording(synthesis, Path(recording))
-        label = "recording"
+    label, warnings = timing, ()
+    if recording is None:
+        synthesis = speech_engine.synthesize(utterance)
+    else:  # synthesised in chunks: a take of any length, its script past MAX_SPOKEN_LETTERS included
+        alignment = align_recording(utterance, Path(recording), speech_engine)
+        synthesis, warnings, label = alignment.synthesis, alignment.warnings, "recording"
     if timing == "word":
         starts, ends = word_letter_spans(utterance, synthesis)
     else:
         starts, ends, synthesis = phone_letter_spans(utterance, synthesis, speech_engine)
     onsets = tuple(event.start for event in synthesis.phone_events)
     timeline = build_timeline(utterance, starts, ends, synthesis.duration, label, onsets)
-    return Speech(timeline, synthesis)
+    return Speech(timeline, synthesis, warnings)

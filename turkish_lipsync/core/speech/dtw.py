@@ -1,0 +1,107 @@
+"""Dynamic time warping of two feature sequences in memory that grows with their length, not its square.
+
+Multi-resolution, as FastDTW does: the path is solved at half the frame rate, then refined in a band
+around it. No DTW library is used: the ones that install cleanly either hold the full cost matrix
+(dtw-python) or bring numba and librosa into a Blender extension; the recurrence is 40 lines of numpy.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+DTW_RADIUS = 12  # frames of slack around the coarse path at each resolution
+DTW_FULL_CELLS = 250_000  # below this many cells the DTW is solved without a band
+
+
+def dtw_path(
+    x: np.ndarray, y: np.ndarray, radius: int = DTW_RADIUS, step_penalty: float = 0.0
+) -> tuple[np.ndarray, np.ndarray]:
+    """The cheapest monotone path from (0, 0) to (len(x)-1, len(y)-1) through the frame distances.
+
+    step_penalty: added to every horizontal or vertical step, so the path keeps near the diagonal where
+    the distances alone do not decide (two voices never match as closely as one voice with itself).
+    """
+    n, m = len(x), len(y)
+    if n * m <= DTW_FULL_CELLS or min(n, m) <= 4 * radius:
+        return _band_dtw(x, y, np.zeros(n, np.int64), np.full(n, m, np.int64), step_penalty)
+    coarse_i, coarse_j = dtw_path(_halve(x), _halve(y), radius, step_penalty)
+    low = np.full(n, m, np.int64)
+    high = np.zeros(n, np.int64)
+    for row_offset in (0, 1):
+        rows = np.minimum(2 * coarse_i + row_offset, n - 1)
+        np.minimum.at(low, rows, 2 * coarse_j)
+        np.maximum.at(high, rows, np.minimum(2 * coarse_j + 2, m))
+    low = np.minimum.accumulate(low[::-1])[::-1]  # rows the projection missed borrow from their neighbours
+    high = np.maximum.accumulate(high)
+    grown_low, grown_high = low.copy(), high.copy()
+    for shift in range(1, radius + 1):
+        grown_low[shift:] = np.minimum(grown_low[shift:], low[:-shift])
+        grown_high[:-shift] = np.maximum(grown_high[:-shift], high[shift:])
+    grown_low = np.clip(grown_low - radius, 0, m)
+    grown_high = np.clip(grown_high + radius, 0, m)
+    grown_low[0], grown_high[-1] = 0, m
+    return _band_dtw(x, y, grown_low, grown_high, step_penalty)
+
+
+def _halve(features: np.ndarray) -> np.ndarray:
+    if len(features) % 2:
+        features = np.concatenate((features, features[-1:]))
+    return 0.5 * (features[0::2] + features[1::2])
+
+
+def _band_dtw(
+    x: np.ndarray, y: np.ndarray, low: np.ndarray, high: np.ndarray, step_penalty: float = 0.0
+) -> tuple[np.ndarray, np.ndarray]:
+    """DTW (symmetric steps, diagonal weighted twice) with row i restricted to columns low[i]:high[i].
+
+    Each row is solved at once: vertical and diagonal steps come from the row before, and the horizontal
+    steps are a running minimum of (cost so far - cumulative distance), so no Python loop runs over cells.
+    """
+    moves: list[np.ndarray] = []  # per row: 0 diagonal, 1 from above, 2 from the left
+    previous = np.empty(0)
+    previous_low = 0
+    for i in range(len(x)):
+        begin, end = int(low[i]), int(high[i])
+        distance = np.sqrt(((y[begin:end] - x[i]) ** 2).sum(axis=1))
+        if i == 0:
+            cost = np.cumsum(distance + step_penalty)
+            move = np.full(end - begin, 2, np.int8)
+        else:
+            above = np.full(end - begin, np.inf)
+            diagonal = np.full(end - begin, np.inf)
+            _copy_overlap(above, begin, previous, previous_low)
+            _copy_overlap(diagonal, begin - 1, previous, previous_low)
+            from_above = above + distance + step_penalty
+            from_diagonal = diagonal + 2 * distance
+            arrive = np.minimum(from_diagonal, from_above)
+            move = np.where(from_diagonal <= from_above, 0, 1).astype(np.int8)
+            cumulative = np.cumsum(distance + step_penalty)
+            relative = arrive - cumulative
+            best = np.minimum.accumulate(relative)
+            cost = best + cumulative
+            move[best < relative] = 2
+        moves.append(move)
+        previous, previous_low = cost, begin
+    path_i, path_j = [], []
+    i, j = len(x) - 1, len(y) - 1
+    while True:
+        path_i.append(i)
+        path_j.append(j)
+        if i == 0 and j == 0:
+            break
+        move = moves[i][j - int(low[i])]
+        if move == 0:
+            i, j = i - 1, j - 1
+        elif move == 1:
+            i -= 1
+        else:
+            j -= 1
+    return np.array(path_i[::-1]), np.array(path_j[::-1])
+
+
+def _copy_overlap(target: np.ndarray, target_low: int, source: np.ndarray, source_low: int) -> None:
+    """target[k] = source[k + target_low - source_low] where both exist."""
+    begin = max(target_low, source_low)
+    end = min(target_low + target.size, source_low + source.size)
+    if end > begin:
+        target[begin - target_low : end - target_low] = source[begin - source_low : end - source_low]

@@ -1,0 +1,137 @@
+"""Where a recording speaks: WebRTC's voice activity detector, checked against the room's noise floor.
+
+The WebRTC detector (the `webrtcvad-wheels` package: Google's detector from WebRTC, in C, wheels for
+every platform Blender runs on, no model files) tells voice from stationary room noise; a frame also
+has to rise above the recording's own noise floor, so hiss it half-accepts does not count. Then runs
+too short to be a syllable (clicks, pops) are dropped, and so is a weak run before or after the
+speech or alone between pauses (a breath, a chair): speech is where the loud frames are.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import AudioError
+from .features import ANALYSIS_RATE, HOP
+
+AGGRESSIVENESS = 3  # WebRTC's strictest mode: least noise taken for speech
+ABOVE_NOISE_DB = 6.0  # a speech frame is at least this much louder than the noise floor
+BELOW_SPEECH_DB = 45.0  # ... and no more than this much quieter than the loud speech frames
+SHORTEST_RUN = 5  # frames (50 ms): shorter runs are clicks
+BRIDGED_GAP = 8  # frames (80 ms): shorter gaps are stop closures inside speech, not pauses
+ISOLATION = 30  # frames (300 ms) of silence around a run that makes it isolated
+VOICING = 0.5  # normalised autocorrelation at the pitch period above which a hop is voiced
+VOICED_IN_SPEECH = 3  # hops: a run with fewer voiced ones (a breath, a chair, a click) is not speech
+WEAK_RUN_DB = 20.0  # an isolated run whose peak stays this far below the loud frames is not speech
+
+
+def frame_levels(samples: np.ndarray) -> np.ndarray:
+    """Level in dB of each 10 ms hop of 16 kHz samples."""
+    count = samples.size // HOP
+    blocks = samples[: count * HOP].reshape(count, HOP).astype(np.float64)
+    return 10 * np.log10(np.einsum("ij,ij->i", blocks, blocks) / HOP + 1e-12)
+
+
+def speech_frames(samples: np.ndarray, frames: int) -> np.ndarray:
+    """True for each of `frames` analysis frames (10 ms hops of 16 kHz samples) that holds speech."""
+    levels = frame_levels(samples)
+    if levels.size == 0:
+        return np.zeros(frames, bool)
+    floor = np.percentile(levels, 10)
+    loud = np.percentile(levels, 95)
+    # Frame i's analysis window is centred 120 samples after hop i's start: close enough for pauses.
+    speech = (
+        (levels > floor + ABOVE_NOISE_DB) & (levels > loud - BELOW_SPEECH_DB) & _webrtc(samples, levels.size)
+    )
+    speech = _drop_short_runs(_bridge_gaps(speech))
+    speech = _drop_isolated_weak_runs(speech, levels, loud)
+    speech = _drop_unvoiced_runs(speech, voiced_frames(samples, levels.size))
+    return np.pad(speech, (0, max(0, frames - speech.size)))[:frames]
+
+
+def voiced_frames(samples: np.ndarray, count: int) -> np.ndarray:
+    """True where a 10 ms hop is periodic at a voice's pitch (60-400 Hz): vowels, not breaths or clicks."""
+    shortest, longest = ANALYSIS_RATE // 400, ANALYSIS_RATE // 60
+    width = 2 * longest
+    voiced = np.zeros(count, bool)
+    size = 1 << int(np.ceil(np.log2(2 * width)))
+    for begin in range(0, count, 4096):
+        hops = np.arange(begin, min(begin + 4096, count))
+        piece = samples[begin * HOP : hops[-1] * HOP + width].astype(np.float32)
+        piece = np.pad(piece, (0, (hops.size - 1) * HOP + width - piece.size))
+        rows = piece[(hops - begin)[:, None] * HOP + np.arange(width)[None, :]]
+        rows = rows - rows.mean(axis=1, keepdims=True)
+        correlation = np.fft.irfft(np.abs(np.fft.rfft(rows, size, axis=1)) ** 2, size, axis=1)
+        # Normalised by the overlap, so long lags are not penalised for their shorter sums.
+        overlap = (width - np.arange(shortest, longest)) / width
+        peak = (correlation[:, shortest:longest] / overlap).max(axis=1)
+        voiced[hops] = peak > VOICING * (correlation[:, 0] + 1e-12)
+    return voiced
+
+
+def _webrtc(samples: np.ndarray, count: int) -> np.ndarray:
+    try:
+        import webrtcvad
+    except ImportError:
+        raise AudioError(
+            "aligning a recording needs the Python package webrtcvad-wheels "
+            "(`pip install webrtcvad-wheels`); reinstall the extension, which bundles it"
+        ) from None
+    detector = webrtcvad.Vad(AGGRESSIVENESS)
+    pcm = np.clip(np.round(samples[: count * HOP] * 32767), -32768, 32767).astype("<i2").tobytes()
+    step = 2 * HOP
+    return np.fromiter(
+        (detector.is_speech(pcm[index * step : (index + 1) * step], ANALYSIS_RATE) for index in range(count)),
+        bool,
+        count,
+    )
+
+
+def runs(mask: np.ndarray) -> np.ndarray:
+    """(start, stop) frame pairs of the True runs of a mask."""
+    edges = np.diff(np.concatenate(([0], mask.astype(np.int8), [0])))
+    return np.stack((np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)), axis=1)
+
+
+def _bridge_gaps(mask: np.ndarray) -> np.ndarray:
+    mask = mask.copy()
+    spans = runs(mask)
+    for (_, stop), (start, _) in zip(spans[:-1], spans[1:], strict=True):
+        if start - stop < BRIDGED_GAP:
+            mask[stop:start] = True
+    return mask
+
+
+def _drop_short_runs(mask: np.ndarray) -> np.ndarray:
+    mask = mask.copy()
+    for start, stop in runs(mask):
+        if stop - start < SHORTEST_RUN:
+            mask[start:stop] = False
+    return mask
+
+
+def _drop_isolated_weak_runs(mask: np.ndarray, levels: np.ndarray, loud: float) -> np.ndarray:
+    """Weak runs before the first strong one, after the last, or alone between pauses are not speech."""
+    mask = mask.copy()
+    spans = runs(mask)
+    weak = np.array([levels[start:stop].max() < loud - WEAK_RUN_DB for start, stop in spans], bool)
+    if weak.all():
+        return mask
+    strong = np.flatnonzero(~weak)
+    for number, (start, stop) in enumerate(spans):
+        if not weak[number]:
+            continue
+        gap_before = start - spans[number - 1][1] if number else np.inf
+        gap_after = spans[number + 1][0] - stop if number + 1 < len(spans) else np.inf
+        outside = number < strong[0] or number > strong[-1]
+        if outside or min(gap_before, gap_after) >= ISOLATION:
+            mask[start:stop] = False
+    return mask
+
+
+def _drop_unvoiced_runs(mask: np.ndarray, voiced: np.ndarray) -> np.ndarray:
+    mask = mask.copy()
+    for start, stop in runs(mask):
+        if voiced[start:stop].sum() < VOICED_IN_SPEECH:
+            mask[start:stop] = False
+    return mask
