@@ -41,6 +41,12 @@ def _parser() -> argparse.ArgumentParser:
     syllables.add_argument("words", nargs="+", metavar="WORD")
     syllables.set_defaults(run=_run_syllables)
 
+    normalize = commands.add_parser("normalize", help="print the text as it is spoken, to check a script")
+    normalize_source = normalize.add_mutually_exclusive_group(required=True)
+    normalize_source.add_argument("text", nargs="*", default=[], metavar="TEXT", help="JSML or plain text")
+    normalize_source.add_argument("--file", type=Path, metavar="FILE", help="a JSML or plain text file")
+    normalize.set_defaults(run=_run_normalize)
+
     timeline = commands.add_parser("timeline", help="print the phones, words and emotion spans of a text")
     _add_source_arguments(timeline)
     timeline.add_argument("--format", choices=("json", "tsv"), default="tsv")
@@ -125,6 +131,14 @@ def _run_syllables(args: argparse.Namespace) -> int:
 
     for word in args.words:
         print("-".join(syllabify(turkish_lower(word))))
+    return 0
+
+
+def _run_normalize(args: argparse.Namespace) -> int:
+    """Numbers, dates, abbreviations and suffixes as they will be spoken, pauses as punctuation."""
+    from .text.normalize import spoken_text
+
+    print(spoken_text(read_source(args.file, " ".join(args.text) if args.text else None)))
     return 0
 
 
