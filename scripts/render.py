@@ -156,6 +156,17 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
         "moho-dat, papagayo-pgo, arkit-csv",
     )
     parser.add_argument(
+        "--gltf",
+        type=Path,
+        help="also write the head and its speech animation as .glb, the speech WAV beside it",
+    )
+    parser.add_argument(
+        "--mapping",
+        type=Path,
+        help="a TOML file naming the head's own keys for the Turkish visemes (README: heads with visemes of "
+        "their own)",
+    )
+    parser.add_argument(
         "--frames",
         type=_frame_range,
         metavar="START-END",
@@ -191,6 +202,10 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
         parser.error(f"--jsml {arguments.jsml} does not exist")
     if arguments.audio is not None and not arguments.audio.is_file():
         parser.error(f"--audio {arguments.audio} does not exist")
+    if arguments.gltf is not None and arguments.gltf.suffix.lower() != ".glb":
+        parser.error(f"--gltf {arguments.gltf} must end in .glb")
+    if arguments.mapping is not None and not arguments.mapping.is_file():
+        parser.error(f"--mapping {arguments.mapping} does not exist")
     arguments.engine = arguments.engine.upper()
     return arguments
 
@@ -202,6 +217,7 @@ def _check_farm_arguments(parser: argparse.ArgumentParser, arguments: argparse.N
         "--jsml": arguments.jsml,
         "--cues": arguments.cues,
         "--export": arguments.export,
+        "--gltf": arguments.gltf,
         "--save-blend": arguments.save_blend,
         "--still": arguments.still,
     }
@@ -358,9 +374,16 @@ def run(arguments: argparse.Namespace) -> None:
     else:
         candidates = [obj for obj in scene.objects if obj.type == "MESH" and pipeline.has_lipsync_keys(obj)]
         head = candidates[0] if candidates else heads.find_head(scene.objects)
-    if head is None or arguments.rebuild_keys or arguments.arkit_keys or not pipeline.has_lipsync_keys(head):
-        report = pipeline.build_keys(context, head, arkit_keys=arguments.arkit_keys, progress=_print_progress)
-        print(f"Built the shape keys on {report.head} from {report.source}", flush=True)
+    rebuild = arguments.rebuild_keys or arguments.arkit_keys or arguments.mapping is not None
+    if head is None or rebuild or not pipeline.has_lipsync_keys(head):
+        report = pipeline.build_keys(
+            context,
+            head,
+            arkit_keys=arguments.arkit_keys,
+            mapping_file=str(arguments.mapping) if arguments.mapping else None,
+            progress=_print_progress,
+        )
+        print(f"Built the shape keys on {report.head} from {report.convention or report.source}", flush=True)
         _print_warnings(report.warnings)
         head = bpy.data.objects[report.head]
     head_name = head.name
@@ -396,6 +419,15 @@ def run(arguments: argparse.Namespace) -> None:
     )
     if arguments.export:
         write_exports(arguments, result, source)
+    if arguments.gltf is not None:
+        from turkish_lipsync.blender.gltf_export import export_gltf
+
+        exported = export_gltf(context, bpy.data.objects[head_name], arguments.gltf)
+        print(
+            f"Exported glTF to {exported.path} ({exported.morph_targets} morph targets); "
+            f"speech: {exported.wav_path or 'none'}",
+            flush=True,
+        )
     if not arguments.no_render:
         rendered = pipeline.render_video(
             context,

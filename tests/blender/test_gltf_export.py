@@ -1,15 +1,22 @@
 """The .glb export, read back: re-imported into Blender it plays the same weights at the same frames."""
 
+import subprocess
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 bpy = pytest.importorskip("bpy")
 
+from tests.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import gltf_export, heads, pipeline, shapekeys  # noqa: E402
 from turkish_lipsync.core.errors import LipSyncError  # noqa: E402
 from turkish_lipsync.core.pipeline import LipSyncOptions  # noqa: E402
 
+SCRIPT = Path(__file__).resolve().parents[2] / "scripts" / "render.py"
+VITRUVIAN = HEADS / "vitruvian" / "vitruvian_head_facs.glb"
 TEXT = "<SENT><HAPPY>Merhaba</HAPPY>, benim adım Erdem.</SENT>"
 
 
@@ -97,3 +104,29 @@ def test_the_panels_export_operator(tmp_path):
         assert gltf_export.read_glb_document(tmp_path / "panel.glb")["animations"]
     finally:
         blender.unregister()
+
+
+@pytest.mark.skipif(not VITRUVIAN.is_file(), reason="shared heads not found")
+def test_render_script_writes_the_glb_of_a_head_with_its_own_visemes(tmp_path):
+    out = tmp_path / "vitruvian.glb"
+    completed = subprocess.run(
+        [sys.executable, str(SCRIPT), "--text", "Merhaba, benim adım Erdem.", "--head", str(VITRUVIAN),
+         "--no-render", "--gltf", str(out)],
+        capture_output=True, text=True, timeout=600, check=False,
+    )  # fmt: skip
+    assert completed.returncode == 0, completed.stderr
+    assert "from Azure / Microsoft visemes" in completed.stdout
+    document = gltf_export.read_glb_document(out)
+    names = document["meshes"][0]["extras"]["targetNames"]
+    assert {"aa_02", "p_b_m_21", "TR_viseme_a", "TR_viseme_bpa"} <= set(names)  # its own keys and ours
+    assert document["animations"]
+    assert out.with_suffix(".wav").is_file()
+
+
+def test_render_script_refuses_a_gltf_path_without_glb():
+    completed = subprocess.run(
+        [sys.executable, str(SCRIPT), "--text", "Merhaba", "--no-render", "--gltf", "x.gltf"],
+        capture_output=True, text=True, timeout=120, check=False,
+    )  # fmt: skip
+    assert completed.returncode != 0
+    assert "must end in .glb" in completed.stderr
