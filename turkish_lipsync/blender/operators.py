@@ -13,7 +13,7 @@ import numpy as np
 from ..core.errors import HeadError, LipSyncError
 from ..core.faces.landmarks import find_landmarks
 from ..core.pipeline import LipSyncOptions
-from . import gltf_export, landmarks, mesh, pipeline
+from . import exports, gltf_export, landmarks, mesh, pipeline
 from .preferences import ADDON_PACKAGE, configure_speech_engine
 
 # What an operator's work returns: the line to report, and the warnings the user must see.
@@ -173,13 +173,9 @@ class TURKISH_LIPSYNC_OT_generate(bpy.types.Operator):
         if not pipeline.has_lipsync_keys(head):
             cls.poll_message_set("The head has no lip-sync shape keys yet: build them first")
             return False
-        if settings.source_kind == "TEXT" and settings.text is None:
-            cls.poll_message_set("Choose the Text to speak in the Lip Sync panel")
+        if not _source_chosen(cls, settings):
             return False
-        if settings.source_kind == "FILE" and not settings.file_path:
-            cls.poll_message_set("Choose the JSML file to speak in the Lip Sync panel")
-            return False
-        if settings.recording and settings.timing == "table":
+        if settings.recording and settings.timing == "table" and not settings.cue_file:
             cls.poll_message_set("Table timing cannot follow a recording: choose Phone or Word timing")
             return False
         return True
@@ -192,10 +188,7 @@ class TURKISH_LIPSYNC_OT_generate(bpy.types.Operator):
         settings = settings_of(context)
         head = chosen_head(context)
         configure_speech_engine(context)
-        source = pipeline.read_source(
-            settings.text.name if settings.source_kind == "TEXT" and settings.text else "",
-            settings.file_path if settings.source_kind == "FILE" else "",
-        )
+        source = source_of(settings)
         with progress_reporter(context, "Generate") as progress:
             result = pipeline.generate(
                 context,
@@ -217,7 +210,30 @@ class TURKISH_LIPSYNC_OT_generate(bpy.types.Operator):
 def options_of(settings) -> LipSyncOptions:
     """The core's options from the panel's settings (the frame rate is the scene's, set by generate)."""
     recording = Path(bpy.path.abspath(settings.recording)) if settings.recording else None
-    return LipSyncOptions.from_attributes(settings, recording=recording)
+    cues = Path(bpy.path.abspath(settings.cue_file)) if settings.cue_file else None
+    return LipSyncOptions.from_attributes(settings, recording=recording, cues=cues)
+
+
+def _source_chosen(cls, settings) -> bool:
+    """A text to speak is chosen, or a cue file that may hold its own (a Papagayo project does)."""
+    if settings.cue_file:
+        return True
+    if settings.source_kind == "TEXT" and settings.text is None:
+        cls.poll_message_set("Choose the Text to speak in the Lip Sync panel")
+        return False
+    if settings.source_kind == "FILE" and not settings.file_path:
+        cls.poll_message_set("Choose the JSML file to speak in the Lip Sync panel")
+        return False
+    return True
+
+
+def source_of(settings) -> str:
+    """The panel's text; empty when only a cue file is given (its own text is then spoken)."""
+    text_name = settings.text.name if settings.source_kind == "TEXT" and settings.text else ""
+    file_path = settings.file_path if settings.source_kind == "FILE" else ""
+    if settings.cue_file and not (text_name or file_path):
+        return ""
+    return pipeline.read_source(text_name, file_path)
 
 
 class TURKISH_LIPSYNC_OT_show_landmarks(bpy.types.Operator):
@@ -375,6 +391,54 @@ class TURKISH_LIPSYNC_OT_render(bpy.types.Operator):
         )
 
 
+def _speech_generated(cls, context) -> bool:
+    if not (_in_object_mode(cls, context) and _head_chosen(cls, context)):
+        return False
+    key = chosen_head(context).data.shape_keys
+    if key is None or key.animation_data is None or key.animation_data.action is None:
+        cls.poll_message_set("Generate the animation first: the head has no speech to export")
+        return False
+    return True
+
+
+class TURKISH_LIPSYNC_OT_export_animation(bpy.types.Operator):
+    """Write the speech for other tools: Rhubarb mouth cues, Moho switch data, Papagayo or ARKit CSV"""
+
+    bl_idname = "turkish_lipsync.export_animation"
+    bl_label = "Export Animation"
+    bl_options = {"REGISTER"}
+
+    @classmethod
+    def poll(cls, context) -> bool:
+        if not (_speech_generated(cls, context) and _source_chosen(cls, settings_of(context))):
+            return False
+        chosen = settings_of(context).export_path
+        if not chosen:
+            cls.poll_message_set("Choose the file to export to in the Lip Sync panel")
+            return False
+        if chosen.startswith("//") and not bpy.data.filepath:
+            cls.poll_message_set("Save the .blend first, or choose an absolute path to export to")
+            return False
+        return True
+
+    def execute(self, context):
+        return run_reported(self, lambda: self.export(context))
+
+    @staticmethod
+    def export(context) -> Outcome:
+        settings = settings_of(context)
+        configure_speech_engine(context)
+        result = exports.export_animation(
+            context,
+            chosen_head(context),
+            source_of(settings),
+            options_of(settings),
+            settings.export_format,
+            settings.export_path,
+        )
+        return f"Exported {result.export_format} to {result.path}", result.warnings
+
+
 class TURKISH_LIPSYNC_OT_export_gltf(bpy.types.Operator):
     """Export the head, its shape keys and the speech animation as .glb, the speech WAV beside it"""
 
@@ -384,11 +448,7 @@ class TURKISH_LIPSYNC_OT_export_gltf(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context) -> bool:
-        if not (_in_object_mode(cls, context) and _head_chosen(cls, context)):
-            return False
-        key = chosen_head(context).data.shape_keys
-        if key is None or key.animation_data is None or key.animation_data.action is None:
-            cls.poll_message_set("Generate the animation first: the head has no speech to export")
+        if not _speech_generated(cls, context):
             return False
         if not settings_of(context).gltf_path:
             cls.poll_message_set("Choose the glTF file to write in the Lip Sync panel")
@@ -411,6 +471,7 @@ CLASSES = (
     TURKISH_LIPSYNC_OT_clear_landmarks,
     TURKISH_LIPSYNC_OT_generate,
     TURKISH_LIPSYNC_OT_render,
+    TURKISH_LIPSYNC_OT_export_animation,
     TURKISH_LIPSYNC_OT_export_gltf,
 )
 

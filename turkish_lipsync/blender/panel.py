@@ -47,6 +47,7 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
         else:
             column.prop(settings, "file_path")
         column.prop(settings, "recording")
+        column.prop(settings, "cue_file")
         column.prop(settings, "timing")
         column.prop(settings, "rate")
         column.prop(settings, "emotion_strength")
@@ -64,6 +65,9 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
 
         layout.separator()
         column = layout.column(heading="Export")
+        column.prop(settings, "export_format")
+        column.prop(settings, "export_path")
+        column.operator("turkish_lipsync.export_animation", icon="EXPORT")
         column.prop(settings, "gltf_path")
         column.operator("turkish_lipsync.export_gltf", icon="EXPORT")
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
+from ..core.interchange import EXPORT_CHOICES
 from ..core.pipeline import (
     INTERPOLATION_CHOICES,
     MOTION_CHOICES,
@@ -168,6 +169,24 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
         subtype="FILE_PATH",
         default="//lipsync.mp4",
         description="The MP4 file to write (H.264 video with AAC audio)",
+    )
+    cue_file: StringProperty(
+        name="Cue File",
+        subtype="FILE_PATH",
+        description="A Rhubarb (.tsv, .json, .xml), Papagayo (.pgo) or Moho (.dat) file that times the mouth "
+        "shapes instead of the speech engine; the recording is then its sound; a .pgo brings its text",
+    )
+    export_format: EnumProperty(
+        name="Format",
+        items=enum_items(EXPORT_CHOICES),
+        default="rhubarb-json",
+        description="What Export Animation writes, and for which tools",
+    )
+    export_path: StringProperty(
+        name="Export File",
+        subtype="FILE_PATH",
+        default="//speech",
+        description="The file Export Animation writes; its extension follows the format",
     )
     gltf_path: StringProperty(
         name="glTF File",

@@ -202,6 +202,57 @@ TURKISH = {
     "Render samples per pixel (EEVEE and Cycles)": "Piksel başına örnek sayısı (EEVEE ve Cycles)",
     "Video": "Video",
     "The MP4 file to write (H.264 video with AAC audio)": "Yazılacak MP4 dosyası (H.264 görüntü, AAC ses)",
+    # timing from cue files, and exports for other tools
+    "Cue File": "Zamanlama Dosyası",
+    "A Rhubarb (.tsv, .json, .xml), Papagayo (.pgo) or Moho (.dat) file that times the mouth "
+    "shapes instead of the speech engine; the recording is then its sound; a .pgo brings its text": (
+        "Ağız şekillerini konuşma motoru yerine zamanlayan Rhubarb (.tsv, .json, .xml), Papagayo (.pgo) "
+        "veya Moho (.dat) dosyası; kayıt o zaman sesi olur; .pgo kendi metnini getirir"
+    ),
+    "Format": "Biçim",
+    "What Export Animation writes, and for which tools": (
+        "Animasyonu Dışa Aktar'ın neyi, hangi araçlar için yazdığı"
+    ),
+    "Export File": "Dışa Aktarma Dosyası",
+    "The file Export Animation writes; its extension follows the format": (
+        "Animasyonu Dışa Aktar'ın yazdığı dosya; uzantısı biçime göre belirlenir"
+    ),
+    "Export Animation": "Animasyonu Dışa Aktar",
+    "Write the speech for other tools: Rhubarb mouth cues, Moho switch data, Papagayo or ARKit CSV": (
+        "Konuşmayı diğer araçlar için yazar: Rhubarb ağız işaretleri, Moho anahtar verisi, Papagayo ya da "
+        "ARKit CSV"
+    ),
+    "Choose the file to export to in the Lip Sync panel": (
+        "Dudak Senkronu panelinde dışa aktarılacak dosyayı seçin"
+    ),
+    "Save the .blend first, or choose an absolute path to export to": (
+        "Önce .blend dosyasını kaydedin ya da dışa aktarmak için tam bir yol seçin"
+    ),
+    # format names are proper names
+    "Rhubarb TSV": "Rhubarb TSV",
+    "Rhubarb JSON": "Rhubarb JSON",
+    "Rhubarb XML": "Rhubarb XML",
+    "Moho Switch Data": "Moho Anahtar Verisi",
+    "Papagayo Project": "Papagayo Projesi",
+    "ARKit CSV": "ARKit CSV",
+    "Mouth cues A-H and X with their start times (Rhubarb Lip Sync)": (
+        "Başlangıç zamanlarıyla A-H ve X ağız işaretleri (Rhubarb Lip Sync)"
+    ),
+    "Mouth cues A-H and X as JSON (Godot, Unity, Spine, web players)": (
+        "JSON olarak A-H ve X ağız işaretleri (Godot, Unity, Spine, web oynatıcıları)"
+    ),
+    "Mouth cues A-H and X as XML (Rhubarb Lip Sync's XML output)": (
+        "XML olarak A-H ve X ağız işaretleri (Rhubarb Lip Sync'in XML çıktısı)"
+    ),
+    "Preston Blair mouths per frame for Moho and OpenToonz (.dat)": (
+        "Moho ve OpenToonz için kare kare Preston Blair ağızları (.dat)"
+    ),
+    "Words and mouths per frame for Papagayo-NG (.pgo)": (
+        "Papagayo-NG için kare kare sözcükler ve ağızlar (.pgo)"
+    ),
+    "52 ARKit weights per frame, Live Link Face layout (Unreal, MetaHuman)": (
+        "Her kare için 52 ARKit ağırlığı, Live Link Face düzeninde (Unreal, MetaHuman)"
+    ),
     # preferences
     "eSpeak NG Library": "eSpeak NG Kitaplığı",
     "A libespeak-ng to use instead of the bundled one (empty: bundled, then the system's)": (

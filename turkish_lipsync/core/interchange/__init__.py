@@ -11,6 +11,7 @@ from pathlib import Path
 
 from ..errors import LipSyncError
 from ..model import Timeline, WeightTracks
+from ..pipeline import Choice
 from .arkit_csv import arkit_weights, live_link_csv, read_arkit_csv
 from .cue_timing import CUE_SUFFIXES, CUE_TIMING, CueSource, read_cue_source, timeline_from_cues
 from .cues import CueFileError, MouthCue, cues_as_json, cues_as_tsv, cues_as_xml, mouth_cues
@@ -25,6 +26,15 @@ EXPORT_FORMATS: dict[str, str] = {
     "papagayo-pgo": ".pgo",
     "arkit-csv": ".csv",
 }
+# The formats for the panel and --help: what each one is and who reads it.
+EXPORT_CHOICES: tuple[Choice, ...] = (
+    Choice("rhubarb-tsv", "Rhubarb TSV", "Mouth cues A-H and X with their start times (Rhubarb Lip Sync)"),
+    Choice("rhubarb-json", "Rhubarb JSON", "Mouth cues A-H and X as JSON (Godot, Unity, Spine, web players)"),
+    Choice("rhubarb-xml", "Rhubarb XML", "Mouth cues A-H and X as XML (Rhubarb Lip Sync's XML output)"),
+    Choice("moho-dat", "Moho Switch Data", "Preston Blair mouths per frame for Moho and OpenToonz (.dat)"),
+    Choice("papagayo-pgo", "Papagayo Project", "Words and mouths per frame for Papagayo-NG (.pgo)"),
+    Choice("arkit-csv", "ARKit CSV", "52 ARKit weights per frame, Live Link Face layout (Unreal, MetaHuman)"),
+)
 
 
 def export_text(
@@ -83,6 +93,7 @@ def write_export(path: Path | str, contents: str) -> Path:
 __all__ = [
     "CUE_SUFFIXES",
     "CUE_TIMING",
+    "EXPORT_CHOICES",
     "EXPORT_FORMATS",
     "CueFileError",
     "CueSource",
