@@ -16,15 +16,20 @@ import numpy as np
 
 from ..errors import HeadError
 from .landmarks import connected_pieces, find_landmarks, largest_piece, triangulate
+from .parts import OPPOSITE_PART, PART_LABELS, FaceParts, find_face_parts
 
 # Reference part names (reference.parts) and the target part each one drives.
 RIGID_PARTS: tuple[str, ...] = ("upper_teeth", "lower_teeth", "left_eye", "right_eye")
-SOFT_PARTS: tuple[str, ...] = ("tongue",)
+SOFT_PARTS: tuple[str, ...] = ("tongue", "left_eyelashes", "right_eyelashes")
 
 # Beyond these distances (fractions of the reference head's height, after registration) a target vertex
 # is not near the reference skin any more (a torso, a hat): its deltas fade to nothing.
 FALLOFF_NEAR = 0.05
 FALLOFF_FAR = 0.15
+
+# Lid vertices this far from the reference surface (in eye widths) are the socket's lining: they fade out.
+LID_FADE_NEAR = 0.08
+LID_FADE_FAR = 0.25
 
 # A similarity fit that leaves landmarks this far off (fraction of the face size) calls for the warp.
 WARP_RESIDUAL = 0.02
@@ -127,20 +132,28 @@ def _triangles_around(vertex_count: int, triangles: np.ndarray) -> np.ndarray:
     return table
 
 
-def closest_points(points: np.ndarray, vertices: np.ndarray, triangles: np.ndarray):
+def closest_points(
+    points: np.ndarray, vertices: np.ndarray, triangles: np.ndarray, allowed=None, around=None
+):
     """(triangle index, barycentric weights (P, 3), distance) of the closest surface point to each point.
 
     The search looks at the triangles around the nearest vertex and its neighbours. Where two sheets
     of surface nearly touch (eyelid and socket) it can pick the other sheet, a fraction of a millimetre
-    further away, whose deltas are the same.
+    further away, whose deltas are the same. allowed: a mask of the triangles to search (all if None);
+    around: _triangles_around of the triangles, when the caller searches the same surface many times.
     """
     points = np.asarray(points, np.float64)
-    used = np.unique(triangles)
+    if allowed is None:
+        allowed = np.ones(len(triangles), bool)
+    if around is None:
+        around = _triangles_around(len(vertices), triangles)
+    used = np.unique(triangles[allowed])
     nearest = used[_nearest_vertex(points, vertices[used])]
     best_distance = np.full(len(points), np.inf)
     best_triangle = np.zeros(len(points), np.int64)
     best_weights = np.zeros((len(points), 3))
-    candidates = _triangles_around(len(vertices), triangles)[nearest]
+    candidates = around[nearest]
+    candidates = np.where((candidates >= 0) & allowed[np.maximum(candidates, 0)], candidates, -1)
     _search(
         points,
         vertices,
@@ -233,7 +246,7 @@ def find_parts(vertices: np.ndarray, polygons, landmarks: Mapping[str, np.ndarra
     lips_front = min(lm["upper_lip"][1], lm["lower_lip"][1])
     mouth_centre_x = 0.5 * (corner_left[0] + corner_right[0])
     parts: dict[str, list[np.ndarray]] = {name: [] for name in ("upper_teeth", "lower_teeth", "tongue")}
-    parts.update(left_eye=[], right_eye=[])
+    parts.update(left_eye=[], right_eye=[], left_eyelashes=[], right_eyelashes=[])
     eyes = {
         side: (
             0.5 * (lm[f"eye_inner_{side}"] + lm[f"eye_outer_{side}"]),
@@ -241,7 +254,7 @@ def find_parts(vertices: np.ndarray, polygons, landmarks: Mapping[str, np.ndarra
         )
         for side in ("left", "right")
     }
-    teeth = []
+    teeth, loose = [], []
     for piece in pieces:
         points = vertices[piece]
         centre = points.mean(0)
@@ -249,8 +262,14 @@ def find_parts(vertices: np.ndarray, polygons, landmarks: Mapping[str, np.ndarra
             offset = centre - eye_centre
             sideways = np.hypot(offset[0], offset[2])
             # An eyeball's centre lies well behind the corners; lashes and lids hang in front of it.
-            if sideways < 0.6 * eye_width and 0.15 * eye_width < offset[1] < 1.2 * eye_width:
+            if sideways < 0.6 * eye_width and (
+                0.15 * eye_width < offset[1] < 1.2 * eye_width
+                or (_is_ball(points, eye_width) and -0.3 * eye_width < offset[1] < 1.2 * eye_width)
+            ):
                 parts[f"{side}_eye"].append(piece)
+                break
+            if sideways < 0.8 * eye_width and -0.6 * eye_width < offset[1] <= 0.15 * eye_width:
+                loose.append((side, piece))  # lashes, or a cornea in front of the eyeball
                 break
         else:
             inside_mouth = (
@@ -265,6 +284,16 @@ def find_parts(vertices: np.ndarray, polygons, landmarks: Mapping[str, np.ndarra
                 teeth.append(piece)
             else:
                 parts["tongue"].append(piece)
+    for side, piece in loose:
+        # A cornea lies on its eyeball; lashes stand out of it, along the lid.
+        eyeball = np.concatenate(parts[f"{side}_eye"]) if parts[f"{side}_eye"] else np.empty(0, np.int64)
+        if len(eyeball):
+            centre = vertices[eyeball].mean(0)
+            radius = np.linalg.norm(vertices[eyeball] - centre, axis=1).max()
+            if np.linalg.norm(vertices[piece] - centre, axis=1).max() < 1.15 * radius:
+                parts[f"{side}_eye"].append(piece)
+                continue
+        parts[f"{side}_eyelashes"].append(piece)
     if len(teeth) == 1 and 0.25 < (vertices[teeth[0], 2] >= lip_line).mean() < 0.75:
         above = vertices[teeth[0], 2] >= lip_line  # both rows in one piece: split it at the lip line
         parts["upper_teeth"].append(teeth[0][above])
@@ -276,6 +305,12 @@ def find_parts(vertices: np.ndarray, polygons, landmarks: Mapping[str, np.ndarra
     return {name: np.sort(np.concatenate(found)) for name, found in parts.items() if found}
 
 
+def _is_ball(points: np.ndarray, eye_width: float) -> bool:
+    """A closed, round piece about an eye wide: an eyeball, wherever its centre sits."""
+    radius = np.linalg.norm(points - points.mean(0), axis=1)
+    return bool(radius.std() < 0.15 * radius.mean() and 0.25 * eye_width < radius.mean() < 0.8 * eye_width)
+
+
 # ---------------------------------------------------------------- the transfer
 
 
@@ -283,12 +318,6 @@ def find_parts(vertices: np.ndarray, polygons, landmarks: Mapping[str, np.ndarra
 def _reference_landmarks_of(reference) -> dict[str, np.ndarray]:
     """The reference's landmarks found the same way as a target's, so both follow one convention."""
     return find_landmarks(reference.vertices, reference.polygons)
-
-
-def _part_triangles(triangles: np.ndarray, indices: np.ndarray, vertex_count: int) -> np.ndarray:
-    keep = np.zeros(vertex_count, bool)
-    keep[indices] = True
-    return triangles[keep[triangles].all(1)]
 
 
 def transfer_units(
@@ -345,6 +374,7 @@ def transfer_units(
     turn = scale * rotation  # deltas follow the global rotation and scale only
 
     reference_triangles = triangulate(reference.polygons)
+    surface = (reference_triangles, _triangles_around(len(placed), reference_triangles))
     reference_parts = {name: np.asarray(indices) for name, indices in reference.parts.items()}
     if target_parts is None:
         target_parts = find_parts(target_vertices, target_triangles, target_landmarks)
@@ -357,12 +387,49 @@ def transfer_units(
         if len(indices) and name in reference_parts:
             in_part[indices] = True
 
-    # Skin (and everything that is not a known part): closest point on the reference skin.
+    # Skin (and everything that is not a known part): each lip and lid samples only its own kind on
+    # the reference, the rest of the skin the whole reference skin; the inside of the mouth follows
+    # the teeth of its jaw.
     skin = np.flatnonzero(~in_part)
     reference_skin = reference_parts.get("skin", np.arange(len(reference_vertices)))
     height = scale * float(np.ptp(reference_vertices[reference_skin, 2]))
-    _carry_by_closest_point(
-        result, skin, target_vertices, placed, reference_triangles, reference_skin, units, turn, height
+
+    # Parts are read in the reference's frame (face toward -Y, Z up), whatever the target's turn.
+    def upright(points):
+        return ((np.asarray(points, np.float64) - translation) @ rotation) / scale
+
+    target_face = find_face_parts(
+        upright(target_vertices),
+        target_triangles,
+        skin,
+        {name: upright(point) for name, point in target_landmarks.items()},
+    )
+    reference_face = _reference_face_parts(
+        reference, tuple((name, tuple(map(float, point))) for name, point in reference_landmarks.items())
+    )
+    apart = np.zeros(len(target_vertices))  # each vertex's distance from the reference surface it samples
+    for index, label in enumerate(PART_LABELS):
+        sure = target_face.sure[skin]
+        targets = skin[(target_face.label[skin] == index) & sure] if index else skin[~sure]
+        # A lip or lid samples the reference anywhere but on its opposite, so the parts need not match
+        # in extent: only the surfaces that touch are kept apart.
+        sources = reference_skin
+        if index:
+            opposite = reference_face.label[reference_skin] == PART_LABELS.index(OPPOSITE_PART[label])
+            opposite &= reference_face.sure[reference_skin]
+            sources = reference_skin[~opposite]
+        apart[targets] = _carry_by_closest_point(
+            result, targets, target_vertices, placed, surface, sources, units, turn, height
+        )
+    _fade_behind_the_lids(result, target_face, apart, target_landmarks)
+    mouth_width = float(
+        np.linalg.norm(target_landmarks["mouth_corner_left"] - target_landmarks["mouth_corner_right"])
+    )
+    # Where the reference's own mouth lies on the target's, its own motion is right; the jaw takes over
+    # where the target's mouth goes deeper than the reference's.
+    beyond = np.clip((apart - 0.02 * mouth_width) / (0.06 * mouth_width), 0.0, 1.0)
+    _follow_the_jaw(
+        result, skin, target_face, beyond, target_vertices, reference, units, scale, rotation, translation
     )
     # The tongue bends (tongueOut): closest point on the reference tongue.
     for name in SOFT_PARTS:
@@ -372,7 +439,7 @@ def transfer_units(
                 np.asarray(target_parts[name]),
                 target_vertices,
                 placed,
-                reference_triangles,
+                surface,
                 reference_parts[name],
                 units,
                 turn,
@@ -394,6 +461,59 @@ def transfer_units(
     return result
 
 
+@functools.lru_cache(maxsize=4)
+def _reference_face_parts(reference, landmark_items) -> FaceParts:
+    landmarks = {name: np.asarray(point) for name, point in landmark_items}
+    return find_face_parts(
+        np.asarray(reference.vertices, np.float64),
+        triangulate(reference.polygons),
+        np.asarray(reference.parts.get("skin", np.arange(len(reference.vertices)))),
+        landmarks,
+    )
+
+
+def _fade_behind_the_lids(result, face, apart, landmarks) -> None:
+    """The lining of an eye socket, behind the lids where the reference has no surface, stays still.
+
+    Sampled from the nearest reference lid it would fold the lid over the eyeball in a blink."""
+    for side in ("left", "right"):
+        eye_width = float(np.linalg.norm(landmarks[f"eye_outer_{side}"] - landmarks[f"eye_inner_{side}"]))
+        lids = np.isin(
+            face.label, [PART_LABELS.index(f"upper_lid_{side}"), PART_LABELS.index(f"lower_lid_{side}")]
+        )
+        lids = np.flatnonzero(lids)
+        keep = np.clip(
+            (LID_FADE_FAR * eye_width - apart[lids]) / ((LID_FADE_FAR - LID_FADE_NEAR) * eye_width), 0, 1
+        )
+        for deltas in result.values():
+            deltas[lids] *= keep[:, None]
+
+
+def _follow_the_jaw(
+    result, skin, face, beyond, target_vertices, reference, units, scale, rotation, translation
+):
+    """Blend the inside of the mouth (bag, gums, teeth and tongue joined to the skin) toward the rigid
+    motion of the reference's teeth, the lower teeth's below the lips and the upper teeth's above."""
+    if "upper_teeth" not in reference.parts or "lower_teeth" not in reference.parts:
+        return
+    targets = skin[face.inside_mouth[skin] > 0]
+    if len(targets) == 0:
+        return
+    weight = (face.inside_mouth[targets] * beyond[targets])[:, None]
+    lower = face.lower_jaw[targets][:, None]
+    in_reference = ((target_vertices[targets] - translation) @ rotation) / scale
+    reference_vertices = np.asarray(reference.vertices, np.float64)
+    for name, delta in units.items():
+        rigid = np.zeros_like(in_reference)
+        for teeth, share in (("upper_teeth", 1 - lower), ("lower_teeth", lower)):
+            points = reference_vertices[reference.parts[teeth]]
+            part_delta = delta[reference.parts[teeth]]
+            if np.any(part_delta):
+                turn, shift = rigid_fit(points, points + part_delta)
+                rigid += share * (in_reference @ turn.T + shift - in_reference)
+        result[name][targets] = (1 - weight) * result[name][targets] + weight * scale * rigid @ rotation.T
+
+
 def _split_eyes(parts: dict, vertices: np.ndarray, landmarks: Mapping[str, np.ndarray]) -> dict:
     """Accept both eyes as one part ("eyes") and split them at the nose: left is +X."""
     eyes = parts.pop("eyes", None)
@@ -407,13 +527,19 @@ def _split_eyes(parts: dict, vertices: np.ndarray, landmarks: Mapping[str, np.nd
 
 
 def _carry_by_closest_point(
-    result, targets, target_vertices, placed, reference_triangles, reference_indices, units, turn, height
-) -> None:
-    """Deltas at the closest reference point, interpolated over its triangle, turned and scaled."""
-    triangles = _part_triangles(reference_triangles, reference_indices, len(placed))
-    if len(triangles) == 0 or len(targets) == 0:
-        return
-    triangle, weights, distance = closest_points(target_vertices[targets], placed, triangles)
+    result, targets, target_vertices, placed, surface, reference_indices, units, turn, height
+):
+    """Deltas at the closest reference point, interpolated over its triangle, turned and scaled.
+
+    surface: (triangles, _triangles_around of them) of the placed reference. Returns the distances.
+    """
+    triangles, around = surface
+    keep = np.zeros(len(placed), bool)
+    keep[reference_indices] = True
+    allowed = keep[triangles].all(1)
+    if not allowed.any() or len(targets) == 0:
+        return np.zeros(len(targets))
+    triangle, weights, distance = closest_points(target_vertices[targets], placed, triangles, allowed, around)
     corners = triangles[triangle]
     if height is None:
         fade = np.ones(len(targets))
@@ -423,6 +549,7 @@ def _carry_by_closest_point(
     for name, delta in units.items():
         local = (delta[corners] * weights[:, :, None]).sum(1)
         result[name][targets] = local @ turn.T
+    return distance
 
 
 def _carry_rigidly(

@@ -1,0 +1,90 @@
+"""Figures that tell a good face shape from a broken one, computed from the arrays alone.
+
+A transferred key can look plausible in numbers and still pull a curtain of stretched faces across the
+mouth, so every key is judged by how much it stretches the mesh's edges, how far the lips and lids part
+at the middle, how symmetric it is, and (where an artist made the same shape) how closely its
+displacement field points the artist's way.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .landmarks import triangulate
+
+
+def mesh_edges(polygons) -> np.ndarray:
+    """(E, 2) unique vertex pairs of the triangles' edges."""
+    triangles = triangulate(polygons)
+    edges = np.concatenate((triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]))
+    return np.unique(np.sort(edges, axis=1), axis=0)
+
+
+def edge_stretch(vertices: np.ndarray, edges: np.ndarray, deltas: np.ndarray, percentile: float = 99.9):
+    """The given percentile of deformed / rest edge length over the edges the key moves at all."""
+    rest = np.linalg.norm(vertices[edges[:, 0]] - vertices[edges[:, 1]], axis=1)
+    moved = vertices + deltas
+    deformed = np.linalg.norm(moved[edges[:, 0]] - moved[edges[:, 1]], axis=1)
+    touched = (np.abs(deltas[edges[:, 0]]).sum(1) + np.abs(deltas[edges[:, 1]]).sum(1) > 0) & (rest > 0)
+    if not touched.any():
+        return 1.0
+    return float(np.percentile(deformed[touched] / rest[touched], percentile))
+
+
+def displacement_cosine(first: np.ndarray, second: np.ndarray) -> float:
+    """Cosine between two displacement fields on the same vertices (1: the same direction everywhere)."""
+    first = np.asarray(first, np.float64).ravel()
+    second = np.asarray(second, np.float64).ravel()
+    norm = np.linalg.norm(first) * np.linalg.norm(second)
+    return float(first @ second / norm) if norm > 0 else 0.0
+
+
+def opening_gap(vertices: np.ndarray, deltas: np.ndarray, upper: np.ndarray, lower: np.ndarray, x: float):
+    """How far apart two facing surfaces (lips, lids) stand on a vertical slice at x, after the key.
+
+    The gap is the lowest point of the upper surface minus the highest of the lower one within a slab
+    around x; it is negative where they press into each other, and NaN when either surface is absent.
+    """
+    moved = vertices + deltas
+    width = _slab_width(vertices, upper, lower)
+    gaps = []
+    for part in (upper, lower):
+        near = part[np.abs(vertices[part, 0] - x) <= width]
+        gaps.append(moved[near, 2] if len(near) else None)
+    if gaps[0] is None or gaps[1] is None:
+        return float("nan")
+    return float(gaps[0].min() - gaps[1].max())
+
+
+def _slab_width(vertices: np.ndarray, upper: np.ndarray, lower: np.ndarray) -> float:
+    """Half-width of the slice: a few typical edge spans of the parts, so each holds some vertices."""
+    both = np.concatenate((upper, lower))
+    span = float(np.ptp(vertices[both, 0])) if len(both) else 0.0
+    return max(0.03 * span, 1e-9)
+
+
+def symmetry(vertices: np.ndarray, deltas: np.ndarray, middle_x: float) -> float:
+    """1 minus the relative difference between the key and its mirror image across x = middle_x.
+
+    A key meant to be symmetric (jawOpen, a viseme) scores near 1; a one-sided key (a blink) near 0.
+    """
+    moved = np.flatnonzero(np.linalg.norm(deltas, axis=1) > 1e-3 * np.abs(deltas).max(initial=0.0))
+    if len(moved) == 0:
+        return 1.0
+    mirrored = vertices[moved].copy()
+    mirrored[:, 0] = 2 * middle_x - mirrored[:, 0]
+    partner = nearest_points(mirrored, vertices)
+    mirror_deltas = deltas[partner] * np.array([-1.0, 1.0, 1.0])
+    difference = np.linalg.norm(deltas[moved] - mirror_deltas, axis=1).sum()
+    total = np.linalg.norm(deltas[moved], axis=1).sum() + np.linalg.norm(mirror_deltas, axis=1).sum()
+    return float(1.0 - difference / total) if total > 0 else 1.0
+
+
+def nearest_points(points: np.ndarray, candidates: np.ndarray) -> np.ndarray:
+    """Index of the nearest candidate for each point (chunked brute force; BLAS does the work)."""
+    nearest = np.empty(len(points), np.int64)
+    squared = (candidates**2).sum(1)
+    for start in range(0, len(points), 1024):
+        chunk = points[start : start + 1024]
+        nearest[start : start + 1024] = np.argmin(squared[None, :] - 2.0 * chunk @ candidates.T, axis=1)
+    return nearest

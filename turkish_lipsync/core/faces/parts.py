@@ -1,0 +1,230 @@
+"""The parts of a face that touch: upper and lower lip, upper and lower lid, and the inside of the mouth.
+
+Lips and lids are pairs of surfaces pressed together, so a closest-point search cannot tell them apart;
+their labels come from the mesh's connectivity instead. A band of skin clearly above the mouth line and
+one clearly below it are grown over the mesh's edges (a geodesic Voronoi split): whatever the upper
+band reaches first is upper lip, so the inner surface of the upper lip and the upper half of a mouth bag
+stay upper even where they touch the lower lip. Eyes are split the same way at the line between their
+corners. The same code labels the reference and the target, so each part can sample its own kind.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from .landmarks import DepthMap
+
+# Label names, in the order of FaceParts.label values (0 is the rest of the skin).
+PART_LABELS: tuple[str, ...] = (
+    "skin",
+    "upper_lip",
+    "lower_lip",
+    "upper_lid_left",
+    "lower_lid_left",
+    "upper_lid_right",
+    "lower_lid_right",
+)
+OPPOSITE_PART = {
+    "upper_lip": "lower_lip",
+    "lower_lip": "upper_lip",
+    "upper_lid_left": "lower_lid_left",
+    "lower_lid_left": "upper_lid_left",
+    "upper_lid_right": "lower_lid_right",
+    "lower_lid_right": "upper_lid_right",
+}
+# A lip or lid vertex whose distances to the two sides differ by less than this share of their sum lies
+# where the sides meet (mouth and eye corners) and may sample either.
+SURE_MARGIN = 0.25
+MAX_SWEEPS = 400  # edge hops a geodesic distance may take: far more than across a mouth or an eye
+# Region radii around the mouth and each eye, in mouth widths and eye widths.
+MOUTH_REACH = 1.0
+EYE_REACH = 0.9
+
+
+@dataclass(frozen=True)
+class FaceParts:
+    """Per-vertex labels of a head's skin (indices into PART_LABELS; -1 off the skin), and mouth depth.
+
+    inside_mouth: 0 on the outer face, rising to 1 deep inside the mouth (behind the lips), where
+    the mesh is the mouth bag, gums, teeth or tongue and follows the jaw rigidly.
+    """
+
+    label: np.ndarray
+    sure: np.ndarray  # the label is clear (far nearer one side than the other): the part samples its own kind
+    inside_mouth: np.ndarray
+    lower_jaw: np.ndarray  # inside the mouth: 1 where the lower jaw carries the mesh, 0 the upper, blended
+    seam_height: float  # z of the line between the lips at the midline
+    middle_x: float
+
+    def indices(self, name: str) -> np.ndarray:
+        return np.flatnonzero(self.label == PART_LABELS.index(name))
+
+
+def edge_graph(vertex_count: int, triangles: np.ndarray, vertices: np.ndarray):
+    """(E, 2) unique edges and their lengths."""
+    edges = np.concatenate((triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]))
+    edges = np.unique(np.sort(edges, axis=1), axis=0)
+    lengths = np.linalg.norm(vertices[edges[:, 0]] - vertices[edges[:, 1]], axis=1)
+    return edges, lengths
+
+
+def smooth_over_edges(values: np.ndarray, edges: np.ndarray, movable: np.ndarray, iterations: int):
+    """Average each movable vertex with its neighbours (Jacobi sweeps); the others hold their values."""
+    values = values.astype(np.float64, copy=True)
+    degree = np.bincount(edges.ravel(), minlength=len(values)).astype(np.float64)
+    degree = degree.reshape((-1,) + (1,) * (values.ndim - 1))
+    for _ in range(iterations):
+        total = values.copy()
+        np.add.at(total, edges[:, 0], values[edges[:, 1]])
+        np.add.at(total, edges[:, 1], values[edges[:, 0]])
+        values = np.where(movable.reshape((-1,) + (1,) * (values.ndim - 1)), total / (1.0 + degree), values)
+    return values
+
+
+def geodesic_distance(vertex_count: int, edges, lengths, seeds: np.ndarray, allowed: np.ndarray):
+    """Distance along the mesh's edges from the seed vertices, through allowed vertices only (inf: unreached).
+
+    Bellman-Ford sweeps over all edges at once: a few hundred numpy passes, no Python loop per vertex.
+    """
+    distance = np.full(vertex_count, np.inf)
+    distance[seeds[allowed[seeds]]] = 0.0
+    usable = allowed[edges[:, 0]] & allowed[edges[:, 1]]
+    a = np.concatenate((edges[usable, 0], edges[usable, 1]))
+    b = np.concatenate((edges[usable, 1], edges[usable, 0]))
+    step = np.concatenate((lengths[usable], lengths[usable]))
+    for _ in range(MAX_SWEEPS):
+        best = distance.copy()
+        np.minimum.at(best, b, distance[a] + step)
+        if np.array_equal(best, distance):
+            break
+        distance = best
+    return distance
+
+
+def split_between(vertex_count: int, edges, lengths, first: np.ndarray, second: np.ndarray, allowed, central):
+    """(owner, sure) per vertex: 0 nearer the first seeds, 1 the second, -1 neither; sure where one is
+    clearly nearer or the vertex is central (between the corners, where lips and lids touch); beside
+    the corners, where the sides meet and a corner landmark's error moves the split, neither is."""
+    to_first = geodesic_distance(vertex_count, edges, lengths, first, allowed)
+    to_second = geodesic_distance(vertex_count, edges, lengths, second, allowed)
+    owner = np.where(to_first <= to_second, 0, 1)
+    owner[~np.isfinite(np.minimum(to_first, to_second))] = -1
+    with np.errstate(invalid="ignore"):
+        margin = np.abs(to_first - to_second) / (to_first + to_second)
+    sure = (owner >= 0) & ((margin > SURE_MARGIN) | ~np.isfinite(margin) | central)
+    return owner, sure
+
+
+def find_face_parts(
+    vertices: np.ndarray, triangles: np.ndarray, skin: np.ndarray, landmarks: Mapping[str, np.ndarray]
+) -> FaceParts:
+    """Lips, lids and the mouth's inside on a head's skin (vertices facing -Y, Z up, left is +X)."""
+    lm = {name: np.asarray(point, np.float64) for name, point in landmarks.items()}
+    count = len(vertices)
+    on_skin = np.zeros(count, bool)
+    on_skin[skin] = True
+    skin_triangles = triangles[on_skin[triangles].all(1)]
+    edges, lengths = edge_graph(count, skin_triangles, vertices)
+    label = np.full(count, -1)
+    label[skin] = 0
+    middle_x = 0.5 * (lm["mouth_corner_left"][0] + lm["mouth_corner_right"][0])
+    mouth_width = float(np.linalg.norm(lm["mouth_corner_left"] - lm["mouth_corner_right"]))
+    depth = DepthMap(vertices, skin_triangles, max(mouth_width / 60, 1e-9))
+    hidden = _hidden_depth(vertices, depth) > 0.04 * mouth_width
+
+    seam = _seam_height(lm, middle_x)
+    x, y, z = vertices[:, 0], vertices[:, 1], vertices[:, 2]
+    lip_height = max(
+        lm["upper_lip"][2] - seam(middle_x), seam(middle_x) - lm["lower_lip"][2], 0.05 * mouth_width
+    )
+    centre = np.array([middle_x, 0.5 * (lm["upper_lip"][1] + lm["lower_lip"][1]), seam(middle_x)])
+    mouth_region = on_skin & (np.linalg.norm(vertices - centre, axis=1) < MOUTH_REACH * mouth_width)
+    across = np.abs(x - middle_x) < 0.35 * mouth_width
+    above = z - seam(x)
+    upper_seed = np.flatnonzero(
+        mouth_region & across & ~hidden & (above > 0.35 * lip_height) & (above < 1.5 * lip_height)
+    )
+    lower_seed = np.flatnonzero(
+        mouth_region & across & ~hidden & (above < -0.35 * lip_height) & (above > -1.5 * lip_height)
+    )
+    owner, sure_mouth = split_between(
+        count, edges, lengths, upper_seed, lower_seed, mouth_region, np.abs(x - middle_x) < 0.35 * mouth_width
+    )
+    # On the lips' visible front, between the corners, the mouth line itself decides: a strip of faces
+    # closing a mask's mouth joins the lips there, and the growth alone may hand it to either side.
+    inner_front = 0.5 * (lm["upper_lip_inner"][1] + lm["lower_lip_inner"][1])
+    front = (owner >= 0) & across & ~hidden & (y <= inner_front + 0.02 * mouth_width)
+    front &= (np.abs(above) < lip_height) & (np.abs(above) > 0.05 * lip_height)
+    owner[front] = np.where(above[front] > 0, 0, 1)
+    label[owner == 0] = PART_LABELS.index("upper_lip")
+    label[owner == 1] = PART_LABELS.index("lower_lip")
+
+    # Inside the mouth: hidden from the front behind the lips, or seen through the gap between them but
+    # well behind their inner edge (teeth showing between parted lips).
+    hidden_by = _hidden_depth(vertices, depth)
+    in_gap = (np.abs(x - middle_x) < 0.4 * mouth_width) & (np.abs(above) < lip_height)
+    deep = np.maximum(hidden_by, np.where(in_gap, y - inner_front, 0.0))
+    inside = np.clip((deep - 0.04 * mouth_width) / (0.2 * mouth_width), 0.0, 1.0)
+    inside[owner < 0] = 0.0
+    lower_side = smooth_over_edges((owner == 1).astype(np.float64), edges, inside > 0, 30)
+    sure = sure_mouth & (label > 0)
+
+    for side in ("left", "right"):
+        inner, outer = lm[f"eye_inner_{side}"], lm[f"eye_outer_{side}"]
+        eye_width = float(np.linalg.norm(outer - inner))
+        eye_centre = 0.5 * (inner + outer)
+        slope = (outer[2] - inner[2]) / (outer[0] - inner[0]) if outer[0] != inner[0] else 0.0
+        lid_line = eye_centre[2] + slope * (x - eye_centre[0])
+        region = on_skin & (np.linalg.norm(vertices - eye_centre, axis=1) < EYE_REACH * eye_width)
+        region &= label <= 0
+        within = np.abs(x - eye_centre[0]) < 0.3 * eye_width
+        rise = z - lid_line
+        upper = np.flatnonzero(
+            region & within & ~hidden & (rise > 0.15 * eye_width) & (rise < 0.45 * eye_width)
+        )
+        lower = np.flatnonzero(
+            region & within & ~hidden & (rise < -0.12 * eye_width) & (rise > -0.4 * eye_width)
+        )
+        owner, sure_eye = split_between(
+            count, edges, lengths, upper, lower, region, np.abs(x - eye_centre[0]) < 0.35 * eye_width
+        )
+        sure[owner >= 0] = sure_eye[owner >= 0]
+        label[owner == 0] = PART_LABELS.index(f"upper_lid_{side}")
+        label[owner == 1] = PART_LABELS.index(f"lower_lid_{side}")
+    return FaceParts(
+        label=label,
+        sure=sure,
+        inside_mouth=inside,
+        lower_jaw=lower_side,
+        seam_height=float(seam(middle_x)),
+        middle_x=middle_x,
+    )
+
+
+def _seam_height(lm: Mapping[str, np.ndarray], middle_x: float):
+    """z of the line between the lips as a function of x: through both corners and the middle of the lips."""
+    right, left = lm["mouth_corner_right"], lm["mouth_corner_left"]
+    middle = 0.5 * (lm["upper_lip_inner"][2] + lm["lower_lip_inner"][2])
+    xs = np.array([right[0], middle_x, left[0]])
+    zs = np.array([right[2], middle, left[2]])
+
+    def seam(x):
+        return np.interp(x, xs, zs)
+
+    return seam
+
+
+def _hidden_depth(vertices: np.ndarray, depth: DepthMap) -> np.ndarray:
+    """How far each vertex lies behind the surface the front view sees at its place (0 on that surface)."""
+    rows = np.clip(
+        np.round((depth.top - vertices[:, 2]) / depth.pixel).astype(int), 0, depth.front.shape[0] - 1
+    )
+    columns = np.clip(
+        np.round((vertices[:, 0] - depth.left) / depth.pixel).astype(int), 0, depth.front.shape[1] - 1
+    )
+    front = depth.front[rows, columns]
+    behind = front - (-vertices[:, 1])
+    return np.where(np.isfinite(behind), np.maximum(behind, 0.0), 0.0)
