@@ -1,0 +1,93 @@
+"""The Flamenco job type: its compiler authors chunk renders and a join, and those commands really run.
+
+Flamenco's Manager is not available here; tests/farm/flamenco_compile.js gives compileJob() the globals the
+Manager gives it. Each authored Blender command is then run with the bpy module (`blender -b FILE --python
+render.py -- ARGS` becomes `python render.py -- --head FILE ARGS`) and the join with this Python.
+"""
+
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+av = pytest.importorskip("av")
+pytest.importorskip("bpy")
+
+REPOSITORY = Path(__file__).resolve().parents[2]
+JOB_TYPE = REPOSITORY / "farm" / "flamenco" / "turkish_lipsync.js"
+SCRIPT = REPOSITORY / "scripts" / "render.py"
+NODE = shutil.which("node")
+
+
+def _compile(tmp_path: Path, settings: dict) -> list[dict]:
+    settings_file = tmp_path / "settings.json"
+    settings_file.write_text(json.dumps(settings), encoding="utf-8")
+    result = subprocess.run(
+        [NODE, str(Path(__file__).with_name("flamenco_compile.js")), str(JOB_TYPE), str(settings_file)],
+        capture_output=True, text=True, timeout=60, check=False,
+    )  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    return json.loads(result.stdout)
+
+
+def _run(command: list[str]) -> None:
+    result = subprocess.run(command, capture_output=True, text=True, timeout=600, check=False)
+    assert result.returncode == 0, result.stderr[-2000:]
+
+
+@pytest.mark.skipif(NODE is None, reason="needs node to run the job compiler")
+def test_the_job_renders_chunks_on_workers_and_joins_them_with_the_speech(tmp_path):
+    blend = tmp_path / "shot.blend"
+    _run([sys.executable, str(SCRIPT), "--text", "Ama baba", "--no-render", "--save-blend", str(blend),
+          "--resolution", "32x32", "--fps", "25"])  # fmt: skip
+    wav = next((tmp_path / "lipsync_audio").glob("*.wav"))
+    import bpy
+
+    bpy.ops.wm.open_mainfile(filepath=str(blend))
+    last = bpy.context.scene.frame_end
+    tasks = _compile(
+        tmp_path,
+        {
+            "frames": f"1-{last}",
+            "chunk_size": 4,
+            "engine": "CYCLES",
+            "samples": 1,
+            "render_script": str(SCRIPT),
+            "join_python": sys.executable,
+            "speech_wav": str(wav),
+            "render_output_path": str(tmp_path / "out" / "{timestamp}" / "shot.mp4"),
+            "blendfile": str(blend),
+        },
+    )
+    renders, join = tasks[:-1], tasks[-1]
+    assert len(renders) == -(-last // 4) and {task["type"] for task in renders} == {"blender"}
+    assert join["type"] == "misc" and join["dependencies"] == [task["name"] for task in renders]
+    for task in renders:  # any order: each worker renders its own chunk
+        (command,) = task["commands"]
+        assert command["name"] == "blender-render" and command["parameters"]["blendfile"] == str(blend)
+        arguments = command["parameters"]["args"]
+        assert arguments[:2] == ["--python", str(SCRIPT)]
+        _run(
+            [sys.executable, str(SCRIPT), "--", "--head", str(blend), *arguments[arguments.index("--") + 1 :]]
+        )
+    (command,) = join["commands"]
+    assert command["name"] == "exec"
+    _run([command["parameters"]["exe"], *command["parameters"]["args"]])
+    (video,) = (tmp_path / "out").glob("*/shot.mp4")
+    with av.open(str(video)) as container:
+        assert container.streams.audio and container.streams.video[0].frames == last
+
+
+@pytest.mark.skipif(NODE is None, reason="needs node to run the job compiler")
+def test_frames_with_gaps_are_refused(tmp_path):
+    settings = {"frames": "1-4,8-9", "chunk_size": 10, "render_output_path": str(tmp_path / "x.mp4")}
+    settings_file = tmp_path / "settings.json"
+    settings_file.write_text(json.dumps(settings), encoding="utf-8")
+    result = subprocess.run(
+        [NODE, str(Path(__file__).with_name("flamenco_compile.js")), str(JOB_TYPE), str(settings_file)],
+        capture_output=True, text=True, timeout=60, check=False,
+    )  # fmt: skip
+    assert result.returncode != 0 and "must be one range START-END" in result.stderr
