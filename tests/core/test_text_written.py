@@ -141,6 +141,7 @@ def test_ordinals_and_roman_numerals(source: str, expected: str) -> None:
         ("1/25.000 ölçekli", "yirmi beş binde bir ölçekli"),
         ("1:1000 ölçekli", "binde bir ölçekli"),
         ("No: 5/7", "numara beş bölü yedi"),
+        ("Madde 5/2'ye göre", "madde beş bölü ikiye göre"),  # no fraction is one or more
         ("7/24 açık", "yedi yirmi dört açık"),
         ("15/03 tarihinde", "on beş mart tarihinde"),
     ],
@@ -191,6 +192,7 @@ def test_units(source: str, expected: str) -> None:
     [
         ("0212 555 44 33", "sıfır iki bir iki beş beş beş dört dört üç üç"),
         ("0212-555-44-33", "sıfır iki bir iki beş beş beş dört dört üç üç"),
+        ("0 (312) 444 55 66", "sıfır üç bir iki dört dört dört beş beş altı altı"),
         ("+90 532 123 45 67", "artı dokuz sıfır beş üç iki bir iki üç dört beş altı yedi"),
         ("ali.veli@ornek.com.tr", "ali nokta veli et ornek nokta com nokta te re"),
         ("destek_2@site.org.", "destek alt çizgi iki et site nokta org"),
@@ -214,6 +216,7 @@ def test_phone_numbers_and_addresses(source: str, expected: str) -> None:
         ("Tokat'ta", "tokatta"),  # before a consonant nothing softens
         ("Kurt'a", "kurta"),  # a name of one syllable keeps its consonant
         ("Fırat'a", "fırata"),  # listed in abbreviations.toml: it does not soften
+        ("Facebook'a Microsoft'a", "facebooka microsofta"),  # written the foreign way: no softening
         ("dokuz'da 1923'te 4'ü 6'yı 10'dan", "dokuzda bin dokuz yüz yirmi üçte dördü altıyı ondan"),
         ("2020'deki 1990'daki", "iki bin yirmideki bin dokuz yüz doksandaki"),
         ("TBMM'de ABD'li", "te be me mede a be deli"),

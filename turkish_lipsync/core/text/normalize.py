@@ -355,7 +355,7 @@ class _RunNormalizer:
             self.emit_words(self.letter_names(base, token.start))  # a lone letter: "B planı", "3D"
             return
         if suffix and _is_upper_letter(text[0]):
-            self.emit(proper_noun_suffix(letters, suffix))  # Zeynep'e zeynebe, Tokat'a tokada
+            self.emit(proper_noun_suffix(letters, suffix, written=turkish_lower(base)))  # Zeynep'e zeynebe
             return
         self.emit(letters + suffix)
 

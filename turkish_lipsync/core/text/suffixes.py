@@ -19,6 +19,7 @@ _ROUNDED = frozenset("oöuü")
 _VOICELESS = frozenset("fstkçşhp")
 _SOFTENED = {"p": "b", "ç": "c", "t": "d", "k": "ğ"}
 _BUFFERS = frozenset("nsy")
+TURKISH_WRITTEN = frozenset("abcçdefgğhıijklmnoöprsştuüvyzâîû")
 _ORDINAL_SUFFIX = re.compile("[ıiuü]?nc[ıiuü]")
 _ORDINAL_EXCEPTIONS = {"dört": "dördüncü"}
 
@@ -125,8 +126,18 @@ def spoken_suffix(stem: Letters, suffix: Letters) -> Letters:
     return stem + suffix
 
 
-def proper_noun_suffix(stem: Letters, suffix: Letters) -> Letters:
-    """A name and its written suffix: the suffix as written, the name's consonant softened before a vowel."""
-    if suffix and suffix[0][0] in VOWELS and softens("".join(letter for letter, _ in stem)):
+def proper_noun_suffix(stem: Letters, suffix: Letters, *, written: str) -> Letters:
+    """A name and its written suffix: the suffix as written, the name's consonant softened before a vowel.
+    Names written the foreign way keep it (Facebook'a, Microsoft'a): letters outside Turkish, a doubled
+    vowel, or two consonants at the end (other than nk: Ersenk'e)."""
+    name = "".join(letter for letter, _ in stem)
+    foreign = (
+        not set(written.lower()) <= TURKISH_WRITTEN
+        or any(first == second and first in VOWELS for first, second in zip(name, name[1:], strict=False))
+        or len(name) > 2
+        and name[-2] not in VOWELS
+        and name[-2] != "n"
+    )
+    if suffix and suffix[0][0] in VOWELS and not foreign and softens(name):
         stem = _soften(stem)
     return stem + suffix

@@ -54,6 +54,7 @@ class Tables:
     foreign_letters: dict[str, str]
     symbols: dict[str, str]
     address_words: dict[str, str]  # separators inside e-mail and web addresses
+    top_level_domains: frozenset[str]  # com, tr: a lowercase word with dots ending so is a web address
     directions: dict[str, str]  # K, G, D, B after degrees
     fixed_expressions: dict[str, str]  # 7/24
     digits: tuple[str, ...]
@@ -161,6 +162,7 @@ def text_tables() -> Tables:
         foreign_letters=mapping(words_table, main, "foreign_letters"),
         symbols=mapping(words_table, main, "symbols"),
         address_words=mapping(words_table, main, "address_words"),
+        top_level_domains=frozenset(word_list(words_table, main, "addresses", "top_level_domains")),
         directions=mapping(units_table, units, "directions"),
         fixed_expressions=mapping(words_table, main, "fixed_expressions"),
         digits=word_list(words_table, main, "numbers", "digits", 10),

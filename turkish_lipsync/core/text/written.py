@@ -14,7 +14,6 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import cache
 
-from ..errors import DataError
 from .numbers import (
     THOUSANDS,
     Words,
@@ -49,7 +48,7 @@ _TIME = re.compile(
     r"(?P<hour>[01]?[0-9]|2[0-3])(?P<separator>[:.])(?P<minute>[0-5][0-9])(?![0-9]|[:.,][0-9])"
 )
 _PHONE = re.compile(
-    r"(?:\+90[ -]?|0)\(?[0-9]{3}\)?[ -]?[0-9]{3}[ -]?[0-9]{2}[ -]?[0-9]{2}(?![0-9])"
+    r"(?:\+90[ -]?|0[ -]?)\(?[0-9]{3}\)?[ -]?[0-9]{3}[ -]?[0-9]{2}[ -]?[0-9]{2}(?![0-9])"
     r"|\+90[ -]?[0-9]{3}[ -]?[0-9]{3}[ -]?[0-9]{4}(?![0-9])"
 )
 _AMOUNT = (
@@ -108,20 +107,9 @@ def _to_roman(value: int) -> str:
 
 
 @cache
-def _top_level_domains() -> frozenset[str]:
-    from ..data import load_table
-
-    domains = load_table("abbreviations").get("addresses", {}).get("top_level_domains")
-    if not isinstance(domains, list) or not domains:
-        raise DataError(
-            "data file shapekeys/abbreviations.toml: [addresses] top_level_domains must be a list"
-        )
-    return frozenset(domains)
-
-
-@cache
 def _bare_domain() -> re.Pattern[str]:
-    domains = "|".join(sorted(_top_level_domains(), key=len, reverse=True))
+    """A lowercase web address without "www." or a scheme: ornek.com.tr, ornek.com/rapor."""
+    domains = "|".join(sorted(text_tables().top_level_domains, key=len, reverse=True))
     return re.compile(rf"[a-z0-9-]+(?:\.[a-z0-9-]+)*\.(?:{domains})(?![\w.]|\.[a-z0-9])(?:/[^\s<>\"]*)?")
 
 
@@ -377,7 +365,13 @@ class WrittenForms:
         match = _FRACTION.match(self.text, start)
         if not match or int(match.group("denominator").replace(".", "")) == 0:
             return None
-        if _NUMBER_BEFORE.search(self.text, max(0, start - 12), start):  # No: 5/7, an address
+        numerator, denominator = (
+            int(match.group("numerator")),
+            int(match.group("denominator").replace(".", "")),
+        )
+        # No: 5/7 (an address) and 5/2 (an article and its paragraph) are read with "bölü"; fractions are
+        # smaller than one.
+        if numerator >= denominator or _NUMBER_BEFORE.search(self.text, max(0, start - 12), start):
             slash = match.start("denominator") - 1
             words = self.group_words(match, "numerator") + [self.spoken(self.tables.words["fraction"], slash)]
             return Reading(words + self.group_words(match, "denominator"), match.end())
