@@ -11,8 +11,10 @@ import numpy as np
 import pytest
 import soundfile
 
-from turkish_lipsync.core.errors import AudioError
-from turkish_lipsync.core.speech import espeak, read_audio, synthesize_timeline
+from turkish_lipsync.core.errors import AudioError, TextError
+from turkish_lipsync.core.speech import align_recording, espeak, get_engine, read_audio, synthesize_timeline
+from turkish_lipsync.core.speech import recording as recording_module
+from turkish_lipsync.core.speech import timeline as timeline_module
 from turkish_lipsync.core.speech.dtw import dtw_path
 from turkish_lipsync.core.speech.features import frame_count
 from turkish_lipsync.core.speech.recording import resample
@@ -256,9 +258,34 @@ def test_an_extra_word_is_named_by_its_neighbours(tmp_path):
     voice, truth = other_voice(OTHER_TEXT.replace("bütün aileye", "bütün büyük aileye"))
     path = noisy_take(tmp_path / "take.wav", voice, snr=40)
     speech = synthesize_timeline(build_utterance(OTHER_TEXT), recording=path)
-    assert len(speech.warnings) == 1 and "around 'bütün'" in speech.warnings[0]
+    assert len(speech.warnings) == 1 and "'bütün'" in speech.warnings[0]
     error = np.abs(
         np.array([w.start for w in speech.timeline.words])
         - [w.start + 1.0 for w in truth.words if w.text != "büyük"]
     )
     assert np.median(error) < 0.030
+
+
+def test_a_long_script_is_synthesised_in_chunks_past_the_letter_limit(tmp_path, monkeypatch):
+    voice, truth = other_voice(OTHER_TEXT)
+    path = noisy_take(tmp_path / "take.wav", voice)
+    monkeypatch.setattr(timeline_module, "MAX_SPOKEN_LETTERS", 40)
+    monkeypatch.setattr(recording_module, "CHUNK_LETTERS", 30)
+    assert len(recording_module._chunks(build_utterance(OTHER_TEXT))) == 2
+    with pytest.raises(TextError, match="more than the 40"):
+        synthesize_timeline(build_utterance(OTHER_TEXT))  # the synthetic voice alone is still refused
+    speech = synthesize_timeline(build_utterance(OTHER_TEXT), recording=path)
+    error = np.abs(np.array([w.start for w in speech.timeline.words]) - [w.start + 1.0 for w in truth.words])
+    assert np.median(error) < 0.020 and error.max() < 0.150
+
+
+def test_every_phrase_gets_a_confidence(tmp_path):
+    voice, _ = other_voice(OTHER_TEXT)
+    path = noisy_take(tmp_path / "take.wav", voice)
+    utterance = build_utterance(OTHER_TEXT)
+    alignment = align_recording(utterance, path, get_engine("espeak"))
+    phrases = alignment.phrases
+    assert sum(phrase.word_count for phrase in phrases) == len(utterance.words)
+    assert [phrase.first_word for phrase in phrases] == sorted({phrase.first_word for phrase in phrases})
+    assert all(0.5 < phrase.confidence <= 1 and phrase.start < phrase.end for phrase in phrases)
+    assert all(a.end <= b.start for a, b in zip(phrases[:-1], phrases[1:], strict=True))

@@ -43,7 +43,7 @@ MAX_LENGTH_RATIO = 3.0  # recordings this many times longer or shorter than the 
 CHUNK_LETTERS = 3_000  # about 5 minutes of speech synthesised at a time (split at sentences)
 SENTENCE_PAUSE = 0.3  # seconds: a word after a pause this long may start a chunk
 PADDING_FRAMES = 50  # silence added around the synthetic speech beyond the recording's own lead and tail
-VOCAL_TRACT_WARPS = (0.88, 0.94, 1.0, 1.06, 1.12)
+VOCAL_TRACT_WARPS = (0.84, 0.9, 0.95, 1.0, 1.05, 1.1, 1.16)
 WARP_SEARCH_FRAMES = 6_000  # the warp is chosen on the first minute of a long take
 # Cost of a DTW step that stretches one signal (in units of the normalised cepstral distance, about 2 between
 # two voices saying the same thing): keeps the path near the diagonal where the distances do not decide.
@@ -69,26 +69,28 @@ class TimeWarp:
         return np.clip(warped, 0.0, self.recording_duration)
 
 
+READ_BLOCK_FRAMES = 1 << 20  # frames read and mixed to mono at a time: a long take is never held in stereo
+
+
 def read_audio(path: str | Path) -> tuple[np.ndarray, int]:
-    """Mono float32 samples in [-1, 1] and the sample rate of a WAV, FLAC or OGG file."""
+    """Mono float32 samples in [-1, 1] and the sample rate of a WAV, FLAC or OGG file (read in blocks)."""
     path = Path(path)
     if not path.is_file():
         raise AudioError(f"recording {path} does not exist; give the path of a WAV, FLAC or OGG file")
-    samples, rate = None, 0
+    mono, rate = None, 0
     if path.suffix.lower() == ".wav":
         try:
-            samples, rate = _read_pcm_wav(path)
+            mono, rate = _read_pcm_wav(path)
         except (wave.Error, EOFError, ValueError, RuntimeError, struct.error):
-            samples = None  # not plain PCM (float, extensible, ...) or damaged: soundfile may still read it
+            mono = None  # not plain PCM (float, extensible, ...) or damaged: soundfile may still read it
         except OSError as error:
             raise AudioError(
                 f"cannot open the recording {path} ({error}); check the file's permissions"
             ) from None
-    if samples is None:
-        samples, rate = _read_with_soundfile(path)
-    if samples.shape[0] == 0 or rate <= 0:
+    if mono is None:
+        mono, rate = _read_with_soundfile(path)
+    if mono.size == 0 or rate <= 0:
         raise AudioError(f"recording {path} holds no audio; record the text again")
-    mono = samples.mean(axis=1, dtype=np.float32) if samples.ndim == 2 else samples.astype(np.float32)
     if not np.isfinite(mono).all():
         raise AudioError(
             f"recording {path} contains invalid samples (NaN or infinite); export it again as WAV"
@@ -99,21 +101,31 @@ def read_audio(path: str | Path) -> tuple[np.ndarray, int]:
 def _read_pcm_wav(path: Path) -> tuple[np.ndarray, int]:
     with wave.open(str(path), "rb") as handle:
         channels, width, rate = handle.getnchannels(), handle.getsampwidth(), handle.getframerate()
-        data = handle.readframes(handle.getnframes())
+        if width not in (1, 2, 3, 4):
+            raise ValueError(f"unsupported sample width {width}")
+        mono = np.empty(handle.getnframes(), np.float32)
+        filled = 0
+        while filled < mono.size:
+            data = handle.readframes(READ_BLOCK_FRAMES)
+            frames = len(data) // (width * channels)
+            if frames == 0:
+                break
+            samples = _pcm_to_float(data[: frames * width * channels], width).reshape(frames, channels)
+            mono[filled : filled + frames] = samples.mean(axis=1)
+            filled += frames
+    return mono[:filled], rate
+
+
+def _pcm_to_float(data: bytes, width: int) -> np.ndarray:
     if width == 1:
-        samples = (np.frombuffer(data, np.uint8).astype(np.float32) - 128) / 128
-    elif width == 2:
-        samples = np.frombuffer(data, "<i2").astype(np.float32) / 32768
-    elif width == 3:
+        return (np.frombuffer(data, np.uint8).astype(np.float32) - 128) / 128
+    if width == 2:
+        return np.frombuffer(data, "<i2").astype(np.float32) / 32768
+    if width == 3:
         raw = np.frombuffer(data, np.uint8).reshape(-1, 3).astype(np.int32)
         value = raw[:, 0] | (raw[:, 1] << 8) | (raw[:, 2] << 16)
-        samples = (np.where(value >= 1 << 23, value - (1 << 24), value) / float(1 << 23)).astype(np.float32)
-    elif width == 4:
-        samples = (np.frombuffer(data, "<i4") / float(1 << 31)).astype(np.float32)
-    else:
-        raise ValueError(f"unsupported sample width {width}")
-    usable = samples.size - samples.size % channels
-    return samples[:usable].reshape(-1, channels), rate
+        return (np.where(value >= 1 << 23, value - (1 << 24), value) / float(1 << 23)).astype(np.float32)
+    return (np.frombuffer(data, "<i4") / float(1 << 31)).astype(np.float32)
 
 
 def _read_with_soundfile(path: Path) -> tuple[np.ndarray, int]:
@@ -125,12 +137,17 @@ def _read_with_soundfile(path: Path) -> tuple[np.ndarray, int]:
             "(`pip install soundfile`); or export the recording as 16-bit PCM WAV"
         ) from None
     try:
-        samples, rate = soundfile.read(str(path), dtype="float32", always_2d=True)
+        with soundfile.SoundFile(str(path)) as handle:
+            blocks = [
+                block.mean(axis=1, dtype=np.float32)
+                for block in handle.blocks(READ_BLOCK_FRAMES, dtype="float32", always_2d=True)
+            ]
+            rate = handle.samplerate
     except Exception as error:  # soundfile raises its own error types, varying by version
         raise AudioError(
             f"cannot read the recording {path} ({error}); export it as a WAV, FLAC or OGG file"
         ) from None
-    return samples, int(rate)
+    return (np.concatenate(blocks) if blocks else np.zeros(0, np.float32)), int(rate)
 
 
 @dataclass(frozen=True)
@@ -236,9 +253,8 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
     native, native_rate = read_audio(path)
     reference = synthesize_reference(utterance, engine)
     recorded = resample(native, native_rate, ANALYSIS_RATE)
-    output = resample(native, native_rate, reference.sample_rate)
+    output = _to_pcm(resample(native, native_rate, reference.sample_rate))  # may reuse native's memory
     del native
-    output = np.clip(np.round(output * 32767), -32768, 32767).astype(np.int16)
     # A telephone-quality recording has nothing above its Nyquist frequency: describe both up to there.
     top_hertz = min(TOP_HERTZ, 0.45 * native_rate)
     recorded_speech = speech_frames(recorded, frame_count(recorded.size))
@@ -250,7 +266,9 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
     tail = len(recorded_speech) - int(spoken[-1]) + PADDING_FRAMES
     synthetic_energies = np.pad(synthetic_energies, ((lead, tail), (0, 0)))
     synthetic_speech = np.pad(synthetic_speech, (lead, tail))
-    x, y = _best_warped_features(synthetic_energies, synthetic_speech, recorded, recorded_speech, top_hertz)
+    x, y, order_ratio = _best_warped_features(
+        synthetic_energies, synthetic_speech, recorded, recorded_speech, top_hertz
+    )
     del recorded
     path_x, path_y = dtw_path(x, y, step_penalty=STEP_PENALTY)
     distances = np.sqrt(((x[path_x] - y[path_y]) ** 2).sum(axis=1))
@@ -269,10 +287,18 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
         synthetic_speech,
         recorded_speech,
         lead,
-        _chance_distance(x, synthetic_speech, y, recorded_speech),
+        order_ratio,
     )
     phrases, warnings = _judge(utterance, reference, warp, fit, path)
     return RecordingAlignment(warp, synthesis, phrases, warnings)
+
+
+def _to_pcm(samples: np.ndarray) -> np.ndarray:
+    """16-bit PCM of float samples, scaled in place (a long take has no copy to spare): the input is spent."""
+    np.multiply(samples, 32767, out=samples)
+    np.round(samples, out=samples)
+    np.clip(samples, -32768, 32767, out=samples)
+    return samples.astype(np.int16)
 
 
 def _check_lengths(path: Path, recorded_speech: np.ndarray, synthetic_speech: np.ndarray) -> None:
@@ -300,11 +326,13 @@ def _best_warped_features(
     recorded: np.ndarray,
     recorded_speech: np.ndarray,
     top_hertz: float,
-) -> tuple[np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, np.ndarray, float]:
     """Cepstra of both with a common noise floor, the recording's at the vocal-tract warp that fits best.
 
     Each warp is tried on the first minute at a quarter of the frame rate; the one whose DTW path is
-    cheapest per step wins (another speaker's formants sit higher or lower than eSpeak's).
+    cheapest per step wins (another speaker's formants sit higher or lower than eSpeak's). Also returns
+    that cost over the cost of the text's sounds in reverse order: near 1 when the recording says
+    something else, whatever the voice.
     """
     synthetic_levels = band_levels(synthetic, synthetic_speech)
     best = None
@@ -314,20 +342,27 @@ def _best_warped_features(
         floor = common_floor(synthetic_levels, recorded_levels)
         x = cepstra(synthetic, synthetic_levels[0], floor, synthetic_speech)
         y = cepstra(energies, recorded_levels[0], floor, recorded_speech)
-        coarse_x, coarse_y = x[:WARP_SEARCH_FRAMES:4], y[:WARP_SEARCH_FRAMES:4]
-        path_x, path_y = dtw_path(coarse_x, coarse_y, step_penalty=STEP_PENALTY)
-        cost = float(np.sqrt(((coarse_x[path_x] - coarse_y[path_y]) ** 2).sum(axis=1)).mean())
+        cost = _coarse_cost(x, y)
         if best is None or cost < best[0]:
             best = (cost, x, y)
-    return best[1], best[2]
+    cost, x, y = best
+    # The same sounds in the wrong order: what the cost would be if the recording said something else.
+    return x, y, cost / _coarse_cost(_reversed_speech(x, synthetic_speech), y)
 
 
-def _chance_distance(x: np.ndarray, x_speech: np.ndarray, y: np.ndarray, y_speech: np.ndarray) -> float:
-    """Median distance between speech frames of the two signals paired at random (seeded: reproducible)."""
-    rng = np.random.default_rng(0)
-    xs = x[rng.choice(np.flatnonzero(x_speech), 4000)]
-    ys = y[rng.choice(np.flatnonzero(y_speech), 4000)]
-    return float(np.median(np.sqrt(((xs - ys) ** 2).sum(axis=1))))
+def _coarse_cost(x: np.ndarray, y: np.ndarray) -> float:
+    """Mean distance per step of the DTW path between the first minutes of x and y at a quarter frame rate."""
+    coarse_x, coarse_y = x[:WARP_SEARCH_FRAMES:4], y[:WARP_SEARCH_FRAMES:4]
+    path_x, path_y = dtw_path(coarse_x, coarse_y, step_penalty=STEP_PENALTY)
+    return float(np.sqrt(((coarse_x[path_x] - coarse_y[path_y]) ** 2).sum(axis=1)).mean())
+
+
+def _reversed_speech(x: np.ndarray, speech: np.ndarray) -> np.ndarray:
+    """x with its speech frames in reverse order and its silences in place."""
+    reversed_x = x.copy()
+    frames = np.flatnonzero(speech)
+    reversed_x[frames] = x[frames[::-1]]
+    return reversed_x
 
 
 def _frame_seconds(frames: np.ndarray | float, lead: int = 0) -> np.ndarray:
@@ -375,21 +410,26 @@ class _Fit:
     synthetic_speech: np.ndarray
     recorded_speech: np.ndarray
     lead: int
-    chance: float  # the median distance of unrelated speech frames of the two signals
+    order_ratio: float  # the path's cost over the cost with the text's sounds in reverse order
 
 
-# Mean feature distance (normalised cepstra) along the path: the same text in other voices, rooms and codecs
-# stays below MATCHED_DISTANCE per sentence, other words lie above UNMATCHED_DISTANCE; scripts/
-# measure_recordings.py (tuning sentences: the same text 1.0-1.8 per sentence, another text 2.7-3.3).
-MATCHED_DISTANCE = 1.6
-UNMATCHED_DISTANCE = 2.6
-OTHER_TEXT_DISTANCE = 2.3  # the whole recording this far off: it reads another text
-UNMATCHED_WORD_DISTANCE = 2.9  # one word this far off (the same text stays below 2.3 per word)
-SQUEEZED = 0.25  # a word given less than this share of its expected length in the recording is missing
-# A word stretched this much beyond the recording's pace, and matched this loosely, has company: words the
-# text does not have were said next to it (a speaker's own lengthening stays close to the text).
+# Mean feature distance (normalised cepstra) along the path. Measured with scripts/measure_recordings.py on
+# the tuning sentences: the same text in other voices, rooms and codecs 0.6-1.9 per sentence (single words
+# up to 2.3), another text 2.7-3.2; the path's cost over that of the text's sounds reversed 0.4-0.75 for the
+# same text, 0.88-1.2 for another. A voice further from eSpeak's raises every word's distance, so words are
+# judged against the recording's own median word too.
+MATCHED_DISTANCE = 1.0  # a phrase this close has confidence 1
+UNMATCHED_DISTANCE = 2.6  # ... and this far, 0
+OTHER_TEXT_DISTANCE = 2.3  # the whole recording this far off and
+OTHER_TEXT_ORDER_RATIO = 0.82  # its order no better than this: it reads another text
+UNMATCHED_WORD_DISTANCE = 2.9  # one word this far off, and
+UNMATCHED_WORD_RATIO = 1.7  # this many times the median word's distance, is not in the recording
+SQUEEZED = 0.25  # a word given less than this share of the recording's pace is missing
+# A word stretched this much beyond the recording's pace, and matched loosely, has company: words the text
+# does not have were said next to it (a speaker's own lengthening of a word matches closely).
 STRETCHED = 1.7
 STRETCHED_DISTANCE = 2.4
+STRETCHED_WORD_RATIO = 1.4
 EXTRA_SPEECH_FRAMES = 25  # a stretch of recorded speech this long (250 ms) matched to no synthetic speech
 OTHER_TEXT_SHARE = 0.5  # more than this share of the words unmatched: the recording reads another text
 
@@ -426,27 +466,41 @@ def _judge(
         recorded = warp(synthetic)
         pace[index] = (recorded[1] - recorded[0]) / max(synthetic[1] - synthetic[0], 1e-3)
     pace /= np.nanmedian(pace)
-    unmatched = (word_distance > UNMATCHED_WORD_DISTANCE) | (pace < SQUEEZED)
-    crowded = (pace > STRETCHED) & (word_distance > STRETCHED_DISTANCE) & ~unmatched
+    typical = np.nanmedian(word_distance)
+    unmatched = (word_distance > max(UNMATCHED_WORD_DISTANCE, UNMATCHED_WORD_RATIO * typical)) | (
+        pace < SQUEEZED
+    )
+    loose = word_distance > max(STRETCHED_DISTANCE, STRETCHED_WORD_RATIO * typical)
+    crowded = (pace > STRETCHED) & loose & ~unmatched
     phrases = _phrases(utterance, warp, spans, fit, word_distance, per_frame_count, per_frame_sum)
     texts = [word.text for word in utterance.words]
-    if unmatched.mean() > OTHER_TEXT_SHARE or fit.distances[spoken].mean() > OTHER_TEXT_DISTANCE:
+    far = fit.distances[spoken].mean() > OTHER_TEXT_DISTANCE
+    if fit.order_ratio > OTHER_TEXT_ORDER_RATIO and (far or unmatched.mean() > OTHER_TEXT_SHARE):
+        unheard = np.flatnonzero(unmatched | (word_distance > OTHER_TEXT_DISTANCE))
         raise AudioError(
-            f"recording {path} does not read this text: {_word_list(texts, np.flatnonzero(unmatched))} "
-            "are not heard in it; check that the recording and the text belong together"
+            f"recording {path} does not read this text: {_word_list(texts, unheard)} "
+            f"({unheard.size} of its {len(texts)} words) are not heard in it; check that the recording "
+            "and the text belong together"
         )
     warnings = [
         f"the recording seems not to say {_word_list(texts, run)} (word {run[0] + 1} of the text); "
         "check the recording there: the face is timed on the rest"
         for run in _consecutive(np.flatnonzero(unmatched))
     ]
+    stalls = _stalls(fit, spans)
+    for before, after, seconds in stalls:
+        warnings.append(
+            f"the recording says something the text does not between {texts[before]!r} and "
+            f"{texts[after]!r} (at {seconds:.1f} s); the face keeps to the text's words there"
+        )
+    named = {index for before, after, _ in stalls for index in (before, after)}
     warnings.extend(
         f"the recording says something the text does not around {texts[index]!r} (word {index + 1} of the "
         f"text, at {float(warp(_frame_seconds(spans[index, 0], fit.lead))):.1f} s); the face keeps to the "
         "text's words there"
         for index in np.flatnonzero(crowded)
+        if index not in named
     )
-    warnings.extend(_extra_speech(fit, spans, texts))
     return phrases, tuple(warnings)
 
 
@@ -479,33 +533,31 @@ def _phrases(
     return tuple(phrases)
 
 
-def _extra_speech(fit: _Fit, spans: np.ndarray, texts: list[str]) -> list[str]:
-    """Warnings for recorded speech the synthetic speech does not advance through (words not in the text)."""
+def _stalls(fit: _Fit, spans: np.ndarray) -> list[tuple[int, int, float]]:
+    """Recorded speech the synthetic speech does not advance through, between two words of the text.
+
+    Each as (word before, word after, seconds into the recording). Before the first word or after the
+    last, a breath or a noise is as likely as a word, so those are left alone.
+    """
     recorded_frames = len(fit.recorded_speech)
-    matched = np.zeros(recorded_frames, np.int64)
-    matched[fit.path_y] = fit.path_x  # the path is monotone: the last synthetic frame matched to each
-    progress = np.cumsum(fit.synthetic_speech)[matched]  # synthetic speech frames passed
     window = EXTRA_SPEECH_FRAMES
     if recorded_frames <= window:
         return []
+    matched = np.zeros(recorded_frames, np.int64)
+    matched[fit.path_y] = fit.path_x  # the path is monotone: the last synthetic frame matched to each
+    progress = np.cumsum(fit.synthetic_speech)[matched]  # synthetic speech frames passed
     speech_share = np.convolve(fit.recorded_speech, np.ones(window), "valid")[:-1] / window
     advance = progress[window:] - progress[:-window]
     stalled = (advance <= window // 8) & (speech_share >= 0.8)
-    warnings = []
     firsts = spans[:, 0]
+    found = []
     for start, _ in runs(stalled):
         at = matched[start + window // 2]
         before = np.flatnonzero((firsts >= 0) & (firsts <= at))
         after = np.flatnonzero(firsts > at)
-        seconds = _frame_seconds(start + window // 2)
-        if not (before.size and after.size):
-            continue  # before the first word or after the last: a breath or a noise as likely as a word
-        place = f"between {texts[before[-1]]!r} and {texts[after[0]]!r}"
-        warnings.append(
-            f"the recording says something the text does not {place} (at {float(seconds):.1f} s); "
-            "the face keeps to the text's words there"
-        )
-    return warnings
+        if before.size and after.size:
+            found.append((int(before[-1]), int(after[0]), float(_frame_seconds(start + window // 2))))
+    return found
 
 
 def _consecutive(indices: np.ndarray) -> list[np.ndarray]:
