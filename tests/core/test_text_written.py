@@ -221,6 +221,7 @@ def test_phone_numbers_and_addresses(source: str, expected: str) -> None:
         ("2020'deki 1990'daki", "iki bin yirmideki bin dokuz yüz doksandaki"),
         ("TBMM'de ABD'li", "te be me mede a be deli"),
         ("KDV'li fiyat", "katma değer vergisili fiyat"),
+        ("Prof.'a ve km'ye", "profesöre ve kilometreye"),  # the suffix follows the abbreviation's reading
     ],
 )
 def test_suffixes_keep_harmony_and_soften(source: str, expected: str) -> None:

@@ -187,7 +187,8 @@ class _RunNormalizer:
             return self.number(tokens, index)
         elif kind == "abbreviation":
             suffix, end = self.suffix_after(tokens, index + 1)
-            self.emit_words([(self.tables.abbreviations[token.text], self.offsets[token.start])], suffix)
+            expansion = [(self.tables.abbreviations[token.text], self.offsets[token.start])]
+            self.emit_words(expansion, suffix, harmonize=True)  # Prof.'a profesöre, spoken on its reading
             if suffix:
                 return end
             if token.text.endswith(".") and self._sentence_ends_after(tokens, index, token.text):

@@ -143,30 +143,23 @@ def locative(words: Words) -> Words:
     return [*words[:-1], ("".join(letter for letter, _ in letters), offset)]
 
 
-def fraction(
-    numerator: str, numerator_positions: Sequence[int], denominator: str, denominator_positions: Sequence[int]
-) -> Words:
+Digits = tuple[str, Sequence[int]]  # digits as written and the source index of each
+
+
+def fraction(numerator: Digits, denominator: Digits) -> Words:
     """1/2 yarım, 1/4 çeyrek, otherwise the denominator in the locative and the numerator: 3/4 dörtte üç."""
     tables = text_tables()
-    value = (int(numerator), int(denominator.replace(".", "")))
+    value = (int(numerator[0]), int(denominator[0].replace(".", "")))
     if value == (1, 2):
-        return [(tables.words["half"], numerator_positions[0])]
+        return [(tables.words["half"], numerator[1][0])]
     if value == (1, 4):
-        return [(tables.words["quarter"], numerator_positions[0])]
-    return locative(cardinal(denominator, denominator_positions)) + value_words(
-        numerator, numerator_positions
-    )
+        return [(tables.words["quarter"], numerator[1][0])]
+    return locative(cardinal(*denominator)) + value_words(*numerator)
 
 
-def mixed_number(
-    whole: Words, numerator: str, numerator_positions: Sequence[int], denominator: str, denominator_positions
-) -> Words:
+def mixed_number(whole: Words, numerator: Digits, denominator: Digits) -> Words:
     """2 1/2 iki buçuk; 3 3/4 üç tam dörtte üç."""
     tables = text_tables()
-    if (int(numerator), int(denominator)) == (1, 2):
-        return whole + [(tables.words["and_a_half"], numerator_positions[0])]
-    return (
-        whole
-        + [(tables.words["whole"], numerator_positions[0])]
-        + fraction(numerator, numerator_positions, denominator, denominator_positions)
-    )
+    if (int(numerator[0]), int(denominator[0])) == (1, 2):
+        return whole + [(tables.words["and_a_half"], numerator[1][0])]
+    return whole + [(tables.words["whole"], numerator[1][0])] + fraction(numerator, denominator)

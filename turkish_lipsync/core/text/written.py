@@ -16,6 +16,7 @@ from functools import cache
 
 from .numbers import (
     THOUSANDS,
+    Digits,
     Words,
     cardinal,
     decimal,
@@ -135,6 +136,9 @@ class WrittenForms:
 
     def at(self, start: int, end: int) -> list[int]:
         return list(self.offsets[start:end])
+
+    def digits(self, match: re.Match[str], group: str) -> Digits:
+        return match.group(group), self.at(match.start(group), match.end(group))
 
     def group_words(self, match: re.Match[str], group: str, reader: Callable = cardinal) -> Words:
         return reader(match.group(group), self.at(match.start(group), match.end(group)))
@@ -346,10 +350,9 @@ class WrittenForms:
             words.append(self.spoken(currency.name, at_sign))
         else:
             words = []
-        if cents and int(cents):
-            padded = cents.ljust(2, "0")
+        if cents and int(cents):  # 9,5 € is dokuz avro elli sent: one digit is tens of cents
             positions = self.at(match.start(cents_group), match.end(cents_group))
-            words += value_words(padded, (positions + positions)[:2])
+            words += value_words(cents.ljust(2, "0"), (positions * 2)[:2])
             words.append(self.spoken(currency.subunit, at_sign))
         return Reading(words, match.end())
 
@@ -375,12 +378,7 @@ class WrittenForms:
             slash = match.start("denominator") - 1
             words = self.group_words(match, "numerator") + [self.spoken(self.tables.words["fraction"], slash)]
             return Reading(words + self.group_words(match, "denominator"), match.end())
-        words = fraction(
-            match.group("numerator"),
-            self.at(match.start("numerator"), match.end("numerator")),
-            match.group("denominator"),
-            self.at(match.start("denominator"), match.end("denominator")),
-        )
+        words = fraction(self.digits(match, "numerator"), self.digits(match, "denominator"))
         return Reading(words, match.end(), takes_unit=True)
 
     def mixed(self, start: int) -> Reading | None:
@@ -389,10 +387,8 @@ class WrittenForms:
             return None
         words = mixed_number(
             self.group_words(match, "whole"),
-            match.group("numerator"),
-            self.at(match.start("numerator"), match.end("numerator")),
-            match.group("denominator"),
-            self.at(match.start("denominator"), match.end("denominator")),
+            self.digits(match, "numerator"),
+            self.digits(match, "denominator"),
         )
         return Reading(words, match.end(), takes_unit=True)
 
@@ -404,15 +400,12 @@ class WrittenForms:
         numerator, _, denominator = unicodedata.normalize("NFKC", match.group("vulgar")).partition("\u2044")
         if not numerator.isdigit() or not denominator.isdigit():
             return None
-        at_sign = match.start("vulgar")
-        positions = [self.offsets[at_sign]]
+        at_sign = self.offsets[match.start("vulgar")]  # every word of ½ sits on the sign
+        parts = ((numerator, [at_sign] * len(numerator)), (denominator, [at_sign] * len(denominator)))
         if match.group("whole"):
-            whole = self.group_words(match, "whole")
-            words = mixed_number(
-                whole, numerator, positions * len(numerator), denominator, positions * len(denominator)
-            )
+            words = mixed_number(self.group_words(match, "whole"), *parts)
         else:
-            words = fraction(numerator, positions * len(numerator), denominator, positions * len(denominator))
+            words = fraction(*parts)
         return Reading(words, match.end(), takes_unit=True)
 
     def range(self, start: int) -> Reading | None:
