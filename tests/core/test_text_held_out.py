@@ -5,8 +5,6 @@ from __future__ import annotations
 import importlib.util
 from pathlib import Path
 
-import pytest
-
 SCRIPT = Path(__file__).resolve().parents[2] / "scripts" / "score_normalization.py"
 
 
@@ -27,7 +25,6 @@ def test_held_out_everyday_sentences_are_read_right() -> None:
 
 
 def test_public_benchmark() -> None:
-    pytest.importorskip("turkce_tts_sinav", reason="turkce-tts-sinav (requirements-dev.txt) is not installed")
     scorer = _scorer()
     cases = scorer.read_cases(scorer.benchmark_path())
     assert len(cases) == 128
