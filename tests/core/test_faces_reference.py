@@ -18,7 +18,16 @@ def test_reference_head_is_a_head_in_metres_facing_minus_y():
 
 def test_parts_are_separate_and_placed_like_a_face():
     head = load_reference_head()
-    assert set(head.parts) == {"skin", "upper_teeth", "lower_teeth", "tongue", "left_eye", "right_eye"}
+    assert set(head.parts) == {
+        "skin",
+        "upper_teeth",
+        "lower_teeth",
+        "tongue",
+        "left_eye",
+        "right_eye",
+        "left_eyelashes",
+        "right_eyelashes",
+    }
     all_indices = np.concatenate(list(head.parts.values()))
     assert len(np.unique(all_indices)) == len(all_indices) == len(head.vertices)
     assert (

@@ -9,7 +9,7 @@ import numpy as np
 
 from ..core.errors import HeadError
 from ..core.faces.reference import ReferenceHead, load_reference_head
-from . import compat, mesh
+from . import head_materials, mesh
 
 # Custom property on objects made by create_reference_head: which part of the reference they are.
 REFERENCE_PART_PROPERTY = "tr_reference_part"
@@ -19,73 +19,99 @@ PART_OBJECT_SUFFIXES = {
     "tongue": "Tongue",
     "left_eye": "EyeLeft",
     "right_eye": "EyeRight",
-}
-# Plain colours that read as a face in Cycles, EEVEE and Workbench (base colour, roughness).
-_MATERIALS = {
-    "skin": ((0.80, 0.56, 0.45, 1.0), 0.55),
-    "teeth": ((0.90, 0.87, 0.78, 1.0), 0.3),
-    "tongue": ((0.62, 0.22, 0.24, 1.0), 0.4),
-    "sclera": ((0.92, 0.92, 0.90, 1.0), 0.15),
-    "iris": ((0.22, 0.13, 0.07, 1.0), 0.15),
-    "pupil": ((0.01, 0.01, 0.01, 1.0), 0.1),
+    "left_eyelashes": "EyelashesLeft",
+    "right_eyelashes": "EyelashesRight",
 }
 IMPORTABLE_SUFFIXES = (".obj", ".glb", ".gltf", ".fbx", ".blend")
+UV_MAP = "UVMap"
 
 
-def _material(name: str) -> bpy.types.Material:
-    """A plain Principled material, reused when it already exists."""
-    material_name = f"TR_{name}"
-    material = bpy.data.materials.get(material_name)
-    if material is not None:
-        return material
-    color, roughness = _MATERIALS[name]
-    material = bpy.data.materials.new(material_name)
-    material.diffuse_color = color  # Workbench and the viewport
-    material.roughness = roughness
-    compat.enable_material_nodes(material)
-    shader = next((node for node in material.node_tree.nodes if node.type == "BSDF_PRINCIPLED"), None)
-    if shader is not None:
-        shader.inputs["Base Color"].default_value = color
-        shader.inputs["Roughness"].default_value = roughness
-    return material
+def mesh_from_arrays(
+    name: str, vertices: np.ndarray, polygons, uvs: np.ndarray | None = None
+) -> bpy.types.Mesh:
+    """A mesh from (N, 3) vertices and polygons ((F, k) or a list of index sequences), with foreach_set.
 
-
-def mesh_from_arrays(name: str, vertices: np.ndarray, polygons: np.ndarray) -> bpy.types.Mesh:
-    """A mesh from (N, 3) vertices and (F, k) polygons, filled with foreach_set."""
+    uvs: one (u, v) per polygon corner, in the order of the polygons' corners, for the "UVMap" layer.
+    """
+    if isinstance(polygons, np.ndarray):
+        corners = np.asarray(polygons, dtype=np.int32).ravel()
+        totals = np.full(len(polygons), polygons.shape[1], dtype=np.int32)
+    else:
+        corners = np.concatenate([np.asarray(polygon, dtype=np.int32) for polygon in polygons])
+        totals = np.array([len(polygon) for polygon in polygons], dtype=np.int32)
     mesh = bpy.data.meshes.new(name)
-    polygons = np.asarray(polygons, dtype=np.int32)
-    corners = polygons.shape[1]
     mesh.vertices.add(len(vertices))
     mesh.vertices.foreach_set("co", np.asarray(vertices, dtype=np.float32).ravel())
-    mesh.loops.add(polygons.size)
-    mesh.loops.foreach_set("vertex_index", polygons.ravel())
-    mesh.polygons.add(len(polygons))
-    mesh.polygons.foreach_set("loop_start", np.arange(0, polygons.size, corners, dtype=np.int32))
+    mesh.loops.add(len(corners))
+    mesh.loops.foreach_set("vertex_index", corners)
+    mesh.polygons.add(len(totals))
+    mesh.polygons.foreach_set("loop_start", (np.cumsum(totals) - totals).astype(np.int32))
     if (
         "loop_total" in mesh.polygons.bl_rna.properties
         and not mesh.polygons.bl_rna.properties["loop_total"].is_readonly
     ):
-        mesh.polygons.foreach_set("loop_total", np.full(len(polygons), corners, dtype=np.int32))
-    mesh.polygons.foreach_set("use_smooth", np.ones(len(polygons), dtype=bool))
+        mesh.polygons.foreach_set("loop_total", totals)
+    mesh.polygons.foreach_set("use_smooth", np.ones(len(totals), dtype=bool))
+    if uvs is not None:
+        add_uv_map(mesh, UV_MAP, uvs)
     mesh.update(calc_edges=True)
     mesh.validate(clean_customdata=False)
     return mesh
 
 
-def _eye_material_indices(vertices: np.ndarray, polygons: np.ndarray) -> np.ndarray:
-    """0 sclera, 1 iris, 2 pupil: by how squarely each face looks forward (-Y) from the eye's centre."""
-    centre = (vertices.min(axis=0) + vertices.max(axis=0)) / 2
-    directions = vertices[polygons].mean(axis=1) - centre
-    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
-    forward = -directions[:, 1]
-    return np.select([forward > 0.97, forward > 0.82], [2, 1], 0).astype(np.int32)
+def add_uv_map(mesh: bpy.types.Mesh, name: str, uvs: np.ndarray) -> None:
+    """A UV layer from one (u, v) per loop."""
+    layer = mesh.uv_layers.new(name=name)
+    layer.data.foreach_set("uv", np.asarray(uvs, dtype=np.float32).ravel())
+
+
+def _neck_cap(vertices: np.ndarray, loop: np.ndarray) -> np.ndarray:
+    """The neck loop as one polygon closing the cut, wound so that its normal points out of the head."""
+    points = vertices[loop]
+    following = np.roll(points, -1, axis=0)
+    normal = np.cross(points, following).sum(axis=0)  # Newell's method: the loop's area vector
+    outward = points.mean(axis=0) - vertices.mean(axis=0)
+    return loop if float(normal @ outward) > 0 else loop[::-1]
+
+
+def _part_mesh(reference: ReferenceHead, part: str, object_name: str, origin: np.ndarray) -> bpy.types.Mesh:
+    """One part of the reference as a mesh: UVs, materials; the skin also gets its neck cap and brow UVs."""
+    indices, vertices, quads, corner_uvs = reference.part_mesh_with_uvs(part)
+    polygons: list | np.ndarray = quads
+    uvs = corner_uvs.reshape(-1, 2)
+    if part == "skin":
+        local = np.full(len(reference.vertices), -1, dtype=np.int64)
+        local[indices] = np.arange(len(indices))
+        cap = _neck_cap(vertices, local[reference.neck_loop])
+        polygons = [*quads, cap]
+        uvs = np.concatenate([uvs, np.zeros((len(cap), 2), dtype=np.float32)])
+    mesh = mesh_from_arrays(object_name, vertices - origin, polygons, uvs)
+    if part == "skin":
+        corner_vertices = np.zeros(len(mesh.loops), dtype=np.int32)
+        mesh.loops.foreach_get("vertex_index", corner_vertices)
+        add_uv_map(mesh, head_materials.EYEBROW_UV, reference.eyebrow_uvs(indices)[corner_vertices])
+        hair = mesh.attributes.new(head_materials.HAIR_ATTRIBUTE, "FLOAT", "POINT")
+        hair.data.foreach_set("value", reference.hair[indices])
+        smooth = np.ones(len(mesh.polygons), dtype=bool)
+        smooth[-1] = False  # the cap is flat
+        mesh.polygons.foreach_set("use_smooth", smooth)
+        mesh.materials.append(head_materials.skin_material(reference, UV_MAP))
+    elif part in ("left_eye", "right_eye"):
+        mesh.materials.append(head_materials.eye_material())
+    elif part.endswith("eyelashes"):
+        mesh.materials.append(head_materials.eyelash_material(UV_MAP))
+    else:
+        mesh.materials.append(head_materials.plain_material("tongue" if part == "tongue" else "teeth"))
+    return mesh
 
 
 def create_reference_head(context: bpy.types.Context, name: str = "TR_Head") -> dict[str, bpy.types.Object]:
-    """The default head: skin object with teeth, tongue and eyes as children, in metres, facing -Y.
+    """The default head: skin object with teeth, tongue, eyes and eyelashes as children, in metres, facing -Y.
 
-    Returns {"head", "upper_teeth", "lower_teeth", "tongue", "left_eye", "right_eye"} -> object.
-    World coordinates equal MakeHuman's (origin at the hips); the head object's origin is the head's centre.
+    Returns {"head", "upper_teeth", "lower_teeth", "tongue", "left_eye", "right_eye", "left_eyelashes",
+    "right_eyelashes"} -> object. World coordinates equal MakeHuman's (origin at the hips); the head
+    object's origin is the head's centre. Every part keeps the reference's vertex order, so its keys are
+    the reference's units.
     """
     reference = load_reference_head()
     skin = reference.parts["skin"]
@@ -95,16 +121,8 @@ def create_reference_head(context: bpy.types.Context, name: str = "TR_Head") -> 
 
     objects: dict[str, bpy.types.Object] = {}
     for part in ("skin", *PART_OBJECT_SUFFIXES):
-        _, vertices, quads = reference.part_mesh(part)
         object_name = name if part == "skin" else f"{name}_{PART_OBJECT_SUFFIXES[part]}"
-        mesh = mesh_from_arrays(object_name, vertices - origin, quads)
-        if part in ("left_eye", "right_eye"):
-            for material_name in ("sclera", "iris", "pupil"):
-                mesh.materials.append(_material(material_name))
-            mesh.polygons.foreach_set("material_index", _eye_material_indices(vertices, quads))
-        else:
-            mesh.materials.append(_material({"skin": "skin", "tongue": "tongue"}.get(part, "teeth")))
-        obj = bpy.data.objects.new(object_name, mesh)
+        obj = bpy.data.objects.new(object_name, _part_mesh(reference, part, object_name, origin))
         obj[REFERENCE_PART_PROPERTY] = part
         collection.objects.link(obj)
         objects["head" if part == "skin" else part] = obj

