@@ -236,6 +236,8 @@ def test_suffixes_keep_harmony_and_soften(source: str, expected: str) -> None:
         ("Atatürk Cad. No. 5", "atatürk caddesi numara beş"),
         ("Gül Sok. No: 3", "gül sokak numara üç"),
         ("ABC Ltd. Şti.", "a be ce limitet şirketi"),
+        ("Kaya San. ve Tic. A.Ş.", "kaya sanayi ve ticaret anonim şirketi"),
+        ("Ankara Üniv. Tıp Fak.", "ankara üniversitesi tıp fakültesi"),
         ("XYZ A.Ş. merkezi", "iks ye ze anonim şirketi merkezi"),
         ("vb. şeyler", "ve benzeri şeyler"),
         ("AKP ve CHP", "a ka pe ve ce he pe"),

@@ -1,8 +1,10 @@
 """Turkish text as it is spoken: words of Turkish letters, each letter linked to its source index.
 
-Numbers, abbreviations, acronyms and symbols are expanded to words (tables in shapekeys/abbreviations.toml),
-casing follows Turkish rules (I -> ı, İ -> i), foreign letters become what a Turkish speaker says, and
-punctuation becomes pauses (seconds in shapekeys/pauses.toml).
+Numbers (numbers.py), written forms such as dates, times, money, fractions and addresses (written.py),
+abbreviations, acronyms, units and symbols are expanded to words (tables in shapekeys/abbreviations.toml and
+units.toml); a suffix after them is spoken on their reading (suffixes.py); casing follows Turkish rules
+(I -> ı, İ -> i), foreign letters become what a Turkish speaker says, and punctuation becomes pauses (seconds
+in shapekeys/pauses.toml).
 """
 
 from __future__ import annotations
