@@ -88,3 +88,11 @@ def test_a_file_without_speech_is_refused(tmp_path):
 def test_an_unknown_file_type_is_named(tmp_path):
     with pytest.raises(CueFileError, match=r"\.srt"):
         read_cue_source(tmp_path / "speech.srt")
+
+
+def test_a_stretch_too_long_to_align_asks_for_punctuation(tmp_path):
+    text = " ".join(["merhaba benim adım erdem"] * 110)  # 2,420 letters, no pause
+    path = tmp_path / "long.tsv"
+    path.write_text("".join(f"{i * 0.05:.2f}\t{'ABCD'[i % 4]}\n" for i in range(2000)) + "100.00\tX\n")
+    with pytest.raises(CueFileError, match="put punctuation where the speaker pauses"):
+        timeline_from_cues(build_utterance(text), read_cue_source(path))

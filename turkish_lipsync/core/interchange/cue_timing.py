@@ -37,6 +37,7 @@ CUE_TIMING = "cues"
 _MISMATCH = 1.0
 _REST_MISMATCH = 2.0
 _PLACE_WEIGHT = 2.0  # cost of a whole stretch's distance from the expected place
+_MAX_CELLS = 4_000_000  # letters x cues of one stretch (about 50 MB of alignment tables)
 CUE_SUFFIXES = (".tsv", ".txt", ".json", ".xml", ".pgo", ".dat")
 
 
@@ -75,10 +76,11 @@ def read_cue_source(path: Path | str, fps: float = 24.0) -> CueSource:
         if document.voice_count > 1:
             warnings = (f"{path} has {document.voice_count} voices; only the first one's timing is used.",)
         words = tuple((word.text, document.word_cues(word)) for word in document.words)
+        cues = rest_between(document)
         return CueSource(
             path,
-            rest_between(document),
-            max(document.duration_frames / document.fps, rest_between(document)[-1].end),
+            cues,
+            max(document.duration_frames / document.fps, cues[-1].end),
             text=document.text,
             sound_file=document.sound_path,
             word_cues=words,
@@ -205,6 +207,11 @@ def _align(
 ) -> np.ndarray:
     """Start times of the letters in one stretch (module docstring, steps 2-3)."""
     letter_count, cue_count = len(shapes), len(cues)
+    if letter_count * cue_count > _MAX_CELLS:
+        raise CueFileError(
+            f"{letter_count} letters of the text meet {cue_count} cues without a pause of the text between "
+            "them: put punctuation where the speaker pauses, so text and cue file pair up piece by piece"
+        )
     cue_starts = np.array([cue.start for cue in cues])
     cue_ends = np.array([cue.end for cue in cues])
     span = max(cue_ends[-1] - cue_starts[0], 1e-9)
