@@ -44,6 +44,7 @@ def test_dates(source: str, expected: str) -> None:
         ("saat 20.30", "saat yirmi otuz"),
         ("00:15", "sıfır sıfır on beş"),
         ("10:05", "on sıfır beş"),
+        ("24:00'e kadar", "yirmi dörde kadar"),
         ("08:45'te", "sekiz kırk beşte"),
         ("10:00-12:00", "on ile on iki"),
         ("14:30-15:30 arası", "on dört otuz ile on beş otuz arası"),
