@@ -99,3 +99,10 @@ def test_a_range_outside_the_scene_is_refused(renders):
     )  # fmt: skip
     assert result.returncode == 1 and "not inside the scene's frames" in result.stderr
     assert not (folder / "bad.mp4").exists()
+
+
+def test_a_chunk_can_be_a_folder_of_png_frames(renders):
+    folder, _, _, _ = renders
+    _run("--head", str(folder / "scene.blend"), "--engine", "cycles", "--samples", "1", "--frames", "2-3",
+         "--out", str(folder / "frames"))  # fmt: skip
+    assert sorted(path.name for path in (folder / "frames").iterdir()) == ["000002.png", "000003.png"]
