@@ -5,10 +5,13 @@
 - Sequencer: ``SequenceEditor.sequences`` became ``strips`` in 5.0.
 - EEVEE is ``BLENDER_EEVEE_NEXT`` from 4.2 to 4.5 and ``BLENDER_EEVEE`` in 5.0.
 - Video output in 5.0 needs ``image_settings.media_type = 'VIDEO'`` before ``file_format = 'FFMPEG'``.
+- The 4.2 bpy module crashes at exit once its glTF exporter has run (see ``survive_gltf_export_at_exit``).
 """
 
 from __future__ import annotations
 
+import atexit
+import gc
 from dataclasses import dataclass
 
 import bpy
@@ -18,6 +21,23 @@ VERSION: tuple[int, int, int] = tuple(bpy.app.version)  # type: ignore[assignmen
 # Layered actions exist from 4.4 on; 4.2 and 4.3 have only Action.fcurves.
 HAS_LAYERED_ACTIONS = "slots" in bpy.types.Action.bl_rna.properties
 FCURVE_NEW_TAKES_GROUP_NAME = VERSION >= (5, 0, 0)
+_EXIT_GUARD: list[bool] = []
+
+
+def survive_gltf_export_at_exit() -> None:
+    """Keep a process that ran the glTF exporter on 4.2 from crashing as it exits (call after exporting).
+
+    There, garbage the exporter leaves is otherwise freed by Python's last collection after Blender has
+    freed the types it points into: a segmentation fault once all work is done, which turns a finished
+    script's or test run's exit status into 139. Collecting it now, while Blender is alive, and freezing the
+    heap at exit avoids that; 4.5 and 5.0 exit cleanly without it.
+    """
+    if VERSION >= (4, 5, 0):
+        return
+    gc.collect()
+    if not _EXIT_GUARD:
+        atexit.register(gc.freeze)
+        _EXIT_GUARD.append(True)
 
 
 # ---------------------------------------------------------------- actions and F-curves

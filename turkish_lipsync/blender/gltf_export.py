@@ -16,7 +16,7 @@ from pathlib import Path
 import bpy
 
 from ..core.errors import LipSyncError
-from . import sequencer
+from . import compat, sequencer
 from .heads import find_head_parts
 
 _GLB_MAGIC = b"glTF"
@@ -122,6 +122,7 @@ def _export_selected(context: bpy.types.Context, objects: list[bpy.types.Object]
         for obj in view_layer.objects:
             obj.select_set(obj.name in selected)
         view_layer.objects.active = view_layer.objects.get(active) if active else None
+        compat.survive_gltf_export_at_exit()
 
 
 def _copy_speech_beside(scene: bpy.types.Scene, path: Path) -> Path | None:
