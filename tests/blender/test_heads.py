@@ -7,7 +7,7 @@ bpy = pytest.importorskip("bpy")
 import numpy as np  # noqa: E402
 
 from tests.heads_on_disk import HEADS  # noqa: E402
-from turkish_lipsync.blender import heads  # noqa: E402
+from turkish_lipsync.blender import heads, shapekeys  # noqa: E402
 from turkish_lipsync.core.errors import HeadError  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
 
@@ -62,9 +62,8 @@ def test_skin_materials_read_real_textures_through_the_head_uvs():
     assert mask_at_vertex(local[reference.landmark_vertices["upper_lip"]]) > 0.5
     assert mask_at_vertex(local[reference.landmark_vertices["nose_tip"]]) < 0.1
     # Painted eyebrows: dark over the brow, nothing at the nose or on the back of the head.
-    brow = reference.eyebrow_uvs(np.array([reference.landmark_vertices["brow_left"]]))[0]
-    rows, columns = reference.eyebrow_mask.shape
-    assert reference.eyebrow_mask[int(brow[1] * rows), int(brow[0] * columns)] > 100
+    brows = np.array([reference.landmark_vertices["brow_left"], reference.landmark_vertices["brow_right"]])
+    assert (reference.eyebrow_cover(brows) > 0.4).all()
     back = reference.eyebrow_uvs(skin_part[reference.vertices[skin_part, 1] > 0.0])
     assert (back < 0).all()
 
@@ -81,19 +80,38 @@ def test_eyes_are_procedural_and_every_material_is_set_for_workbench_too():
             assert tuple(material.diffuse_color)[:3] != (0.8, 0.8, 0.8), material.name  # not the default
 
 
-def test_eyelashes_close_with_the_blink_and_the_neck_is_closed():
-    """The lashes are their own parts and faceunits01's blink carries them down with the upper lid."""
-    reference = load_reference_head()
-    for side in ("left", "right"):
-        lashes = reference.parts[f"{side}_eyelashes"]
-        blink = reference.units[f"eyeBlink{side.title()}"]
-        lash_motion = blink[lashes]
-        upper = lashes[reference.vertices[lashes, 2] > reference.landmarks[f"eye_inner_{side}"][2]]
-        assert (blink[upper, 2] < -0.004).mean() > 0.5  # the upper lashes come down
-        assert np.linalg.norm(lash_motion, axis=1).max() > 0.01
-        other = "right" if side == "left" else "left"
-        assert np.abs(blink[reference.parts[f"{other}_eyelashes"]]).max() == 0.0
+def _key_motion(obj, key_name):
+    keys = obj.data.shape_keys.key_blocks
+    count = len(obj.data.vertices)
+    rest, moved = np.empty(count * 3, np.float32), np.empty(count * 3, np.float32)
+    keys[0].data.foreach_get("co", rest)
+    keys[key_name].data.foreach_get("co", moved)
+    return (moved - rest).reshape(-1, 3)
+
+
+def test_eyelashes_close_with_the_blink_keys_and_the_brows_rise_with_the_brow_key():
+    """Lashes are parts of their own that the built blink keys carry down with the upper lid; the painted
+    brows sit on skin that TR_brow_raise lifts."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
+    objects = heads.create_reference_head(bpy.context)
+    shapekeys.build_shape_keys(objects["head"])
+    reference = load_reference_head()
+    for side, other in (("left", "right"), ("right", "left")):
+        lashes = objects[f"{side}_eyelashes"]
+        blink = _key_motion(lashes, f"TR_blink_{side}")
+        rest = np.array([vertex.co for vertex in lashes.data.vertices]) + np.array(objects["head"].location)
+        upper = rest[:, 2] > reference.landmarks[f"eye_inner_{side}"][2] + 0.002
+        assert np.median(blink[upper, 2]) < -0.004  # the upper lashes come down with the lid
+        assert np.abs(_key_motion(objects[f"{other}_eyelashes"], f"TR_blink_{side}")).max() < 1e-6
+    skin = reference.parts["skin"]
+    on_brows = reference.eyebrow_cover(skin) > 0.5
+    assert on_brows.sum() >= 10
+    assert np.median(_key_motion(objects["head"], "TR_brow_raise")[on_brows, 2]) > 0.001
+
+
+def test_the_neck_is_closed():
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    reference = load_reference_head()
     head = heads.create_reference_head(bpy.context)["head"]
     cap = head.data.polygons[-1]
     assert cap.loop_total == len(reference.neck_loop) and not cap.use_smooth

