@@ -200,6 +200,7 @@ def test_units(source: str, expected: str) -> None:
         ("https://www.ornek.gov.tr/harita", "ornek nokta gov nokta te re bölü harita"),
         ("https://ornek.com/rapor.pdf", "ornek nokta com bölü rapor nokta pe de fe"),
         ("ornek.com.tr adresine", "ornek nokta com nokta te re adresine"),
+        ("https://x.com/İş", "iks nokta com bölü iş"),
         ("Oraya gittim.De ki", "oraya gittim de ki"),  # a capital after the dot: no address
     ],
 )

@@ -79,7 +79,7 @@ _ROMAN = re.compile(r"(?P<roman>[IVXLCDM]+)(?P<dot>\.)?(?=[^\S\n]+(?P<next>[^\W\
 _ROMAN_VALUES = {"I": 1, "V": 5, "X": 10, "L": 50, "C": 100, "D": 500, "M": 1000}
 _EMAIL = re.compile(r"[A-Za-z0-9][A-Za-z0-9._+-]*@[A-Za-z0-9-]+(?:\.[A-Za-z0-9-]+)+")
 _URL = re.compile(r"(?:https?://|www\.)[^\s<>\"]+")
-_ADDRESS_PART = re.compile(r"[A-Za-z]+|[0-9]+|.")
+_ADDRESS_PART = re.compile(r"[^\W\d_]+|[0-9]+|.")
 _NUMBER_BEFORE = re.compile(r"(?:\b[Nn]o|\b[Nn]u|\b[Nn]umara)[.:]?[^\S\n]*$")
 _TIME_WORD_BEFORE = re.compile(r"\b(?:[Ss]aat|SAAT)[^\W\d_]*[^\S\n]+$")
 _WORD_BEFORE = re.compile(r"([^\W\d_]+)[^\S\n]*$")
@@ -500,16 +500,23 @@ class WrittenForms:
 
     def address_part(self, part: str, start: int) -> Words:
         tables = self.tables
-        if part.isdigit():
+        if part[0] in "0123456789":
             return cardinal(part, self.at(start, start + len(part)))
         if part.isalpha():  # a word as written, letter by letter; a part without vowels spelled (tr, pdf)
-            letters = [(fold_letter(char.lower()), start + index) for index, char in enumerate(part)]
-            if len(part) > 1 and any(letter[0] in VOWELS for letter, _ in letters if letter):
-                spelled = [(letter, self.offsets[index]) for word, index in letters for letter in word]
-                return [("".join(letter for letter, _ in spelled), tuple(offset for _, offset in spelled))]
-            return [
-                (tables.letter_names.get(char.lower(), char.lower()), self.offsets[start + index])
+            # Addresses are ASCII: their I is i. Letters are folded to Turkish ones (w -> v).
+            letters = [
+                (letter, self.offsets[start + index])
                 for index, char in enumerate(part)
+                for letter in fold_letter(char.lower() if char.isascii() else char)
             ]
+            if len(part) > 1 and any(letter in VOWELS for letter, _ in letters):
+                return [("".join(letter for letter, _ in letters), tuple(offset for _, offset in letters))]
+            names = tables.letter_names
+            spelled: Words = []
+            for index, char in enumerate(part):  # x is "iks", not the letters of "ks"
+                lower = char.lower() if char.isascii() else turkish_lower(char)
+                folded = [lower] if lower in names else list(fold_letter(char))
+                spelled += [(names.get(letter, letter), self.offsets[start + index]) for letter in folded]
+            return spelled
         said = tables.address_words.get(part)
         return [(said, self.offsets[start])] if said else []
