@@ -3,11 +3,15 @@ ranges, units, phone numbers, addresses, and the suffixes after them."""
 
 from __future__ import annotations
 
+import random
+
 import pytest
 
+from turkish_lipsync.core.errors import TextError
 from turkish_lipsync.core.model import SpokenWord
 from turkish_lipsync.core.text.jsml import parse_jsml
 from turkish_lipsync.core.text.normalize import normalize, spoken_text, spoken_words
+from turkish_lipsync.core.text.tables import TURKISH_LETTERS
 
 
 def said(source: str) -> str:
@@ -302,3 +306,22 @@ def test_spoken_text_shows_the_pauses() -> None:
     assert spoken_text("Toplantı 09:30'da, salonda.\n\nSonra çay.") == (
         "toplantı dokuz otuzda, salonda.\n\nsonra çay."
     )
+
+
+def test_any_mix_of_digits_signs_and_words_gives_turkish_letters_at_real_indices() -> None:
+    """Seeded random texts made of the pieces the readers look for: no crash, only Turkish letters, every
+    letter at an index of the source."""
+    pieces = [*"0123456789" * 3, *".,:/-–%$€₺£½¾°'’ ²@_+", "TL", "km", "XX", "II", "V", "I", "Zeynep", "da"]
+    pieces += ["'da", "'ye", "'si", "'ü", "www.", "https://", "com", "tr", "No:", "saat ", "\n", "K", "°C"]
+    pieces += ["m²", "km/sa", "Mart", "yüzyıl", "Sultan ", "KDV", "THY", "ı", "İ", "Ğ"]
+    generator = random.Random(12)
+    for _ in range(3000):
+        source = "".join(generator.choice(pieces) for _ in range(generator.randint(1, 14)))
+        try:
+            result = words(source)
+        except TextError:
+            continue  # nothing to speak
+        for word in result:
+            assert word.text and set(word.text) <= TURKISH_LETTERS, (source, word)
+            assert len(word.offsets) == len(word.text), (source, word)
+            assert all(0 <= offset < len(source) for offset in word.offsets), (source, word)
