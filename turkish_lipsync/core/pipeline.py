@@ -89,7 +89,8 @@ class LipSyncOptions:
             object.__setattr__(self, "cues", Path(self.cues))
         if self.recording is not None:
             object.__setattr__(self, "recording", Path(self.recording))
-            if self.timing == "table":
+            # With a cue file the recording is only its sound, whatever the timing says.
+            if self.timing == "table" and self.cues is None:
                 raise LipSyncError(
                     "Table timing uses no speech, so it cannot follow a recording; choose phone or word."
                 )
