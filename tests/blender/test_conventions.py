@@ -18,9 +18,11 @@ OPEN_VOWELS = ("a", "e", "o")
 
 
 def _import(path, name):
+    """The head as the batch script finds it among the file's objects (Godette's face beside its body)."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    heads.import_head(path)
-    return bpy.data.objects[name]
+    head = heads.find_head(heads.import_head(path))
+    assert head.name == name
+    return head
 
 
 def _own_keys(head):

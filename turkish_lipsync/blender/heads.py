@@ -8,6 +8,8 @@ import bpy
 import numpy as np
 
 from ..core.errors import HeadError
+from ..core.faces.arkit_names import has_arkit_basis, match_arkit_keys
+from ..core.faces.conventions import recognise_convention
 from ..core.faces.reference import ReferenceHead, load_reference_head
 from . import head_materials, mesh
 
@@ -181,7 +183,8 @@ def _append_blend_objects(path: Path) -> None:
 
 
 def find_head(objects) -> bpy.types.Object:
-    """The head among imported objects: the mesh with the most faces (a whole body counts as the head).
+    """The head among imported objects: the mesh with mouth shapes of its own (a face object beside the
+    body, as VRM avatars have), else the mesh with the most faces (a whole body counts as the head).
 
     Raises HeadError when no object has faces. Whether a face can be recognised on it is checked when
     the keys are built (the landmarks are found there).
@@ -192,7 +195,17 @@ def find_head(objects) -> bpy.types.Object:
     referenced = [obj for obj in meshes if obj.get(REFERENCE_PART_PROPERTY) == "skin"]
     if referenced:
         return referenced[0]
-    return max(meshes, key=lambda obj: (len(obj.data.polygons), obj.name))
+    speaking = [obj for obj in meshes if has_mouth_shapes(obj)]
+    return max(speaking or meshes, key=lambda obj: (len(obj.data.polygons), obj.name))
+
+
+def has_mouth_shapes(obj: bpy.types.Object) -> bool:
+    """True when the mesh's own keys are visemes of a known convention or an ARKit basis."""
+    keys = obj.data.shape_keys
+    if keys is None:
+        return False
+    names = [block.name for block in keys.key_blocks if block != keys.reference_key]
+    return recognise_convention(names) is not None or has_arkit_basis(match_arkit_keys(names))
 
 
 def find_head_parts(head: bpy.types.Object, objects=None) -> list[bpy.types.Object]:
