@@ -64,3 +64,10 @@ def test_pgo_errors_name_the_line(tmp_path):
     path.write_text("MohoSwitch1\n1 rest\n", encoding="utf-8")
     with pytest.raises(CueFileError, match="line 1 must be 'lipsync version 1'"):
         read_pgo(path)
+
+
+def test_pgo_at_a_fractional_rate_says_papagayo_plays_it_off(timeline):
+    text, warnings = export_text("papagayo-pgo", timeline, 29.97)
+    assert text.splitlines()[2] == "30"
+    assert len(warnings) == 1 and "0.1%" in warnings[0]
+    assert export_text("papagayo-pgo", timeline, 25.0)[1] == ()

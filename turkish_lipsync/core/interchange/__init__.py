@@ -66,7 +66,13 @@ def export_text(
             )
         return live_link_csv(weights, tracks.fps), warnings
     if export_format == "papagayo-pgo":
-        return timeline_as_pgo(timeline, fps, sound_file, text), ()
+        warnings = ()
+        if abs(fps - round(fps)) > 1e-6:
+            warnings = (
+                f"Papagayo counts whole frame rates: the project says {round(fps)} fps for the scene's "
+                f"{fps:g}, so it plays {abs(round(fps) / fps - 1):.1%} off in Papagayo itself.",
+            )
+        return timeline_as_pgo(timeline, fps, sound_file, text), warnings
     cues = mouth_cues(timeline)
     if export_format == "rhubarb-tsv":
         return cues_as_tsv(cues), ()

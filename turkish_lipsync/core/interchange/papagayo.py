@@ -101,7 +101,8 @@ def timeline_as_pgo(timeline: Timeline, fps: float, sound_path: str = "", text: 
             phrases.append([])
         phrases[-1].append(word.index)
     phrase_texts = [" ".join(words_by_index[index].text for index in phrase) for phrase in phrases]
-    lines = [PAPAGAYO_HEADER, sound_path, f"{fps:g}", str(duration_frames), "1", "\tVoice 1"]
+    # Papagayo reads a whole frame rate: 29.97 is written 30 and the frames counted at 29.97 (0.1% slow).
+    lines = [PAPAGAYO_HEADER, sound_path, str(round(fps)), str(duration_frames), "1", "\tVoice 1"]
     lines += [
         "\t" + ("|".join(phrase_texts) if not text else "|".join(text.splitlines())),
         f"\t{len(phrases)}",
