@@ -72,7 +72,7 @@ class KeyPlan:
     release_of: str = ""  # for an emotion's mouth release: the head's own emotion key it releases
 
     def describe(self, fallback: str | None) -> str:
-        """Where the key came from, in words: 'azure: aa_02 1', 'vrm: ah 0.3 + transfer (lip closure)'."""
+        """Where the key came from, in words: 'own keys: aa_02 1', 'own keys: ih 0.2 + transfer (press)'."""
         if self.release_of:
             return f"own key {self.release_of}, its mouth part"
         own = f"own keys: {', '.join(f'{name} {weight:g}' for name, weight in self.shapes.items())}"
