@@ -13,8 +13,9 @@ import bpy
 import numpy as np
 from mathutils import Vector
 
-from ..core.errors import AudioError, LipSyncError
+from ..core.errors import LipSyncError
 from ..core.model import EMOTION_KEY_PREFIX, VISEME_KEY_PREFIX
+from ..core.video import join_videos
 from . import compat, mesh
 
 ENGINES = ("EEVEE", "CYCLES", "WORKBENCH")
@@ -228,44 +229,13 @@ def configure_output(
     render.filepath = os.fspath(Path(out_path).resolve())
 
 
-def mux_audio(video_path: Path, wav_path: Path, start_seconds: float = 0.0) -> None:
-    """Add the speech as AAC to a silent MP4 (for Blender builds without audio: the bpy module 4.2)."""
-    try:
-        import av
-    except ImportError as error:
-        raise AudioError(
-            "This Blender cannot write audio and PyAV is not installed to add it: install the 'av' package "
-            "into the Python that runs bpy, or render in a Blender with audio support."
-        ) from error
+def mux_audio(video_path: Path, wav_path: Path) -> None:
+    """Add the speech as AAC to a silent MP4 (for Blender builds without audio: the bpy module 4.2): the
+    video is copied, as a farm's chunks are joined."""
     silent = video_path.with_name(video_path.stem + ".silent" + video_path.suffix)
     os.replace(video_path, silent)
     try:
-        with av.open(os.fspath(silent)) as video_in, av.open(os.fspath(wav_path)) as audio_in:
-            with av.open(os.fspath(video_path), "w", format="mp4") as out:
-                video_stream_in = video_in.streams.video[0]
-                video_stream_out = out.add_stream_from_template(video_stream_in)
-                audio_stream_in = audio_in.streams.audio[0]
-                audio_stream_out = out.add_stream("aac", rate=48000, layout="mono")
-                for packet in video_in.demux(video_stream_in):
-                    if packet.dts is None:
-                        continue
-                    packet.stream = video_stream_out
-                    out.mux(packet)
-                resampler = av.AudioResampler(format="fltp", layout="mono", rate=48000)
-                video_seconds = float(video_stream_in.duration * video_stream_in.time_base)
-                samples_left = int(round((video_seconds - start_seconds) * 48000))
-                for frame in audio_in.decode(audio_stream_in):
-                    for resampled in resampler.resample(frame):
-                        if samples_left <= 0:
-                            break
-                        if resampled.samples > samples_left:
-                            data = resampled.to_ndarray()[:, :samples_left]
-                            resampled = av.AudioFrame.from_ndarray(np.ascontiguousarray(data), "fltp", "mono")
-                            resampled.sample_rate = 48000
-                        samples_left -= resampled.samples
-                        resampled.pts = None
-                        out.mux(audio_stream_out.encode(resampled))
-                out.mux(audio_stream_out.encode(None))
+        join_videos([silent], video_path, wav_path)
     except Exception:
         os.replace(silent, video_path)
         raise
