@@ -221,3 +221,14 @@ def test_the_build_operator_takes_the_mapping_file_of_the_panel(tmp_path):
         assert head.data[shapekeys.KEY_SOURCES_PROPERTY][viseme_key_name("a")] == "own keys: oh 0.5, ah 0.5"
     finally:
         blender.unregister()
+
+
+def test_the_build_operator_asks_for_a_head_with_visemes():
+    blender.register()
+    try:
+        bpy.ops.wm.read_factory_settings(use_empty=True)
+        bpy.context.scene.turkish_lipsync.key_source = "convention"
+        with pytest.raises(RuntimeError, match="visemes of its own"):
+            bpy.ops.turkish_lipsync.build_shape_keys()
+    finally:
+        blender.unregister()

@@ -125,6 +125,9 @@ class TURKISH_LIPSYNC_OT_build_shape_keys(bpy.types.Operator):
         if settings.key_source == "arkit" and chosen_head(context) is None:
             cls.poll_message_set("Choose a head with its own ARKit shape keys (the reference head has none)")
             return False
+        if settings.key_source == "convention" and chosen_head(context) is None:
+            cls.poll_message_set("Choose a head with visemes of its own (the reference head has none)")
+            return False
         return True
 
     def execute(self, context):

@@ -146,6 +146,9 @@ TURKISH = {
         "Kafayı, şekil anahtarlarını ve konuşma animasyonunu .glb olarak dışa aktarır; konuşmanın WAV "
         "dosyası yanına konur"
     ),
+    "Choose a head with visemes of its own (the reference head has none)": (
+        "Kendi vizemleri olan bir kafa seçin (referans kafada bunlar yok)"
+    ),
     "Generate the animation first: the head has no speech to export": (
         "Önce animasyonu üretin: kafada dışa aktarılacak konuşma yok"
     ),
