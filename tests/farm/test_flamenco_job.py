@@ -91,3 +91,9 @@ def test_frames_with_gaps_are_refused(tmp_path):
         capture_output=True, text=True, timeout=60, check=False,
     )  # fmt: skip
     assert result.returncode != 0 and "must be one range START-END" in result.stderr
+
+
+def test_the_speech_setting_reads_the_property_generate_writes():
+    from turkish_lipsync.blender import sequencer
+
+    assert f"C.scene.get('{sequencer.SPEECH_PATH_PROPERTY}', '')" in JOB_TYPE.read_text(encoding="utf-8")
