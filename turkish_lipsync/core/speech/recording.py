@@ -45,7 +45,7 @@ SENTENCE_PAUSE = 0.3  # seconds: a word after a pause this long may start a chun
 PADDING_FRAMES = 50  # silence added around the synthetic speech beyond the recording's own lead and tail
 VOCAL_TRACT_WARPS = (0.84, 0.9, 0.95, 1.0, 1.05, 1.1, 1.16)
 WARP_SEARCH_FRAMES = 6_000  # the warp is chosen on the first minute of a long take
-# Cost of a DTW step that stretches one signal (in units of the normalised cepstral distance, about 2 between
+# Cost of a DTW step that stretches one signal (in units of the feature distance, 1-3 per frame between
 # two voices saying the same thing): keeps the path near the diagonal where the distances do not decide.
 STEP_PENALTY = 2.0
 
@@ -173,9 +173,8 @@ class RecordingAlignment:
 
 @dataclass(frozen=True, eq=False)
 class _Reference:
-    """The synthetic rendition of the whole text: its events and its 16 kHz audio (no engine-rate audio)."""
+    """The synthetic rendition of the whole text: its events (its audio is only analysed, never kept)."""
 
-    analysis: np.ndarray  # float32 at ANALYSIS_RATE
     sample_rate: int  # the engine's
     duration: float
     phone_events: tuple[PhoneEvent, ...]
@@ -192,7 +191,7 @@ def resample(samples: np.ndarray, source_rate: int, target_rate: int) -> np.ndar
     return soxr.resample(samples, source_rate, target_rate).astype(np.float32, copy=False)
 
 
-def synthesize_reference(utterance: Utterance, engine: SpeechEngine) -> _Reference:
+def synthesize_reference(utterance: Utterance, engine: SpeechEngine) -> tuple[_Reference, np.ndarray]:
     """The text spoken chunk by chunk (sentences up to CHUNK_LETTERS letters), only its 16 kHz copy kept."""
     pieces: list[np.ndarray] = []
     phones: list[PhoneEvent] = []
@@ -218,7 +217,7 @@ def synthesize_reference(utterance: Utterance, engine: SpeechEngine) -> _Referen
         )
         offset += spoken.duration
     analysis = np.concatenate(pieces) if pieces else np.zeros(0, np.float32)
-    return _Reference(analysis, rate, offset, tuple(phones), tuple(words))
+    return _Reference(rate, offset, tuple(phones), tuple(words)), analysis
 
 
 def _chunks(utterance: Utterance) -> list[tuple[Utterance, int]]:
@@ -251,15 +250,16 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
     """Align the synthetic rendition of the utterance to the user's recording of it; see the module text."""
     path = Path(path)
     native, native_rate = read_audio(path)
-    reference = synthesize_reference(utterance, engine)
     recorded = resample(native, native_rate, ANALYSIS_RATE)
-    output = _to_pcm(resample(native, native_rate, reference.sample_rate))  # may reuse native's memory
-    del native
     # A telephone-quality recording has nothing above its Nyquist frequency: describe both up to there.
     top_hertz = min(TOP_HERTZ, 0.45 * native_rate)
     recorded_speech = speech_frames(recorded, frame_count(recorded.size))
-    synthetic_energies = mel_energies(reference.analysis, top_hertz=top_hertz)
-    synthetic_speech = speech_frames(reference.analysis, len(synthetic_energies))
+    reference, analysis = synthesize_reference(utterance, engine)
+    synthetic_energies = mel_energies(analysis, top_hertz=top_hertz)
+    synthetic_speech = speech_frames(analysis, len(synthetic_energies))
+    del analysis
+    output = _resampled_pcm(native, native_rate, reference.sample_rate)
+    del native
     _check_lengths(path, recorded_speech, synthetic_speech)
     spoken = np.flatnonzero(recorded_speech)
     lead = int(spoken[0]) + PADDING_FRAMES
@@ -293,12 +293,17 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
     return RecordingAlignment(warp, synthesis, phrases, warnings)
 
 
-def _to_pcm(samples: np.ndarray) -> np.ndarray:
-    """16-bit PCM of float samples, scaled in place (a long take has no copy to spare): the input is spent."""
-    np.multiply(samples, 32767, out=samples)
-    np.round(samples, out=samples)
-    np.clip(samples, -32768, 32767, out=samples)
-    return samples.astype(np.int16)
+def _resampled_pcm(samples: np.ndarray, source_rate: int, target_rate: int) -> np.ndarray:
+    """16-bit PCM at the target rate, resampled block by block (a long take has no float copy to spare)."""
+    import soxr
+
+    stream = soxr.ResampleStream(source_rate, target_rate, 1, dtype="float32")
+    blocks = []
+    for begin in range(0, samples.size, READ_BLOCK_FRAMES):
+        block = samples[begin : begin + READ_BLOCK_FRAMES]
+        resampled = stream.resample_chunk(block, last=begin + READ_BLOCK_FRAMES >= samples.size)
+        blocks.append(np.clip(np.round(resampled * 32767), -32768, 32767).astype(np.int16))
+    return np.concatenate(blocks) if blocks else np.zeros(0, np.int16)
 
 
 def _check_lengths(path: Path, recorded_speech: np.ndarray, synthetic_speech: np.ndarray) -> None:
@@ -413,24 +418,24 @@ class _Fit:
     order_ratio: float  # the path's cost over the cost with the text's sounds in reverse order
 
 
-# Mean feature distance (normalised cepstra) along the path. Measured with scripts/measure_recordings.py on
-# the tuning sentences: the same text in other voices, rooms and codecs 0.6-1.9 per sentence (single words
-# up to 2.3), another text 2.7-3.2; the path's cost over that of the text's sounds reversed 0.4-0.75 for the
-# same text, 0.88-1.2 for another. A voice further from eSpeak's raises every word's distance, so words are
-# judged against the recording's own median word too.
-MATCHED_DISTANCE = 1.0  # a phrase this close has confidence 1
-UNMATCHED_DISTANCE = 2.6  # ... and this far, 0
-OTHER_TEXT_DISTANCE = 2.3  # the whole recording this far off and
-OTHER_TEXT_ORDER_RATIO = 0.82  # its order no better than this: it reads another text
-UNMATCHED_WORD_DISTANCE = 2.9  # one word this far off, and
+# Mean feature distance (normalised cepstra and slopes) along the path. Measured with scripts/
+# measure_recordings.py on the tuning sentences: the same text in other voices, noise and codecs 1.1-2.9 per
+# sentence, in a reverberant room 3.1-3.9, another text 4.1-4.8; the path's cost over that of the text's
+# sounds reversed 0.5-0.81 for the same text, 0.87-1.0 for another. A voice further from eSpeak's raises
+# every word's distance, so words are judged against the recording's own median word too.
+MATCHED_DISTANCE = 1.5  # a phrase this close has confidence 1
+UNMATCHED_DISTANCE = 4.0  # ... and this far, 0
+OTHER_TEXT_DISTANCE = 3.95  # the whole recording this far off and
+OTHER_TEXT_ORDER_RATIO = 0.85  # its order no better than this: it reads another text
+UNMATCHED_WORD_DISTANCE = 4.4  # one word this far off, and
 UNMATCHED_WORD_RATIO = 1.7  # this many times the median word's distance, is not in the recording
 SQUEEZED = 0.25  # a word given less than this share of the recording's pace is missing
 # A word stretched this much beyond the recording's pace, and matched loosely, has company: words the text
 # does not have were said next to it (a speaker's own lengthening of a word matches closely).
 STRETCHED = 1.7
-STRETCHED_DISTANCE = 2.4
+STRETCHED_DISTANCE = 3.6
 STRETCHED_WORD_RATIO = 1.4
-EXTRA_SPEECH_FRAMES = 25  # a stretch of recorded speech this long (250 ms) matched to no synthetic speech
+EXTRA_SPEECH_FRAMES = 35  # a stretch of recorded speech this long (350 ms) matched to no synthetic speech
 OTHER_TEXT_SHARE = 0.5  # more than this share of the words unmatched: the recording reads another text
 
 
