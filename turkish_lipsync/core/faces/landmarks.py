@@ -151,13 +151,18 @@ class DepthMap:
     Pixel (row, column) looks at x = left + column * pixel, z = top - row * pixel.
     """
 
-    def __init__(self, vertices: np.ndarray, triangles: np.ndarray, pixel: float) -> None:
+    def __init__(self, vertices: np.ndarray, triangles: np.ndarray, pixel: float, like=None) -> None:
+        """like: another DepthMap whose grid this one shares (to compare what two meshes show)."""
         self.pixel = pixel
-        used = vertices[np.unique(triangles)]
-        self.left = used[:, 0].min() - 2 * pixel
-        self.top = used[:, 2].max() + 2 * pixel
-        columns = int(np.ceil((used[:, 0].max() + 2 * pixel - self.left) / pixel)) + 1
-        rows = int(np.ceil((self.top - used[:, 2].min() + 2 * pixel) / pixel)) + 1
+        if like is not None:
+            self.pixel, self.left, self.top = like.pixel, like.left, like.top
+            rows, columns = like.front.shape
+        else:
+            used = vertices[np.unique(triangles)]
+            self.left = used[:, 0].min() - 2 * pixel
+            self.top = used[:, 2].max() + 2 * pixel
+            columns = int(np.ceil((used[:, 0].max() + 2 * pixel - self.left) / pixel)) + 1
+            rows = int(np.ceil((self.top - used[:, 2].min() + 2 * pixel) / pixel)) + 1
         self.front = self._rasterise(vertices, triangles, rows, columns)
 
     def _rasterise(self, vertices: np.ndarray, triangles: np.ndarray, rows: int, columns: int) -> np.ndarray:
@@ -165,10 +170,11 @@ class DepthMap:
         v = (self.top - vertices[:, 2]) / self.pixel
         forward = -vertices[:, 1]
         tu, tv, tf = u[triangles], v[triangles], forward[triangles]
-        u0 = np.ceil(tu.min(1)).astype(np.int64)
-        u1 = np.floor(tu.max(1)).astype(np.int64)
-        v0 = np.ceil(tv.min(1)).astype(np.int64)
-        v1 = np.floor(tv.max(1)).astype(np.int64)
+        # Clipped to the grid: a map sharing another's grid may hold triangles beyond it.
+        u0 = np.maximum(np.ceil(tu.min(1)), 0).astype(np.int64)
+        u1 = np.minimum(np.floor(tu.max(1)), columns - 1).astype(np.int64)
+        v0 = np.maximum(np.ceil(tv.min(1)), 0).astype(np.int64)
+        v1 = np.minimum(np.floor(tv.max(1)), rows - 1).astype(np.int64)
         span_u = np.clip(u1 - u0 + 1, 0, None)
         counts = span_u * np.clip(v1 - v0 + 1, 0, None)
         owner = np.repeat(np.arange(len(triangles)), counts)
@@ -221,10 +227,24 @@ def _box_blur(image: np.ndarray, radius: int) -> np.ndarray:
 # ---------------------------------------------------------------- landmarks
 
 
+# Turns that bring a face looking elsewhere to look toward -Y with Z up, tried in this order when the
+# face is not found as it stands: looking toward +Y (a VRM 0.x avatar), toward +X or -X, lying on its
+# back (looking toward +Z) or on its face (-Z).
+FACINGS: tuple[tuple[str, np.ndarray], ...] = (
+    ("+Y", np.array([[-1.0, 0, 0], [0, -1, 0], [0, 0, 1]])),
+    ("+X", np.array([[0.0, 1, 0], [-1, 0, 0], [0, 0, 1]])),
+    ("-X", np.array([[0.0, -1, 0], [1, 0, 0], [0, 0, 1]])),
+    ("+Z", np.array([[1.0, 0, 0], [0, 0, -1], [0, 1, 0]])),
+    ("-Z", np.array([[1.0, 0, 0], [0, 0, 1], [0, -1, 0]])),
+)
+
+
 def find_landmarks(vertices: np.ndarray, polygons) -> dict[str, np.ndarray]:
     """The 14 landmarks of LANDMARK_NAMES as (3,) points in the mesh's coordinates.
 
-    Raises HeadError when the mesh shows no face toward -Y (no nose above a mouth, no eyes).
+    A face looking toward -Y with Z up is searched first; when none is found there, the head is turned
+    to each other facing (FACINGS) and searched again. Raises HeadError when no facing shows a face
+    (no nose above a mouth, no eyes).
     """
     vertices = np.asarray(vertices, np.float64)
     if vertices.ndim != 2 or vertices.shape[1] != 3 or len(vertices) < 4:
@@ -234,6 +254,40 @@ def find_landmarks(vertices: np.ndarray, polygons) -> dict[str, np.ndarray]:
     triangles = triangulate(polygons)
     if triangles.size and (triangles.min() < 0 or triangles.max() >= len(vertices)):
         raise HeadError("The head mesh has polygons that refer to missing vertices; clean up the mesh.")
+    try:
+        return _find_facing_front(vertices, triangles)
+    except HeadError as error:
+        first_error = error
+    for _, turn in FACINGS:
+        try:
+            found = _find_facing_front(vertices @ turn.T, triangles)
+        except HeadError:
+            continue
+        return {name: point @ turn for name, point in found.items()}
+    raise HeadError(
+        f"{first_error} (The head was also searched turned to look toward +Y, +X, -X, up and down.)"
+    ) from first_error
+
+
+def face_frame(landmarks) -> tuple[np.ndarray, np.ndarray]:
+    """(origin, axes) of the face: axes' columns point to the face's left, back and up, so that
+    (points - origin) @ axes shows the face looking toward -Y with Z up, however the head is turned."""
+    lm = {name: np.asarray(point, np.float64) for name, point in landmarks.items()}
+    across = (lm["mouth_corner_left"] - lm["mouth_corner_right"]) + (
+        lm["eye_inner_left"] - lm["eye_inner_right"]
+    )
+    across /= np.linalg.norm(across)
+    eyes = 0.25 * (
+        lm["eye_inner_left"] + lm["eye_inner_right"] + lm["eye_outer_left"] + lm["eye_outer_right"]
+    )
+    up = eyes - lm["chin"]
+    up -= (up @ across) * across
+    up /= np.linalg.norm(up)
+    back = np.cross(up, across)
+    return lm["nose_tip"], np.stack((across, back, up), axis=1)
+
+
+def _find_facing_front(vertices: np.ndarray, triangles: np.ndarray) -> dict[str, np.ndarray]:
     head = find_head_region(vertices, triangles)
     # The skin is normally the biggest piece; a hair or helmet mesh can be bigger, so the next biggest
     # pieces get their turn when no face is found on it.
@@ -271,18 +325,56 @@ def _landmarks_on_piece(
     keep = np.zeros(len(vertices), bool)
     keep[skin] = True
     skin_triangles = triangles[keep[triangles].all(1)]
+    if len(skin_triangles) == 0:
+        raise HeadError("The head's biggest piece has no whole faces above the neck to find a face on.")
     size = float(np.ptp(vertices[skin, 2]))
     if size <= 0 or np.ptp(vertices[skin, 0]) <= 0:
         raise HeadError("The head mesh is flat; a head must stand upright (Z up) and face -Y.")
     depth = DepthMap(vertices, skin_triangles, size / DEPTH_MAP_ROWS)
-    return _FaceReader(depth, size).landmarks()
+    # Eyeballs (and anything else not of the skin) seen in front of it: the eye openings, where there are.
+    other_triangles = _round_pieces(vertices, triangles[~keep[triangles].any(1)])
+    others = DepthMap(vertices, other_triangles, depth.pixel, like=depth) if len(other_triangles) else None
+    points = _FaceReader(depth, size, others).landmarks()
+    _check_proportions(points)
+    return points
+
+
+def _round_pieces(vertices: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """The triangles of pieces about as deep and tall as wide (eyeballs), not of flat ones (lashes,
+    corneas, clothing)."""
+    if len(triangles) == 0:
+        return triangles
+    labels = connected_pieces(len(vertices), triangles)[triangles[:, 0]]
+    keep = np.zeros(len(triangles), bool)
+    for label in np.unique(labels):
+        mine = labels == label
+        extent = np.ptp(vertices[np.unique(triangles[mine])], axis=0)
+        keep[mine] = extent.min() > 0.6 * extent.max()
+    return triangles[keep]
+
+
+def _check_proportions(points: dict[str, np.ndarray]) -> None:
+    """Refuse landmarks no face has (a 'mouth' a tenth as wide as the eyes are apart: a crease in hair)."""
+    mouth = np.linalg.norm(points["mouth_corner_left"] - points["mouth_corner_right"])
+    eyes = np.linalg.norm(points["eye_outer_left"] - points["eye_outer_right"])
+    heights = [points[name][2] for name in ("brow_left", "eye_inner_left", "nose_tip", "upper_lip", "chin")]
+    if not (0.3 * eyes < mouth < 1.5 * eyes) or np.any(np.diff(heights) >= 0):
+        raise HeadError(
+            "What looks like a face toward -Y has no face's proportions (mouth width against the eyes' "
+            "distance, brows over eyes over nose over mouth over chin); place the landmark markers."
+        )
 
 
 class _FaceReader:
     """Reads the face off a depth map: nose, lips and chin on the midline, then mouth corners, eyes, brows."""
 
-    def __init__(self, depth: DepthMap, size: float) -> None:
+    def __init__(self, depth: DepthMap, size: float, others: DepthMap | None = None) -> None:
         self.depth = depth
+        # Where another piece (an eyeball) shows in front of the skin, or through a hole in it.
+        self.showing = np.zeros(depth.front.shape, bool)
+        if others is not None:
+            with np.errstate(invalid="ignore"):
+                self.showing = np.isfinite(others.front) & ~(depth.front > others.front + 0.002 * size)
         self.size = size
         front = depth.front
         valid = np.isfinite(front)
@@ -480,7 +572,10 @@ class _FaceReader:
             outer = self.follow_crease(
                 outer_row, mid + direction * int(outer_column), direction, threshold, steps
             )
-            if socket[seed] < 0.01 * self.size or abs(outer[1] - inner[1]) < self.pixels(0.07):
+            opening = self._eye_opening(top, bottom, first, last, seed, mid)
+            if opening is not None:
+                inner, outer = opening
+            elif socket[seed] < 0.01 * self.size or abs(outer[1] - inner[1]) < self.pixels(0.07):
                 # Closed, smooth eyes (a low-poly mask): no opening or crease to read the corners from.
                 # Faces put the eye centres about a fifth of the face's width either side of the middle,
                 # and an eye is about as wide as the distance from its centre to the middle.
@@ -497,6 +592,26 @@ class _FaceReader:
             brow_row = int(brow_rows[np.argmax(self.filled[brow_rows, centre_column])])
             points[f"brow_{side}"] = self.depth.point(brow_row, centre_column)
         return points
+
+    def _eye_opening(self, top: int, bottom: int, first: int, last: int, seed, mid: int) -> tuple | None:
+        """(inner, outer) corner pixels of the eyeball seen through the lids, nearest the socket's
+        deepest point; None when no separate eyeball shows there (eyes of the skin, or painted)."""
+        window = self.showing[top:bottom, first : last + 1]
+        if window.sum() < 8:
+            return None
+        rows, columns = np.nonzero(window)
+        nearest = np.argmin((rows - seed[0]) ** 2 + (columns - seed[1]) ** 2)
+        blob = _grow_blob(window, (rows[nearest], columns[nearest]))
+        rows, columns = np.nonzero(blob)
+        touches_border = rows.min() == 0 or columns.min() == 0
+        touches_border |= rows.max() == window.shape[0] - 1 or columns.max() == window.shape[1] - 1
+        if np.ptp(columns) < self.pixels(0.05) or touches_border:
+            return None  # too small for an eye, or a sheet over the face (clothing helpers), not an eyeball
+        ends = [
+            (top + int(np.median(rows[columns == end])), first + int(end))
+            for end in (columns.min(), columns.max())
+        ]
+        return tuple(sorted(ends, key=lambda end: abs(end[1] - mid)))
 
     def _surface_near(self, row: int, column: int) -> np.ndarray:
         """The pixel's point on the bottom of its crease: skin around it, not the inside of an opening."""

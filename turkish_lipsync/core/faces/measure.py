@@ -10,7 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .landmarks import triangulate
+from .landmarks import face_frame, triangulate
+from .parts import PART_LABELS, find_face_parts
+from .transfer import find_parts
 
 
 def mesh_edges(polygons) -> np.ndarray:
@@ -88,3 +90,55 @@ def nearest_points(points: np.ndarray, candidates: np.ndarray) -> np.ndarray:
         chunk = points[start : start + 1024]
         nearest[start : start + 1024] = np.argmin(squared[None, :] - 2.0 * chunk @ candidates.T, axis=1)
     return nearest
+
+
+class FaceMeasure:
+    """Figures of a head's keys in the face's own frame (looking toward -Y, Z up), whatever its turn.
+
+    Lips and lids are the parts' vertices the front view sees (not the mouth bag or the socket's lining).
+    """
+
+    def __init__(self, vertices: np.ndarray, polygons, landmarks) -> None:
+        origin, self.axes = face_frame(landmarks)
+        self.vertices = (np.asarray(vertices, np.float64) - origin) @ self.axes
+        upright = {
+            name: (np.asarray(point, np.float64) - origin) @ self.axes for name, point in landmarks.items()
+        }
+        triangles = triangulate(polygons)
+        self.edges = mesh_edges(triangles)
+        in_part = np.zeros(len(self.vertices), bool)
+        for indices in find_parts(self.vertices, triangles, upright).values():
+            in_part[indices] = True  # teeth, eyeballs and lashes are not skin
+        parts = find_face_parts(self.vertices, triangles, np.flatnonzero(~in_part), upright)
+        self.middle_x = parts.middle_x
+        self.lips = [
+            np.flatnonzero(parts.seen & (parts.label == PART_LABELS.index(n)))
+            for n in ("upper_lip", "lower_lip")
+        ]
+        self.lids = {}
+        for side in ("left", "right"):
+            inner, outer = upright[f"eye_inner_{side}"], upright[f"eye_outer_{side}"]
+            self.lids[side] = (
+                [
+                    np.flatnonzero(parts.seen & (parts.label == PART_LABELS.index(f"{n}_lid_{side}")))
+                    for n in ("upper", "lower")
+                ],
+                0.5 * (inner[0] + outer[0]),
+            )
+
+    def upright(self, deltas: np.ndarray) -> np.ndarray:
+        return np.asarray(deltas, np.float64) @ self.axes
+
+    def lip_aperture(self, deltas: np.ndarray) -> float:
+        """Lowest point of the upper lip minus highest of the lower lip at the midline (negative: pressed)."""
+        return opening_gap(self.vertices, self.upright(deltas), *self.lips, self.middle_x)
+
+    def lid_gap(self, deltas: np.ndarray, side: str = "left") -> float:
+        (upper, lower), x = self.lids[side]
+        return opening_gap(self.vertices, self.upright(deltas), upper, lower, x)
+
+    def stretch(self, deltas: np.ndarray) -> float:
+        return edge_stretch(self.vertices, self.edges, self.upright(deltas))
+
+    def symmetry(self, deltas: np.ndarray) -> float:
+        return symmetry(self.vertices, self.upright(deltas), self.middle_x)

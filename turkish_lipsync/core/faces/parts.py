@@ -53,6 +53,7 @@ class FaceParts:
     """
 
     label: np.ndarray
+    seen: np.ndarray  # the front view sees the vertex (it is not behind the lips, lids or nose)
     sure: np.ndarray  # the label is clear (far nearer one side than the other): the part samples its own kind
     inside_mouth: np.ndarray
     lower_jaw: np.ndarray  # inside the mouth: 1 where the lower jaw carries the mesh, 0 the upper, blended
@@ -133,7 +134,7 @@ def find_face_parts(
     middle_x = 0.5 * (lm["mouth_corner_left"][0] + lm["mouth_corner_right"][0])
     mouth_width = float(np.linalg.norm(lm["mouth_corner_left"] - lm["mouth_corner_right"]))
     depth = DepthMap(vertices, skin_triangles, max(mouth_width / 60, 1e-9))
-    hidden = _hidden_depth(vertices, depth) > 0.04 * mouth_width
+    hidden = hidden_depth(vertices, depth) > 0.04 * mouth_width
 
     seam = _seam_height(lm, middle_x)
     x, y, z = vertices[:, 0], vertices[:, 1], vertices[:, 2]
@@ -164,7 +165,7 @@ def find_face_parts(
 
     # Inside the mouth: hidden from the front behind the lips, or seen through the gap between them but
     # well behind their inner edge (teeth showing between parted lips).
-    hidden_by = _hidden_depth(vertices, depth)
+    hidden_by = hidden_depth(vertices, depth)
     in_gap = (np.abs(x - middle_x) < 0.4 * mouth_width) & (np.abs(above) < lip_height)
     deep = np.maximum(hidden_by, np.where(in_gap, y - inner_front, 0.0))
     inside = np.clip((deep - 0.04 * mouth_width) / (0.2 * mouth_width), 0.0, 1.0)
@@ -196,6 +197,7 @@ def find_face_parts(
         label[owner == 1] = PART_LABELS.index(f"lower_lid_{side}")
     return FaceParts(
         label=label,
+        seen=~hidden,
         sure=sure,
         inside_mouth=inside,
         lower_jaw=lower_side,
@@ -217,7 +219,7 @@ def _seam_height(lm: Mapping[str, np.ndarray], middle_x: float):
     return seam
 
 
-def _hidden_depth(vertices: np.ndarray, depth: DepthMap) -> np.ndarray:
+def hidden_depth(vertices: np.ndarray, depth: DepthMap) -> np.ndarray:
     """How far each vertex lies behind the surface the front view sees at its place (0 on that surface)."""
     rows = np.clip(
         np.round((depth.top - vertices[:, 2]) / depth.pixel).astype(int), 0, depth.front.shape[0] - 1

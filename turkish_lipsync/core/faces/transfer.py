@@ -27,9 +27,9 @@ SOFT_PARTS: tuple[str, ...] = ("tongue", "left_eyelashes", "right_eyelashes")
 FALLOFF_NEAR = 0.05
 FALLOFF_FAR = 0.15
 
-# Lid vertices this far from the reference surface (in eye widths) are the socket's lining: they fade out.
-LID_FADE_NEAR = 0.08
-LID_FADE_FAR = 0.25
+# Lid vertices this far behind the eye's corners (in eye widths) are the socket's lining: they fade out.
+LID_FADE_NEAR = 0.1
+LID_FADE_FAR = 0.3
 
 # A similarity fit that leaves landmarks this far off (fraction of the face size) calls for the warp.
 WARP_RESIDUAL = 0.02
@@ -398,12 +398,9 @@ def transfer_units(
     def upright(points):
         return ((np.asarray(points, np.float64) - translation) @ rotation) / scale
 
-    target_face = find_face_parts(
-        upright(target_vertices),
-        target_triangles,
-        skin,
-        {name: upright(point) for name, point in target_landmarks.items()},
-    )
+    upright_vertices = upright(target_vertices)
+    upright_landmarks = {name: upright(point) for name, point in target_landmarks.items()}
+    target_face = find_face_parts(upright_vertices, target_triangles, skin, upright_landmarks)
     reference_face = _reference_face_parts(
         reference, tuple((name, tuple(map(float, point))) for name, point in reference_landmarks.items())
     )
@@ -421,7 +418,7 @@ def transfer_units(
         apart[targets] = _carry_by_closest_point(
             result, targets, target_vertices, placed, surface, sources, units, turn, height
         )
-    _fade_behind_the_lids(result, target_face, apart, target_landmarks)
+    _fade_behind_the_lids(result, target_face, upright_vertices, upright_landmarks, apart / scale)
     mouth_width = float(
         np.linalg.norm(target_landmarks["mouth_corner_left"] - target_landmarks["mouth_corner_right"])
     )
@@ -472,19 +469,21 @@ def _reference_face_parts(reference, landmark_items) -> FaceParts:
     )
 
 
-def _fade_behind_the_lids(result, face, apart, landmarks) -> None:
-    """The lining of an eye socket, behind the lids where the reference has no surface, stays still.
-
-    Sampled from the nearest reference lid it would fold the lid over the eyeball in a blink."""
+def _fade_behind_the_lids(result, face, upright_vertices, upright_landmarks, apart) -> None:
+    """The lining of an eye socket, deeper than the eye's corners and away from the reference surface,
+    stays still: sampling the reference's nearest lid there would fold the lid over the eyeball."""
     for side in ("left", "right"):
-        eye_width = float(np.linalg.norm(landmarks[f"eye_outer_{side}"] - landmarks[f"eye_inner_{side}"]))
+        inner, outer = upright_landmarks[f"eye_inner_{side}"], upright_landmarks[f"eye_outer_{side}"]
+        eye_width = float(np.linalg.norm(outer - inner))
         lids = np.isin(
             face.label, [PART_LABELS.index(f"upper_lid_{side}"), PART_LABELS.index(f"lower_lid_{side}")]
         )
         lids = np.flatnonzero(lids)
+        behind = upright_vertices[lids, 1] - 0.5 * (inner[1] + outer[1])
         keep = np.clip(
-            (LID_FADE_FAR * eye_width - apart[lids]) / ((LID_FADE_FAR - LID_FADE_NEAR) * eye_width), 0, 1
+            1.0 - (behind - LID_FADE_NEAR * eye_width) / ((LID_FADE_FAR - LID_FADE_NEAR) * eye_width), 0, 1
         )
+        keep = np.maximum(keep, apart[lids] < LID_FADE_NEAR * eye_width)
         for deltas in result.values():
             deltas[lids] *= keep[:, None]
 

@@ -1,0 +1,286 @@
+"""Build the keys on a head and report how its face moves: one labelled PNG and a table of figures.
+
+    .venv/bin/python scripts/face_report.py [--head PATH] [--out DIR] [--object NAME] [--keep-keys]
+
+The head's own shape keys are kept aside and removed first (so the keys come by transfer, as for a head
+without keys); where the head had an artist's comparable key (shapekeys/artist_comparisons.toml) the
+transferred one is compared with it. The PNG (Cycles on the CPU, small tiles, a couple of minutes) shows
+front and three-quarter views of neutral, jawOpen, a, o, u, bpa, fvae, blink and the six emotions.
+Figures, in mm where a length: lip aperture at the midline, the bilabial lip gap, the eyelid gap under
+the blink, left-right symmetry (1 = mirror-symmetric), edge stretch p99.9 (deformed / rest length).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import tempfile
+from pathlib import Path
+
+import bpy
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from scripts.contact_sheet import _aim, _emission_material  # noqa: E402
+from turkish_lipsync.blender import heads, mesh, shapekeys  # noqa: E402
+from turkish_lipsync.blender.landmarks import read_landmark_markers  # noqa: E402
+from turkish_lipsync.core.data import load_table  # noqa: E402
+from turkish_lipsync.core.errors import LipSyncError  # noqa: E402
+from turkish_lipsync.core.faces.landmarks import face_frame, find_landmarks  # noqa: E402
+from turkish_lipsync.core.faces.measure import FaceMeasure, displacement_cosine  # noqa: E402
+from turkish_lipsync.core.model import BLINK_KEYS, EMOTIONS, emotion_key_name, viseme_key_name  # noqa: E402
+
+# Picture rows: label -> the keys set to 1 (on the head and its parts).
+ROWS: tuple[tuple[str, tuple[str, ...]], ...] = (
+    ("neutral", ()),
+    ("jawOpen", ("jawOpen",)),
+    *((name, (viseme_key_name(name),)) for name in ("a", "o", "u", "bpa", "fvae")),
+    ("blink", BLINK_KEYS),
+    *((name, (emotion_key_name(name),)) for name in EMOTIONS),
+)
+# Keys measured in the table, beyond the rows: the ARKit units the cosines are about, more visemes.
+MEASURED = (
+    "jawOpen",
+    "eyeBlinkLeft",
+    "mouthPucker",
+    "mouthSmileLeft",
+    *(viseme_key_name(name) for name in ("a", "e", "o", "oi", "u", "bpa", "ma", "fvae")),
+    BLINK_KEYS[0],
+    *(emotion_key_name(name) for name in EMOTIONS),
+)
+BILABIALS = tuple(viseme_key_name(name) for name in ("bpa", "bpe", "bpo", "ma", "me", "mo"))
+THREE_QUARTER_DEGREES = 40.0
+BACKGROUND = (0.35, 0.37, 0.4)
+
+
+def world_key_deltas(obj: bpy.types.Object) -> dict[str, np.ndarray]:
+    """Every shape key of obj as world-space displacements from its reference key."""
+    keys = obj.data.shape_keys
+    if keys is None:
+        return {}
+    linear = mesh.world_matrix(obj)[:3, :3]
+    count = len(obj.data.vertices)
+    rest = mesh.read_coordinates(keys.reference_key.data, count).astype(np.float64)
+    return {
+        block.name: (mesh.read_coordinates(block.data, count) - rest) @ linear.T
+        for block in keys.key_blocks
+        if block != keys.reference_key
+    }
+
+
+def strip_keys(objects) -> None:
+    for obj in objects:
+        if obj.data.shape_keys is not None:
+            obj.shape_key_clear()
+
+
+def head_landmarks(head: bpy.types.Object) -> dict[str, np.ndarray]:
+    markers = read_landmark_markers(head)
+    if markers:
+        return {name: mesh.to_world(head, np.array([p]))[0].astype(np.float64) for name, p in markers.items()}
+    return find_landmarks(mesh.world_rest_coordinates(head), mesh.triangles(head))
+
+
+def measure(head, built: dict[str, np.ndarray], artist: dict[str, np.ndarray], landmarks) -> list[dict]:
+    """One row of figures per measured key the build wrote."""
+    vertices = mesh.world_rest_coordinates(head).astype(np.float64)
+    face = FaceMeasure(vertices, mesh.triangles(head), landmarks)
+    comparisons = load_table("artist_comparisons")["compare"]
+    rows = []
+    for key in MEASURED:
+        if key not in built:
+            continue
+        deltas = built[key]
+        row = {
+            "key": key,
+            "aperture_mm": 1000 * face.lip_aperture(deltas),
+            "stretch": face.stretch(deltas),
+            "symmetry": face.symmetry(deltas),
+        }
+        if key in BILABIALS:
+            row["lip_gap_mm"] = max(row["aperture_mm"], 0.0)
+        if key in (BLINK_KEYS[0], "eyeBlinkLeft"):
+            row["lid_gap_mm"] = 1000 * face.lid_gap(deltas, "left")
+        theirs = next((name for name in comparisons.get(key, ()) if name in artist), None)
+        if theirs is not None:
+            row["artist_key"] = theirs
+            row["cosine"] = displacement_cosine(deltas, artist[theirs])
+            row["artist_stretch"] = face.stretch(artist[theirs])
+            row["artist_aperture_mm"] = 1000 * face.lip_aperture(artist[theirs])
+            if "lid_gap_mm" in row:
+                row["artist_lid_gap_mm"] = 1000 * face.lid_gap(artist[theirs], "left")
+        rows.append(row)
+    return rows
+
+
+def print_table(rows: list[dict], rest_aperture: float, rest_lid_gap: float) -> None:
+    print(f"at rest: lip aperture {rest_aperture:.1f} mm, left eyelid gap {rest_lid_gap:.1f} mm")
+    print(
+        f"{'key':22s} {'aperture':>8s} {'lip gap':>7s} {'lid gap':>7s} {'symm':>5s} {'stretch':>7s}"
+        f"  {'artist key':22s} {'cosine':>6s} {'art.str':>7s} {'art.ap':>6s} {'art.lid':>7s}"
+    )
+
+    def cell(row, name, form):
+        return format(row[name], form) if name in row else "-"
+
+    for row in rows:
+        print(
+            f"{row['key']:22s} {cell(row, 'aperture_mm', '8.1f'):>8s} {cell(row, 'lip_gap_mm', '7.1f'):>7s} "
+            f"{cell(row, 'lid_gap_mm', '7.1f'):>7s} {row['symmetry']:5.2f} {row['stretch']:7.1f}  "
+            f"{row.get('artist_key', '-'):22s} {cell(row, 'cosine', '6.2f'):>6s} "
+            f"{cell(row, 'artist_stretch', '7.1f'):>7s} {cell(row, 'artist_aperture_mm', '6.1f'):>6s} "
+            f"{cell(row, 'artist_lid_gap_mm', '7.1f'):>7s}"
+        )
+
+
+# ---------------------------------------------------------------- the picture
+
+
+def setup_scene(landmarks, tile: int, samples: int) -> tuple[bpy.types.Object, bpy.types.Object]:
+    """An orthographic camera on the face and a label under it; returns (camera, label)."""
+    scene = bpy.context.scene
+    scene.render.engine = "CYCLES"
+    scene.cycles.device = "CPU"
+    scene.cycles.samples = samples
+    scene.render.resolution_x = tile
+    scene.render.resolution_y = tile
+    world = bpy.data.worlds.new("TR_FaceReportWorld")
+    world.color = BACKGROUND
+    scene.world = world
+    origin, axes = face_frame(landmarks)
+    face_height = float(
+        np.linalg.norm(0.5 * (landmarks["brow_left"] + landmarks["brow_right"]) - landmarks["chin"])
+    )
+    camera_data = bpy.data.cameras.new("TR_FaceReportCamera")
+    camera_data.type = "ORTHO"
+    camera_data.ortho_scale = 1.9 * face_height
+    camera_data.clip_end = 100 * face_height
+    camera = bpy.data.objects.new("TR_FaceReportCamera", camera_data)
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    for name, energy, offset in (("key", 4.0, (-1.0, -2.0, 1.6)), ("fill", 1.5, (1.5, -2.0, 0.2))):
+        light_data = bpy.data.lights.new(f"TR_FaceReport_{name}", "SUN")
+        light_data.energy = energy
+        light = bpy.data.objects.new(light_data.name, light_data)
+        light.rotation_euler = _aim(-(axes @ np.array(offset)))
+        scene.collection.objects.link(light)
+    label_data = bpy.data.curves.new("TR_FaceReportLabel", "FONT")
+    label_data.size = 0.12 * face_height
+    label_data.align_x = "CENTER"
+    label_data.materials.append(_emission_material("TR_FaceReportLabel", (1.0, 0.92, 0.45), 1.0))
+    label = bpy.data.objects.new("TR_FaceReportLabel", label_data)
+    label.parent = camera
+    label.location = (0.0, -0.85 * face_height, -face_height)  # camera space: below the chin, in front
+    scene.collection.objects.link(label)
+    return camera, label
+
+
+def place_camera(camera: bpy.types.Object, landmarks, degrees: float) -> None:
+    """Look at the face from the front turned by degrees toward the face's left."""
+    from mathutils import Matrix, Vector
+
+    origin, axes = face_frame(landmarks)
+    across, back, up = axes.T
+    face_height = float(
+        np.linalg.norm(0.5 * (landmarks["brow_left"] + landmarks["brow_right"]) - landmarks["chin"])
+    )
+    centre = 0.5 * (0.5 * (landmarks["brow_left"] + landmarks["brow_right"]) + landmarks["chin"])
+    angle = math.radians(degrees)
+    toward = -back * math.cos(angle) + across * math.sin(angle)  # from the face to the camera
+    position = centre + toward * 10 * face_height
+    forward = -toward
+    right = np.cross(forward, up)
+    right /= np.linalg.norm(right)
+    true_up = np.cross(right, forward)
+    rotation = Matrix(np.stack((right, true_up, -forward), axis=1).tolist())
+    camera.matrix_world = Matrix.Translation(Vector(position.tolist())) @ rotation.to_4x4()
+
+
+def render_grid(objects, landmarks, out: Path, tile: int, samples: int) -> None:
+    camera, label = setup_scene(landmarks, tile, samples)
+    views = (0.0, THREE_QUARTER_DEGREES)
+    sheet = np.zeros((len(ROWS) * tile, len(views) * tile, 4), np.float32)
+    with tempfile.TemporaryDirectory() as folder:
+        for row, (name, keys) in enumerate(ROWS):
+            for obj in objects:
+                if obj.data.shape_keys is not None:
+                    for block in obj.data.shape_keys.key_blocks[1:]:
+                        block.value = 1.0 if block.name in keys else 0.0
+            label.data.body = name
+            for column, degrees in enumerate(views):
+                place_camera(camera, landmarks, degrees)
+                path = Path(folder) / f"{row}_{column}.png"
+                bpy.context.scene.render.filepath = str(path)
+                bpy.ops.render.render(write_still=True)
+                image = bpy.data.images.load(str(path))
+                pixels = np.empty(tile * tile * 4, np.float32)
+                image.pixels.foreach_get(pixels)
+                bpy.data.images.remove(image)
+                top = (len(ROWS) - 1 - row) * tile  # Blender's pixels start at the bottom row
+                sheet[top : top + tile, column * tile : (column + 1) * tile] = pixels.reshape(tile, tile, 4)
+            print(f"rendered {row + 1}/{len(ROWS)} {name}", flush=True)
+    image = bpy.data.images.new("TR_FaceReport", sheet.shape[1], sheet.shape[0], alpha=True)
+    image.pixels.foreach_set(sheet.ravel())
+    image.filepath_raw = str(out)
+    image.file_format = "PNG"
+    image.save()
+    print(f"wrote {out}")
+
+
+def face_report(head_path: Path | None, out_dir: Path, object_name: str | None, keep_keys: bool, tile: int,
+                samples: int, render: bool) -> list[dict]:  # fmt: skip
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    if head_path is None:
+        head = heads.create_reference_head(bpy.context)["head"]
+    else:
+        imported = heads.import_head(head_path)
+        head = bpy.data.objects[object_name] if object_name else heads.find_head(imported)
+    parts = heads.find_head_parts(head)
+    artist = world_key_deltas(head)
+    if not keep_keys:
+        strip_keys([head, *parts])
+    report = shapekeys.build_shape_keys(head, parts=parts, arkit_keys=True)
+    print(f"{head.name}: {len(report.keys)} keys from source {report.source}")
+    for warning in report.warnings:
+        print(f"warning: {warning}")
+    landmarks = head_landmarks(head)
+    built = world_key_deltas(head)
+    rows = measure(head, built, artist, landmarks)
+    face = FaceMeasure(mesh.world_rest_coordinates(head).astype(np.float64), mesh.triangles(head), landmarks)
+    zero = np.zeros((len(head.data.vertices), 3))
+    print_table(rows, 1000 * face.lip_aperture(zero), 1000 * face.lid_gap(zero, "left"))
+    if render:
+        out_dir.mkdir(parents=True, exist_ok=True)
+        stem = head_path.stem if head_path else "default_head"
+        render_grid([head, *parts], landmarks, out_dir / f"face_report_{stem}.png", tile, samples)
+    return rows
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--head", type=Path, default=None, help="head file (default: the reference head)")
+    parser.add_argument("--out", type=Path, default=Path("out"), help="folder for face_report_<head>.png")
+    parser.add_argument(
+        "--object", default=None, help="the head object's name, when it is not the biggest mesh"
+    )
+    parser.add_argument(
+        "--keep-keys", action="store_true", help="build from the head's own keys, not by transfer"
+    )
+    parser.add_argument("--tile", type=int, default=200, help="pixels per picture")
+    parser.add_argument("--samples", type=int, default=8, help="Cycles samples per picture")
+    parser.add_argument("--no-render", action="store_true", help="print the figures only")
+    args = parser.parse_args(argv)
+    try:
+        face_report(
+            args.head, args.out, args.object, args.keep_keys, args.tile, args.samples, not args.no_render
+        )
+    except LipSyncError as error:
+        print(f"face_report.py: error: {error}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main(sys.argv[sys.argv.index("--") + 1 :] if "--" in sys.argv else None))
