@@ -218,6 +218,9 @@ def _check_farm_arguments(parser: argparse.ArgumentParser, arguments: argparse.N
         "--cues": arguments.cues,
         "--export": arguments.export,
         "--gltf": arguments.gltf,
+        "--mapping": arguments.mapping,
+        "--arkit-keys": arguments.arkit_keys,
+        "--rebuild-keys": arguments.rebuild_keys,
         "--save-blend": arguments.save_blend,
         "--still": arguments.still,
     }
