@@ -101,7 +101,10 @@ def test_vitruvian_builds_from_its_azure_visemes_and_emotions(vitruvian):
     assert sources[emotion_key_name("angry")] == "own keys: Angry 1"
     assert sources[emotion_key_name("afraid")] == "own keys: Scared 1"
     assert sources["TR_blink_left"] == "own keys: Eyes_Closed_Left 1"
-    assert sources[emotion_key_name("surprised")] == "transfer"  # no surprise on the head: transferred
+    # No Surprised key: raised brows, wide eyes and a dropped jaw of its own; nothing needs a transfer.
+    assert sources[emotion_key_name("surprised")].startswith("own keys: Eyebrows_Raised_Left 1, ")
+    assert sources["TR_brow_raise"] == "own keys: Eyebrows_Raised_Left 0.6, Eyebrows_Raised_Right 0.6"
+    assert not [key for key, source in sources.items() if "transfer" in source]
     assert dict(head.data[shapekeys.KEY_SOURCES_PROPERTY]) == dict(sources)  # what the panel lists
     own = _shape(head, "aa_02") - mesh.world_rest_coordinates(head)
     built = _shape(head, viseme_key_name("a")) - mesh.world_rest_coordinates(head)

@@ -96,10 +96,15 @@ def test_vitruvian_is_azure_with_its_emotions_and_blinks():
     assert match.convention.name == "azure"
     assert len(match.shapes) == 21  # every Azure viseme but silence
     assert match.shapes["aa"] == "aa_02" and match.shapes["p_b_m"] == "p_b_m_21"
-    assert match.expressions["happy"] == "Happy" and match.expressions["angry"] == "Angry"
-    assert match.expressions["afraid"] == "Scared"
-    assert match.expressions["blink_left"] == "Eyes_Closed_Left"
-    assert "surprised" not in match.expressions  # the head has no surprise: that one comes from elsewhere
+    assert match.expressions["happy"] == {"Happy": 1.0} and match.expressions["angry"] == {"Angry": 1.0}
+    assert match.expressions["afraid"] == {"Scared": 1.0}
+    assert match.expressions["blink_left"] == {"Eyes_Closed_Left": 1.0}
+    # No Surprised key: the surprise is composed of the head's raised brows, wide eyes and dropped jaw.
+    assert set(match.expressions["surprised"]) == {
+        "Eyebrows_Raised_Left", "Eyebrows_Raised_Right", "Eyes_Opened_Max_Left", "Eyes_Opened_Max_Right",
+        "aa_02",
+    }  # fmt: skip
+    assert match.expressions["brow_raise"] == {"Eyebrows_Raised_Left": 0.6, "Eyebrows_Raised_Right": 0.6}
 
 
 @pytest.mark.skipif(not (HEADS / "godette").is_dir(), reason="shared heads not found")
@@ -108,7 +113,7 @@ def test_godette_is_vrm_with_its_blinks():
     match = recognise_convention(names)
     assert match.convention.name == "vrm"
     assert dict(match.shapes) == {"a": "ah", "i": "ih", "u": "uu", "e": "ee", "o": "oh"}
-    assert dict(match.expressions) == {"blink_left": "blink_left", "blink_right": "blink_right"}
+    assert dict(match.expressions) == {"blink_left": {"blink_left": 1.0}, "blink_right": {"blink_right": 1.0}}
 
 
 def test_plan_says_where_each_key_comes_from():
@@ -183,6 +188,7 @@ def test_user_mapping_names_the_heads_keys_exactly(tmp_path):
         ('[visemes.a]\nshapes = { "X" = 1.0 }\nunits = { jawOpen = 0.2 }\n', "fills"),
         ('[visemes.a]\nshapes = { "X" = 1.0 }\nunits = { jawOpenn = 0.2 }\nfills = "x"\n', "ARKit units"),
         ("[expressions]\njoy = 'X'\n", "may name only"),
+        ("[expressions]\nhappy = ['X', 1]\n", "key names or tables"),
         ("[visemes.a\n", "TOML"),
     ],
 )
@@ -205,3 +211,29 @@ def test_without_another_basis_the_report_says_what_is_missing():
     assert plans[viseme_key_name("bpa")].describe(None) == "rest shape (lip press missing: no other basis)"
     assert plans[emotion_key_name("sad")].describe(None) == "at rest: no other basis"
     assert plans[viseme_key_name("o")].describe(None) == "own keys: oh 1"
+
+
+def test_a_combined_expression_needs_all_its_keys_and_is_released_as_a_whole(tmp_path):
+    path = tmp_path / "combined.toml"
+    path.write_text(
+        "[visemes.a]\nshapes = { Open = 1.0 }\n"
+        '[expressions]\nsurprised = { "Brows Up" = 1.0, Open = 0.3 }\n'
+        'happy = ["Smile", { Grin = 1.0, Cheeks = 0.5 }]\n',
+        encoding="utf-8",
+    )
+    mapping = read_user_mapping(path)
+    match = match_convention(["Open", "Brows Up", "Grin"], mapping)
+    assert match.expressions == {"surprised": {"Brows Up": 1.0, "Open": 0.3}}  # no Cheeks: no own happy
+    plans = plan_keys(match, load_recipes())
+    release = plans[emotion_release_key_name("surprised")]
+    assert release.describe("transfer") == "mouth part of own keys: Brows Up 1, Open 0.3"
+    count = 4
+    own = {name: np.zeros((count, 3), np.float32) for name in ("Open", "Brows Up")}
+    own["Open"][0] = (0.0, 0.0, -0.02)  # the jaw
+    own["Brows Up"][3] = (0.0, 0.0, 0.005)  # a brow
+    deltas = convention_key_deltas(plans, own, {}, count)
+    surprised = deltas[emotion_key_name("surprised")]
+    np.testing.assert_allclose(surprised, own["Brows Up"] + 0.3 * own["Open"])
+    together = surprised + deltas[emotion_release_key_name("surprised")]
+    np.testing.assert_allclose(together[0], 0, atol=1e-7)  # the jaw drop is released while speaking
+    np.testing.assert_allclose(together[3], own["Brows Up"][3])  # the brows stay up

@@ -383,7 +383,7 @@ def _plan_from_convention(head, parts, match: ConventionMatch, shaping: _Shaping
                 f"({', '.join(lacking[:4])}...), but no other basis could be built, so that part stays at "
                 f"rest: {error}"
             )
-    own_names = {name for plan in plans.values() for name in (*plan.shapes, plan.release_of) if name}
+    own_names = {name for plan in plans.values() for name in (*plan.shapes, *plan.release_of)}
     planned = {}
     for obj in [head, *parts]:
         own = own_key_deltas(obj, own_names)

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -49,7 +49,9 @@ class Convention:
     minimum: int  # shapes a head must have for its keys to count as this convention
     spellings: Mapping[str, tuple[str, ...]]  # shape -> accepted spellings (canonical form)
     visemes: Mapping[str, VisemeMapping]  # TR viseme -> mapping; a viseme left out takes its ARKit recipe
-    expressions: Mapping[str, tuple[str, ...]]  # emotion, blink or brow raise -> accepted spellings
+    # Emotion, blink or brow raise -> its alternatives in order of preference, each a combination of keys
+    # (spelling -> weight): ["Happy", "Joy"] is two alternatives of one key each.
+    expressions: Mapping[str, tuple[Mapping[str, float], ...]]
     exact: bool = False  # a user's mapping names the head's keys exactly as written
 
 
@@ -59,7 +61,7 @@ class ConventionMatch:
 
     convention: Convention
     shapes: Mapping[str, str]  # shape -> head key name
-    expressions: Mapping[str, str]  # expression -> head key name
+    expressions: Mapping[str, Mapping[str, float]]  # expression -> head key name -> weight
 
 
 @dataclass(frozen=True)
@@ -69,13 +71,14 @@ class KeyPlan:
     shapes: Mapping[str, float]  # head key name -> weight
     units: Mapping[str, float]  # ARKit unit -> weight, taken from the fallback basis
     fills: str  # what the units add on top of own shapes ("" when the key is all one source)
-    release_of: str = ""  # for an emotion's mouth release: the head's own emotion key it releases
+    # For an emotion's mouth release: the head's own keys (-> weight) that make the emotion it releases.
+    release_of: Mapping[str, float] = field(default_factory=dict)
 
     def describe(self, fallback: str | None) -> str:
         """Where the key came from, in words: 'own keys: aa_02 1', 'own keys: ih 0.2 + transfer (press)'."""
         if self.release_of:
-            return f"own key {self.release_of}, its mouth part"
-        own = f"own keys: {', '.join(f'{name} {weight:g}' for name, weight in self.shapes.items())}"
+            return f"mouth part of own keys: {_weights_text(self.release_of)}"
+        own = f"own keys: {_weights_text(self.shapes)}"
         if not self.shapes:
             own = "rest shape"
         if not self.units:
@@ -87,6 +90,10 @@ class KeyPlan:
         if not self.shapes:
             return f"{fallback} ({self.fills})" if self.fills else fallback
         return f"{own} + {fallback} ({self.fills})"
+
+
+def _weights_text(weights: Mapping[str, float]) -> str:
+    return ", ".join(f"{name} {weight:g}" for name, weight in weights.items())
 
 
 # ---------------------------------------------------------------- names
@@ -117,19 +124,27 @@ def _lookup(spellings: Mapping[str, tuple[str, ...]]) -> dict[str, str]:
 
 
 def match_convention(key_names: Iterable[str], convention: Convention) -> ConventionMatch:
-    """The head's keys that are this convention's shapes and expressions (the first spelling found wins)."""
+    """The head's keys that are this convention's shapes and expressions.
+
+    A shape takes the first of the head's keys spelt as it; an expression its first alternative whose keys
+    the head all has.
+    """
     shape_of = _lookup(convention.spellings)
-    expression_of = _lookup(convention.expressions)
-    shapes: dict[str, str] = {}
-    expressions: dict[str, str] = {}
+    head_key: dict[str, str] = {}  # compared spelling -> the head's first key spelt so
     for key_name in key_names:
-        compared = key_name if convention.exact else canonical_name(key_name, convention.prefixes)
-        shape = shape_of.get(compared)
-        if shape is not None:
-            shapes.setdefault(shape, key_name)
-        expression = expression_of.get(compared)
-        if expression is not None:
-            expressions.setdefault(expression, key_name)
+        head_key.setdefault(
+            key_name if convention.exact else canonical_name(key_name, convention.prefixes), key_name
+        )
+    shapes: dict[str, str] = {}
+    for compared, key_name in head_key.items():
+        if compared in shape_of:
+            shapes.setdefault(shape_of[compared], key_name)
+    expressions: dict[str, dict[str, float]] = {}
+    for expression, alternatives in convention.expressions.items():
+        for combination in alternatives:
+            if all(spelling in head_key for spelling in combination):
+                expressions[expression] = {head_key[s]: weight for s, weight in combination.items()}
+                break
     return ConventionMatch(convention, shapes, expressions)
 
 
@@ -179,11 +194,11 @@ def plan_keys(match: ConventionMatch, recipes: Recipes) -> dict[str, KeyPlan]:
             plans[key_name] = KeyPlan({}, arkit[key_name], "")
             plans[release] = KeyPlan({}, arkit[release], "")
         else:
-            plans[key_name] = KeyPlan({own: 1.0}, {}, "")
-            plans[release] = KeyPlan({}, {}, "", release_of=own)
+            plans[key_name] = KeyPlan(dict(own), {}, "")
+            plans[release] = KeyPlan({}, {}, "", release_of=dict(own))
     for extra, key_name in EXTRA_KEYS.items():
         own = match.expressions.get(extra)
-        plans[key_name] = KeyPlan({own: 1.0}, {}, "") if own else KeyPlan({}, arkit[key_name], "")
+        plans[key_name] = KeyPlan(dict(own), {}, "") if own else KeyPlan({}, arkit[key_name], "")
     return plans
 
 
@@ -222,8 +237,9 @@ def convention_key_deltas(
         for name, weight in plan.shapes.items():
             if name in own_shapes:
                 deltas += np.float32(weight) * own_shapes[name]
-        if plan.release_of and plan.release_of in own_shapes:
-            deltas -= own_shapes[plan.release_of] * mouth[:, None]
+        for name, weight in plan.release_of.items():
+            if name in own_shapes:
+                deltas -= np.float32(weight) * own_shapes[name] * mouth[:, None]
         if empowered and key_name.startswith("TR_emotion_"):
             deltas *= np.float32(rho)
         result[key_name] = deltas
@@ -278,11 +294,29 @@ def _read_visemes(path: Path, data: dict, shapes: Iterable[str] | None) -> dict[
     return visemes
 
 
-def _read_expressions(path: Path, data: dict, exact: bool) -> dict[str, tuple[str, ...]]:
+def _read_expressions(path: Path, data: dict, exact: bool) -> dict[str, tuple[dict[str, float], ...]]:
+    """Each expression: alternatives in order, each a key name or a table combining keys with weights."""
     table = data.get("expressions", {})
     if not isinstance(table, dict) or any(name not in EXPRESSIONS for name in table):
         raise DataError(f"{path}: [expressions] may name only {', '.join(EXPRESSIONS)}.")
-    return {name: _spelling_list(path, f"expressions.{name}", value, exact) for name, value in table.items()}
+    expressions: dict[str, tuple[dict[str, float], ...]] = {}
+    for name, value in table.items():
+        where = f"expressions.{name}"
+        alternatives = []
+        for item in value if isinstance(value, list) else [value]:
+            if isinstance(item, dict) and item:
+                weights = _weights(path, where, item, None)
+            elif isinstance(item, str) and item:
+                weights = {item: 1.0}
+            else:
+                raise DataError(
+                    f"{path}: [{where}] must be key names or tables like {{ Brows_Up = 1.0 }}, got {item!r}."
+                )
+            alternatives.append(weights if exact else {canonical_name(key): w for key, w in weights.items()})
+        if not alternatives:
+            raise DataError(f"{path}: [{where}] names no key.")
+        expressions[name] = tuple(alternatives)
+    return expressions
 
 
 def read_convention(path: Path) -> Convention:
