@@ -54,34 +54,35 @@ def _band_dtw(
 ) -> tuple[np.ndarray, np.ndarray]:
     """DTW (symmetric steps, diagonal weighted twice) with row i restricted to columns low[i]:high[i].
 
-    Each row is solved at once: vertical and diagonal steps come from the row before, and the horizontal
-    steps are a running minimum of (cost so far - cumulative distance), so no Python loop runs over cells.
+    low and high never decrease. Each row is solved at once: vertical and diagonal steps come from the
+    row before (kept in one array over all columns, infinite outside its band), and the horizontal steps
+    are a running minimum of (cost so far - cumulative distance), so no Python loop runs over cells. The
+    distances are computed for blocks of rows at a time.
     """
     moves: list[np.ndarray] = []  # per row: 0 diagonal, 1 from above, 2 from the left
-    previous = np.empty(0)
+    last = np.full(len(y) + 1, np.inf)  # last[1 + j]: the previous row's cost at column j
     previous_low = 0
-    for i in range(len(x)):
-        begin, end = int(low[i]), int(high[i])
-        distance = np.sqrt(((y[begin:end] - x[i]) ** 2).sum(axis=1))
-        if i == 0:
-            cost = np.cumsum(distance + step_penalty)
-            move = np.full(end - begin, 2, np.int8)
-        else:
-            above = np.full(end - begin, np.inf)
-            diagonal = np.full(end - begin, np.inf)
-            _copy_overlap(above, begin, previous, previous_low)
-            _copy_overlap(diagonal, begin - 1, previous, previous_low)
-            from_above = above + distance + step_penalty
-            from_diagonal = diagonal + 2 * distance
-            arrive = np.minimum(from_diagonal, from_above)
-            move = np.where(from_diagonal <= from_above, 0, 1).astype(np.int8)
-            cumulative = np.cumsum(distance + step_penalty)
-            relative = arrive - cumulative
-            best = np.minimum.accumulate(relative)
-            cost = best + cumulative
-            move[best < relative] = 2
-        moves.append(move)
-        previous, previous_low = cost, begin
+    for block_begin, distances in _band_distances(x, y, low, high):
+        for offset, row in enumerate(distances):
+            i = block_begin + offset
+            begin, end = int(low[i]), int(high[i])
+            distance = row[: end - begin]
+            steps = np.cumsum(distance + step_penalty)
+            if i == 0:
+                cost, move = steps, np.full(end - begin, 2, np.int8)
+            else:
+                from_above = last[1 + begin : 1 + end] + distance + step_penalty
+                from_diagonal = last[begin:end] + 2 * distance
+                arrive = np.minimum(from_diagonal, from_above)
+                move = np.where(from_diagonal <= from_above, 0, 1).astype(np.int8)
+                relative = arrive - steps
+                best = np.minimum.accumulate(relative)
+                cost = best + steps
+                move[best < relative] = 2
+            moves.append(move)
+            last[1 + previous_low : 1 + begin] = np.inf  # columns this row's band left behind
+            last[1 + begin : 1 + end] = cost
+            previous_low = begin
     path_i, path_j = [], []
     i, j = len(x) - 1, len(y) - 1
     while True:
@@ -99,9 +100,12 @@ def _band_dtw(
     return np.array(path_i[::-1]), np.array(path_j[::-1])
 
 
-def _copy_overlap(target: np.ndarray, target_low: int, source: np.ndarray, source_low: int) -> None:
-    """target[k] = source[k + target_low - source_low] where both exist."""
-    begin = max(target_low, source_low)
-    end = min(target_low + target.size, source_low + source.size)
-    if end > begin:
-        target[begin - target_low : end - target_low] = source[begin - source_low : end - source_low]
+def _band_distances(x: np.ndarray, y: np.ndarray, low: np.ndarray, high: np.ndarray):
+    """(first row, distances of its rows to the columns of their bands, left-aligned) block by block."""
+    width = int((high - low).max())
+    rows_per_block = max(1, (1 << 17) // max(1, width * x.shape[1]))  # about a megabyte a block
+    columns = np.arange(width)
+    for begin in range(0, len(x), rows_per_block):
+        rows = slice(begin, begin + rows_per_block)
+        index = np.minimum(low[rows, None] + columns[None, :], len(y) - 1)
+        yield begin, np.sqrt(((y[index] - x[rows, None, :]) ** 2).sum(axis=2))
