@@ -59,6 +59,10 @@ _RATIO = re.compile(rf"1:(?P<denominator>{THOUSANDS}|[0-9]{{3,}})(?![0-9:])")
 _MIXED = re.compile(r"(?P<whole>[0-9]+) (?P<numerator>[0-9]+)/(?P<denominator>[0-9]+)(?![0-9/])")
 _FRACTION = re.compile(rf"(?P<numerator>[0-9]+)/(?P<denominator>{THOUSANDS}|[0-9]+)(?![0-9/]|[.,][0-9])")
 _VULGAR = re.compile(r"(?P<whole>[0-9]+)?(?P<vulgar>[\u00bc-\u00be\u2150-\u215e])")
+_VULGAR_SIGNS = re.compile("[\u00bc-\u00be\u2150-\u215e]")
+_DIGITS = re.compile("[0-9]*")
+# What may follow the first digits of a date, time, fraction, range, degree, decimal or fixed form.
+_SEPARATORS_IN_FORMS = frozenset("./:-–,°")
 _RANGE = re.compile(
     rf"(?P<first>{_NUMBER})[{_DASHES}](?P<second>{_NUMBER})(?P<ordinal>\.(?=[^\S\n]+[^\W\d_]))?"
     rf"(?![0-9]|[{_DASHES}][0-9]|[.,/:][0-9])"
@@ -156,8 +160,20 @@ class WrittenForms:
     # ------------------------------------------------------------ entry points
 
     def after_digit(self, start: int) -> Reading | None:
-        """A form that starts with a digit."""
-        for reader in (
+        """A form that starts with a digit. Most numbers are plain ("2024 yılında"): after digits and a
+        space or a letter only a phone number, an amount or a mixed fraction can go on."""
+        following = self.text[_DIGITS.match(self.text, start).end() :][:1]
+        if following in _SEPARATORS_IN_FORMS or _VULGAR_SIGNS.match(following):
+            readers = self.digit_readers
+        elif following.isspace() or not following:
+            readers = (self.phone, self.money, self.mixed)
+        else:
+            readers = (self.money,)
+        return self.first_reading(readers, start)
+
+    @property
+    def digit_readers(self) -> tuple[Callable[[int], Reading | None], ...]:
+        return (
             self.fixed,
             self.coordinates,
             self.phone,
@@ -173,27 +189,28 @@ class WrittenForms:
             self.day_month,
             self.fraction,
             self.range,
-        ):
-            reading = reader(start)
-            if reading is not None:
-                return reading
-        return None
+        )
 
     def after_symbol(self, start: int) -> Reading | None:
-        """A form that starts with a sign: +90 ..., %10-20, $5, ½."""
-        for reader in (self.coordinates, self.phone, self.percent, self.money, self.vulgar):
+        """A form that starts with a sign: +90 ..., -12.3456, %10-20, $5, ½."""
+        sign = self.text[start]
+        if sign not in "+-%" and sign not in self.tables.currencies and not _VULGAR_SIGNS.match(sign):
+            return None
+        return self.first_reading(
+            (self.coordinates, self.phone, self.percent, self.money, self.vulgar), start
+        )
+
+    @staticmethod
+    def first_reading(readers: Sequence[Callable[[int], Reading | None]], start: int) -> Reading | None:
+        for reader in readers:
             reading = reader(start)
             if reading is not None:
                 return reading
         return None
 
     def after_letter(self, start: int) -> Reading | None:
-        """A form that starts with a letter: Roman numerals, e-mail and web addresses."""
-        for reader in (self.address, self.roman, self.vulgar):
-            reading = reader(start)
-            if reading is not None:
-                return reading
-        return None
+        """A form that starts with a letter: Roman numerals, e-mail or web addresses (½ is a letter to re)."""
+        return self.first_reading((self.address, self.roman, self.vulgar), start)
 
     # ------------------------------------------------------------ numbers
 
