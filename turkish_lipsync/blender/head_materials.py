@@ -182,7 +182,9 @@ def skin_material(reference: ReferenceHead, uv_map: str) -> bpy.types.Material:
     skin = tables["skin"]
     material, tree, shader = _new_material("skin")
     color = _rgba(skin["color"])
-    roughness = float(skin["roughness"])
+    # Surface values each layer may change, and the Principled inputs they drive.
+    surface = {"roughness": float(skin["roughness"]), "coat": float(skin["coat"]), "specular": 0.5}
+    inputs = {"roughness": "Roughness", "coat": "Coat Weight", "specular": "Specular IOR Level"}
     masks = {name: _texture(tree, _mask_image(name), uv_map) for name in ("lips", "eyelids", "inside_mouth")}
     masks["eyebrows"] = _texture(tree, _eyebrow_image(reference), EYEBROW_UV, clip=True)
     masks["hair"] = _math(tree, "MULTIPLY", _attribute(tree, HAIR_ATTRIBUTE), _hair_strands(tree, uv_map))
@@ -190,11 +192,13 @@ def skin_material(reference: ReferenceHead, uv_map: str) -> bpy.types.Material:
         settings = tables[layer]
         factor = _math(tree, "MULTIPLY", mask, float(settings.get("strength", 1.0)))
         color = _mix(tree, "RGBA", factor, color, _rgba(settings["color"]))
-        if "roughness" in settings:
-            roughness = _mix(tree, "FLOAT", factor, roughness, float(settings["roughness"]))
+        for name in inputs:
+            if name in settings:
+                surface[name] = _mix(tree, "FLOAT", factor, surface[name], float(settings[name]))
     tree.links.new(color, shader.inputs["Base Color"])
     _set_surface(material, shader, skin, skin["color"])
-    tree.links.new(roughness, shader.inputs["Roughness"])
+    for name, value in surface.items():
+        _connect(tree, ((shader.inputs[inputs[name]], value),))
 
     # Pores: MPFB's noise bump over the UV layout.
     coordinates = tree.nodes.new("ShaderNodeUVMap")
