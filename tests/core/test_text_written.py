@@ -186,6 +186,8 @@ def test_ranges_scores_and_negatives(source: str, expected: str) -> None:
         ("10-20 km", "on yirmi kilometre"),
         ("39°56'12\"K", "otuz dokuz derece elli altı dakika on iki saniye kuzey"),
         ("±0,5 mm", "artı eksi sıfır virgül beş milimetre"),
+        ("1920x1080 ekran", "bin dokuz yüz yirmi çarpı bin seksen ekran"),
+        ("2 x 3 m oda", "iki çarpı üç metre oda"),
     ],
 )
 def test_units(source: str, expected: str) -> None:
@@ -241,6 +243,9 @@ def test_suffixes_keep_harmony_and_soften(source: str, expected: str) -> None:
         ("Doç. Dr. Ali ve Av. Can", "doçent doktor ali ve avukat can"),
         ("Atatürk Cad. No. 5", "atatürk caddesi numara beş"),
         ("Gül Sok. No: 3", "gül sokak numara üç"),
+        ("Sipariş No: 2024-0153", "sipariş numara iki bin yirmi dört sıfır bir beş üç"),  # a code, no range
+        ("Pzt. ve Cmt. 10.00'da", "pazartesi ve cumartesi onda"),
+        ("MÖ 500 yılında", "milattan önce beş yüz yılında"),
         ("ABC Ltd. Şti.", "a be ce limitet şirketi"),
         ("Kaya San. ve Tic. A.Ş.", "kaya sanayi ve ticaret anonim şirketi"),
         ("Ankara Üniv. Tıp Fak.", "ankara üniversitesi tıp fakültesi"),

@@ -86,6 +86,7 @@ _NUMBER_WORDS = (
     "second",
     "latitude",
     "longitude",
+    "times",
 )
 
 

@@ -67,6 +67,9 @@ _RANGE = re.compile(
     rf"(?P<first>{_NUMBER})[{_DASHES}](?P<second>{_NUMBER})(?P<ordinal>\.(?=[^\S\n]+[^\W\d_]))?"
     rf"(?![0-9]|[{_DASHES}][0-9]|[.,/:][0-9])"
 )
+_TIMES = re.compile(
+    rf"(?P<first>{_NUMBER})[^\S\n]?(?P<sign>[x×])[^\S\n]?(?P<second>{_NUMBER})(?![0-9])"
+)  # 1920x1080
 _PERCENT = re.compile(
     rf"%[^\S\n]?(?P<first>[0-9]+\.[0-9]{{1,2}}(?![0-9])|{_NUMBER})(?:[{_DASHES}]%?(?P<second>{_NUMBER}))?(?![0-9])"
 )
@@ -161,14 +164,14 @@ class WrittenForms:
 
     def after_digit(self, start: int) -> Reading | None:
         """A form that starts with a digit. Most numbers are plain ("2024 yılında"): after digits and a
-        space or a letter only a phone number, an amount or a mixed fraction can go on."""
+        space or a letter only a phone number, an amount, a mixed fraction or a product can go on."""
         following = self.text[_DIGITS.match(self.text, start).end() :][:1]
         if following in _SEPARATORS_IN_FORMS or _VULGAR_SIGNS.match(following):
             readers = self.digit_readers
         elif following.isspace() or not following:
-            readers = (self.phone, self.money, self.mixed)
+            readers = (self.phone, self.money, self.mixed, self.times)
         else:
-            readers = (self.money,)
+            readers = (self.money, self.times)
         return self.first_reading(readers, start)
 
     @property
@@ -189,6 +192,7 @@ class WrittenForms:
             self.day_month,
             self.fraction,
             self.range,
+            self.times,
         )
 
     def after_symbol(self, start: int) -> Reading | None:
@@ -430,8 +434,8 @@ class WrittenForms:
         Small numbers side by side are said side by side (so are scores, 3-1); years, thousands, ordinals
         and days before a month take "ile"."""
         match = _RANGE.match(self.text, start)
-        if not match:
-            return None
+        if not match or match.group("second")[0] == "0" and len(match.group("second")) > 1:
+            return None  # 2024-0153 is a code, read group by group
         first = self.group_words(match, "first", self.number)
         second = self.group_words(match, "second", self.number)
         values = [match.group(name) for name in ("first", "second")]
@@ -446,6 +450,15 @@ class WrittenForms:
         dash = match.end("first")
         middle = [self.spoken(self.tables.words["range"], dash)] if joined else []
         return Reading(first + middle + second, match.end(), takes_unit=not match.group("ordinal"))
+
+    def times(self, start: int) -> Reading | None:
+        """1920x1080 bin dokuz yüz yirmi çarpı bin seksen; 3 × 4."""
+        match = _TIMES.match(self.text, start)
+        if not match:
+            return None
+        sign = self.spoken(self.tables.words["times"], match.start("sign"))
+        words = self.group_words(match, "first", self.number) + [sign]
+        return Reading(words + self.group_words(match, "second", self.number), match.end(), takes_unit=True)
 
     def word_before_next(self, end: int) -> str | None:
         """The next word after `end`, lowercased (for "1-5 Haziran")."""
