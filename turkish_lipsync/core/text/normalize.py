@@ -18,7 +18,7 @@ from typing import NamedTuple
 
 from ..errors import TextError
 from ..model import Pause, SpokenWord, Style, TextRun
-from .jsml import pause_seconds
+from .jsml import parse_jsml, pause_seconds
 from .numbers import Words, number_words, ordinal_words
 from .suffixes import Letters, proper_noun_suffix, spoken_suffix
 from .tables import TURKISH_LETTERS, VOWELS, fold_letter, text_tables, turkish_lower, turkish_upper
@@ -470,16 +470,12 @@ _PAUSE_MARKS = {
 
 def spoken_words(source: str) -> list[str]:
     """The words a JSML or plain text is spoken as, in order (what the timeline's words hold)."""
-    from .jsml import parse_jsml
-
     return [item.text for item in normalize(parse_jsml(source)) if isinstance(item, SpokenWord)]
 
 
 def spoken_text(source: str) -> str:
     """The text as it is spoken, pauses shown as punctuation and paragraphs as blank lines: a script can
     be checked before it is animated."""
-    from .jsml import parse_jsml
-
     parts: list[str] = []
     for item in normalize(parse_jsml(source)):
         if isinstance(item, SpokenWord):
