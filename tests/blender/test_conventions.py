@@ -235,3 +235,31 @@ def test_the_build_operator_asks_for_a_head_with_visemes():
             bpy.ops.turkish_lipsync.build_shape_keys()
     finally:
         blender.unregister()
+
+
+OCULUS_FROM_TR = {
+    "sil": "neutral", "PP": "bpa", "FF": "fvae", "TH": "dte", "DD": "dta", "kk": "gkya", "CH": "cjae",
+    "SS": "sza", "nn": "na", "RR": "ra", "aa": "a", "E": "e", "ih": "Ii", "oh": "o", "ou": "u",
+}  # fmt: skip
+
+
+def test_oculus_visemes_win_over_the_heads_other_basis_which_fills_the_rest():
+    """The reference head given Ready Player Me's viseme_* keys: they make the visemes, its units the rest."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    head = heads.create_reference_head(bpy.context)["head"]
+    shapekeys.build_shape_keys(head)
+    blocks = head.data.shape_keys.key_blocks
+    count = len(head.data.vertices)
+    for oculus, viseme in OCULUS_FROM_TR.items():
+        shape = mesh.read_coordinates(blocks[viseme_key_name(viseme)].data, count)
+        head.shape_key_add(name=f"viseme_{oculus}", from_mix=False).data.foreach_set("co", shape.ravel())
+    blink = mesh.read_coordinates(blocks["TR_blink_left"].data, count)
+    report = shapekeys.build_shape_keys(head)
+    assert report.source == "convention" and report.convention == "Oculus / Meta visemes"
+    assert report.key_sources[viseme_key_name("u")] == "own keys: viseme_ou 1"
+    assert report.key_sources["TR_blink_left"] == "reference"  # Oculus has no blinks: the head's units
+    np.testing.assert_allclose(mesh.read_coordinates(blocks["TR_blink_left"].data, count), blink, atol=1e-6)
+    rest = mesh.rest_coordinates(head)
+    rounded = mesh.read_coordinates(blocks["viseme_ou"].data, count) - rest
+    built = mesh.read_coordinates(blocks[viseme_key_name("u")].data, count) - rest
+    np.testing.assert_allclose(built, rounded, atol=1e-6)
