@@ -330,3 +330,19 @@ def test_any_mix_of_digits_signs_and_words_gives_turkish_letters_at_real_indices
             assert word.text and set(word.text) <= TURKISH_LETTERS, (source, word)
             assert len(word.offsets) == len(word.text), (source, word)
             assert all(0 <= offset < len(source) for offset in word.offsets), (source, word)
+
+
+def test_the_timeline_speaks_the_normalised_words_with_their_visemes() -> None:
+    """What the normaliser reads is what the timeline times and the visemes shape (table timing, no engine):
+    the softened b of "zeynebe" sits on the written p and closes the lips."""
+    from turkish_lipsync.core.pipeline import LipSyncOptions, lip_sync
+    from turkish_lipsync.core.text.visemes import BILABIAL_VISEMES
+
+    source = "Toplantı 09:00'da, bilet 2.499,90 TL'ye; XIX. yüzyılda Zeynep'e ½ ekmek."
+    result = lip_sync(source, LipSyncOptions(timing="table"))
+    assert [word.text for word in result.timeline.words] == spoken_words(source)
+    utterance = result.utterance
+    word = next(word for word in utterance.words if word.text == "zeynebe")
+    letters = utterance.letters[word.first_letter : word.first_letter + word.letter_count]
+    assert [source[letter.offset] for letter in letters] == list("Zeynepe")
+    assert letters[5].char == "b" and letters[5].viseme in BILABIAL_VISEMES
