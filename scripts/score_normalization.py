@@ -2,7 +2,7 @@
 
     .venv/bin/python scripts/score_normalization.py                 # the public benchmark turkce-tts-sinav
     .venv/bin/python scripts/score_normalization.py --set held-out  # our own everyday sentences
-    .venv/bin/python scripts/score_normalization.py --set FILE.tsv --wrong
+    .venv/bin/python scripts/score_normalization.py --set FILE.tsv --wrong --groups
 
 A case is a TSV line `written<TAB>expected reading[<TAB>group]` (lines starting with # are comments). The
 spoken words (what the timeline's `words` hold) are compared with the expected reading blind to case and
@@ -76,6 +76,7 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--set", default="benchmark", help="benchmark, held-out, or a TSV file")
     parser.add_argument("--wrong", action="store_true", help="list the sentences read wrong")
+    parser.add_argument("--groups", action="store_true", help="sentences right in each group of the set")
     args = parser.parse_args()
     path = {"benchmark": None, "held-out": HELD_OUT}.get(args.set, Path(args.set))
     cases = read_cases(path or benchmark_path())
@@ -84,6 +85,12 @@ def main() -> int:
         f"{args.set}: {right} of {len(cases)} sentences right ({100 * right / len(cases):.1f}%), "
         f"word error rate {100 * word_error_rate:.1f}%"
     )
+    if args.groups:
+        wrong_sentences = {written for written, _, _ in wrong}
+        for group in dict.fromkeys(group for _, _, group in cases):
+            members = [written for written, _, case_group in cases if case_group == group]
+            right_here = sum(written not in wrong_sentences for written in members)
+            print(f"  {group or '-'}: {right_here} of {len(members)}")
     if args.wrong:
         for written, ours, expected in wrong:
             print(f"  {written}\n    ours:     {ours}\n    expected: {expected}")
