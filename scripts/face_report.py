@@ -1,6 +1,7 @@
 """Build the keys on a head and report how its face moves: one labelled PNG and a table of figures.
 
     .venv/bin/python scripts/face_report.py [--head PATH] [--out DIR] [--object NAME] [--keep-keys]
+        [--source transfer]
 
 The head's own shape keys are kept aside and removed first (so the keys come by transfer, as for a head
 without keys); where the head had an artist's comparable key (shapekeys/artist_comparisons.toml) the
@@ -25,10 +26,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from scripts.contact_sheet import _aim, _emission_material  # noqa: E402
 from turkish_lipsync.blender import heads, mesh, shapekeys  # noqa: E402
-from turkish_lipsync.blender.landmarks import read_landmark_markers  # noqa: E402
 from turkish_lipsync.core.data import load_table  # noqa: E402
 from turkish_lipsync.core.errors import LipSyncError  # noqa: E402
-from turkish_lipsync.core.faces.landmarks import face_frame, find_landmarks  # noqa: E402
+from turkish_lipsync.core.faces.landmarks import face_frame  # noqa: E402
 from turkish_lipsync.core.faces.measure import FaceMeasure, displacement_cosine  # noqa: E402
 from turkish_lipsync.core.model import BLINK_KEYS, EMOTIONS, emotion_key_name, viseme_key_name  # noqa: E402
 
@@ -52,6 +52,7 @@ MEASURED = (
 )
 BILABIALS = tuple(viseme_key_name(name) for name in ("bpa", "bpe", "bpo", "ma", "me", "mo"))
 THREE_QUARTER_DEGREES = 40.0
+KEYS_PER_ROW = 4  # each key shows front and three-quarter side by side
 BACKGROUND = (0.35, 0.37, 0.4)
 
 
@@ -74,13 +75,6 @@ def strip_keys(objects) -> None:
     for obj in objects:
         if obj.data.shape_keys is not None:
             obj.shape_key_clear()
-
-
-def head_landmarks(head: bpy.types.Object) -> dict[str, np.ndarray]:
-    markers = read_landmark_markers(head)
-    if markers:
-        return {name: mesh.to_world(head, np.array([p]))[0].astype(np.float64) for name, p in markers.items()}
-    return find_landmarks(mesh.world_rest_coordinates(head), mesh.triangles(head))
 
 
 def measure(head, built: dict[str, np.ndarray], artist: dict[str, np.ndarray], landmarks) -> list[dict]:
@@ -201,9 +195,12 @@ def place_camera(camera: bpy.types.Object, landmarks, degrees: float) -> None:
 def render_grid(objects, landmarks, out: Path, tile: int, samples: int) -> None:
     camera, label = setup_scene(landmarks, tile, samples)
     views = (0.0, THREE_QUARTER_DEGREES)
-    sheet = np.zeros((len(ROWS) * tile, len(views) * tile, 4), np.float32)
+    rows = math.ceil(len(ROWS) / KEYS_PER_ROW)
+    sheet = np.zeros((rows * tile, KEYS_PER_ROW * len(views) * tile, 4), np.float32)
+    sheet[..., 3] = 1.0
     with tempfile.TemporaryDirectory() as folder:
-        for row, (name, keys) in enumerate(ROWS):
+        for index, (name, keys) in enumerate(ROWS):
+            row, slot = divmod(index, KEYS_PER_ROW)
             for obj in objects:
                 if obj.data.shape_keys is not None:
                     for block in obj.data.shape_keys.key_blocks[1:]:
@@ -211,16 +208,17 @@ def render_grid(objects, landmarks, out: Path, tile: int, samples: int) -> None:
             label.data.body = name
             for column, degrees in enumerate(views):
                 place_camera(camera, landmarks, degrees)
-                path = Path(folder) / f"{row}_{column}.png"
+                path = Path(folder) / f"{index}_{column}.png"
                 bpy.context.scene.render.filepath = str(path)
                 bpy.ops.render.render(write_still=True)
                 image = bpy.data.images.load(str(path))
                 pixels = np.empty(tile * tile * 4, np.float32)
                 image.pixels.foreach_get(pixels)
                 bpy.data.images.remove(image)
-                top = (len(ROWS) - 1 - row) * tile  # Blender's pixels start at the bottom row
-                sheet[top : top + tile, column * tile : (column + 1) * tile] = pixels.reshape(tile, tile, 4)
-            print(f"rendered {row + 1}/{len(ROWS)} {name}", flush=True)
+                top = (rows - 1 - row) * tile  # Blender's pixels start at the bottom row
+                left = (slot * len(views) + column) * tile
+                sheet[top : top + tile, left : left + tile] = pixels.reshape(tile, tile, 4)
+            print(f"rendered {index + 1}/{len(ROWS)} {name}", flush=True)
     image = bpy.data.images.new("TR_FaceReport", sheet.shape[1], sheet.shape[0], alpha=True)
     image.pixels.foreach_set(sheet.ravel())
     image.filepath_raw = str(out)
@@ -229,8 +227,8 @@ def render_grid(objects, landmarks, out: Path, tile: int, samples: int) -> None:
     print(f"wrote {out}")
 
 
-def face_report(head_path: Path | None, out_dir: Path, object_name: str | None, keep_keys: bool, tile: int,
-                samples: int, render: bool) -> list[dict]:  # fmt: skip
+def face_report(head_path: Path | None, out_dir: Path, object_name: str | None, keep_keys: bool, source: str,
+                tile: int, samples: int, render: bool) -> list[dict]:  # fmt: skip
     bpy.ops.wm.read_factory_settings(use_empty=True)
     if head_path is None:
         head = heads.create_reference_head(bpy.context)["head"]
@@ -239,13 +237,13 @@ def face_report(head_path: Path | None, out_dir: Path, object_name: str | None, 
         head = bpy.data.objects[object_name] if object_name else heads.find_head(imported)
     parts = heads.find_head_parts(head)
     artist = world_key_deltas(head)
+    landmarks = shapekeys.head_landmarks(head)
     if not keep_keys:
         strip_keys([head, *parts])
-    report = shapekeys.build_shape_keys(head, parts=parts, arkit_keys=True)
+    report = shapekeys.build_shape_keys(head, parts=parts, source=source, arkit_keys=True)
     print(f"{head.name}: {len(report.keys)} keys from source {report.source}")
     for warning in report.warnings:
         print(f"warning: {warning}")
-    landmarks = head_landmarks(head)
     built = world_key_deltas(head)
     rows = measure(head, built, artist, landmarks)
     face = FaceMeasure(mesh.world_rest_coordinates(head).astype(np.float64), mesh.triangles(head), landmarks)
@@ -267,6 +265,9 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument(
         "--keep-keys", action="store_true", help="build from the head's own keys, not by transfer"
+    )
+    parser.add_argument(
+        "--source", default="auto", choices=shapekeys.SOURCES, help="where the keys come from (default: auto)"
     )
     parser.add_argument("--tile", type=int, default=200, help="pixels per picture")
     parser.add_argument("--samples", type=int, default=8, help="Cycles samples per picture")

@@ -13,6 +13,7 @@ from pathlib import Path
 import bpy
 import numpy as np
 
+from ..core.data import load_table
 from ..core.errors import HeadError, LipSyncError
 from ..core.faces import transfer
 from ..core.faces.arkit_names import ARKIT_UNITS, has_arkit_basis, match_arkit_keys
@@ -25,7 +26,7 @@ from ..core.faces.conventions import (
     read_user_mapping,
     recognise_convention,
 )
-from ..core.faces.landmarks import find_landmarks
+from ..core.faces.landmarks import find_landmarks, landmarks_from_motion
 from ..core.faces.recipes import VISEME_NAMES, key_deltas, load_recipes
 from ..core.faces.reference import ReferenceHead, load_reference_head
 from ..core.model import EMOTIONS, OWNED_PREFIX, emotion_key_name, viseme_key_name
@@ -157,13 +158,7 @@ def _transfer_units(
     head_triangles = mesh.triangles(head)
     if len(head_triangles) == 0:
         raise HeadError(f"{head.name!r} has no faces; a head needs a surface to build shape keys on.")
-    markers = read_landmark_markers(head)
-    if markers:
-        names = list(markers)
-        placed = mesh.to_world(head, np.array([markers[name] for name in names], dtype=np.float32))
-        landmarks = dict(zip(names, placed.astype(np.float64), strict=True))
-    else:
-        landmarks = find_landmarks(world[0], head_triangles)
+    landmarks = head_landmarks(head, world[0], head_triangles)
     target_parts = transfer.find_parts(all_vertices, all_triangles, landmarks)
     deltas = transfer.transfer_units(
         reference, all_vertices, all_triangles, landmarks, target_parts=target_parts
@@ -175,6 +170,42 @@ def _transfer_units(
             unit: mesh.world_deltas_to_local(obj, moved[start:stop]) for unit, moved in deltas.items()
         }
     return result
+
+
+def head_landmarks(head: bpy.types.Object, world_vertices=None, triangles=None) -> dict[str, np.ndarray]:
+    """The head's landmarks in world space: its markers where the user placed them; else from its shape;
+    else from what its own mouth-opening and blink keys move (a mouth painted on the texture that only a
+    key opens); else the shape's error, which says to place markers."""
+    markers = read_landmark_markers(head)
+    if markers:
+        names = list(markers)
+        placed = mesh.to_world(head, np.array([markers[name] for name in names], dtype=np.float32))
+        return dict(zip(names, placed.astype(np.float64), strict=True))
+    if world_vertices is None:
+        world_vertices, triangles = mesh.world_rest_coordinates(head), mesh.triangles(head)
+    try:
+        return find_landmarks(world_vertices, triangles)
+    except HeadError as error:
+        names = load_table("artist_comparisons")["compare"]
+        linear = mesh.world_matrix(head)[:3, :3]
+        users = set(own_key_names(head))
+
+        def own(*units):
+            for unit in units:
+                found = own_key_deltas(head, [name for name in names.get(unit, ()) if name in users])
+                if found:
+                    return next(iter(found.values())).astype(np.float64) @ linear.T
+            return None
+
+        mouth = own("jawOpen", "TR_viseme_a")
+        if mouth is None:
+            raise
+        try:
+            return landmarks_from_motion(
+                world_vertices, triangles, mouth, own("eyeBlinkLeft"), own("eyeBlinkRight")
+            )
+        except HeadError:
+            raise error from None
 
 
 # ---------------------------------------------------------------- the thesis path: a folder of OBJ models

@@ -269,6 +269,11 @@ def find_landmarks(vertices: np.ndarray, polygons) -> dict[str, np.ndarray]:
     ) from first_error
 
 
+# How far the line from the chin to the eyes leans back from the vertical on an upright face (measured on
+# the reference head: 7.8 degrees), so that face_frame leaves an upright head as it is.
+FACE_LEAN_DEGREES = 7.8
+
+
 def face_frame(landmarks) -> tuple[np.ndarray, np.ndarray]:
     """(origin, axes) of the face: axes' columns point to the face's left, back and up, so that
     (points - origin) @ axes shows the face looking toward -Y with Z up, however the head is turned."""
@@ -280,10 +285,13 @@ def face_frame(landmarks) -> tuple[np.ndarray, np.ndarray]:
     eyes = 0.25 * (
         lm["eye_inner_left"] + lm["eye_inner_right"] + lm["eye_outer_left"] + lm["eye_outer_right"]
     )
-    up = eyes - lm["chin"]
-    up -= (up @ across) * across
-    up /= np.linalg.norm(up)
-    back = np.cross(up, across)
+    leaning = eyes - lm["chin"]  # up, and back by the face's lean: the eyes sit behind the chin
+    leaning -= (leaning @ across) * across
+    leaning /= np.linalg.norm(leaning)
+    leaning_back = np.cross(leaning, across)
+    lean = np.radians(FACE_LEAN_DEGREES)
+    up = np.cos(lean) * leaning - np.sin(lean) * leaning_back
+    back = np.sin(lean) * leaning + np.cos(lean) * leaning_back
     return lm["nose_tip"], np.stack((across, back, up), axis=1)
 
 
@@ -353,12 +361,12 @@ def _round_pieces(vertices: np.ndarray, triangles: np.ndarray) -> np.ndarray:
     return triangles[keep]
 
 
-def _check_proportions(points: dict[str, np.ndarray]) -> None:
+def _check_proportions(points: dict[str, np.ndarray], widths: bool = True) -> None:
     """Refuse landmarks no face has (a 'mouth' a tenth as wide as the eyes are apart: a crease in hair)."""
     mouth = np.linalg.norm(points["mouth_corner_left"] - points["mouth_corner_right"])
     eyes = np.linalg.norm(points["eye_outer_left"] - points["eye_outer_right"])
     heights = [points[name][2] for name in ("brow_left", "eye_inner_left", "nose_tip", "upper_lip", "chin")]
-    if not (0.3 * eyes < mouth < 1.5 * eyes) or np.any(np.diff(heights) >= 0):
+    if (widths and not 0.3 * eyes < mouth < 1.5 * eyes) or np.any(np.diff(heights) >= 0):
         raise HeadError(
             "What looks like a face toward -Y has no face's proportions (mouth width against the eyes' "
             "distance, brows over eyes over nose over mouth over chin); place the landmark markers."
@@ -638,3 +646,116 @@ def _grow_blob(mask: np.ndarray, seed: tuple[int, int]) -> np.ndarray:
         if np.array_equal(grown, blob):
             return blob
         blob = grown
+
+
+# ---------------------------------------------------------------- landmarks from a head's own keys
+
+
+def landmarks_from_motion(
+    vertices: np.ndarray,
+    polygons,
+    mouth_open: np.ndarray,
+    blink_left: np.ndarray | None = None,
+    blink_right: np.ndarray | None = None,
+) -> dict[str, np.ndarray]:
+    """Landmarks read off what a head's own keys move, for faces whose shape shows no mouth or eyes
+    (a mouth painted on the texture that only a key opens, stylised eyes).
+
+    mouth_open: deltas of a key that opens the mouth; blink_*: of the blinks (the eyes are placed by the
+    face's usual proportions without them). The face looks where the mouth lies from the head's centre.
+    """
+    vertices = np.asarray(vertices, np.float64)
+    triangles = triangulate(polygons)
+    mouth = _moved(mouth_open)
+    if len(mouth) < 2:
+        raise HeadError("The mouth-opening key moves nothing; place the landmark markers instead.")
+    centre = vertices[np.unique(triangles)].mean(0)
+    mouth_centre = vertices[mouth].mean(0)
+    forward = np.array([mouth_centre[0] - centre[0], mouth_centre[1] - centre[1], 0.0])
+    if np.linalg.norm(forward) == 0:
+        raise HeadError("The mouth lies at the head's centre; place the landmark markers instead.")
+    forward /= np.linalg.norm(forward)
+    # A turn about Z taking forward to -Y; upright = points @ turn.T.
+    turn = np.array([[-forward[1], forward[0], 0.0], [-forward[0], -forward[1], 0.0], [0.0, 0.0, 1.0]])
+    upright = vertices @ turn.T
+    points = _mouth_from_motion(upright, mouth, mouth_open @ turn.T)
+    width = float(np.linalg.norm(points["mouth_corner_left"] - points["mouth_corner_right"]))
+    for side, blink in (("left", blink_left), ("right", blink_right)):
+        points.update(_eye_from_motion(upright, side, blink, points, width))
+    points["nose_tip"] = _front_point(
+        upright, points, 0.5 * (points["eye_inner_left"][2] + points["upper_lip"][2])
+    )
+    # The chin: the lowest point on the midline below the mouth, in front of the head's middle.
+    below = np.abs(upright[:, 0] - points["upper_lip"][0]) < 0.15 * width
+    below &= (upright[:, 1] < points["upper_lip"][1] + 1.5 * width) & (upright[:, 2] < points["lower_lip"][2])
+    if not below.any():
+        raise HeadError("No chin found below the mouth the key opens; place the landmark markers instead.")
+    points["chin"] = upright[below][np.argmin(upright[below, 2])]
+    _check_proportions(points, widths=False)  # stylised faces: big eyes over a small mouth
+    return {name: point @ turn for name, point in points.items()}
+
+
+def _moved(deltas: np.ndarray | None) -> np.ndarray:
+    if deltas is None:
+        return np.empty(0, np.int64)
+    size = np.linalg.norm(np.asarray(deltas, np.float64), axis=1)
+    return np.flatnonzero(size > 0.2 * size.max()) if size.max() > 0 else np.empty(0, np.int64)
+
+
+def _mouth_from_motion(upright: np.ndarray, mouth: np.ndarray, deltas: np.ndarray) -> dict[str, np.ndarray]:
+    """Corners at the sides of what the key moves; the lips above and below the middle of the line."""
+    moved = upright[mouth]
+    left, right = moved[np.argmax(moved[:, 0])], moved[np.argmin(moved[:, 0])]
+    middle_x = 0.5 * (left[0] + right[0])
+    width = float(left[0] - right[0])
+    seam = 0.5 * (left[2] + right[2])
+    front = upright[np.abs(upright[:, 2] - seam) < 0.2 * width]
+    front = front[np.abs(front[:, 0] - middle_x) < 0.2 * width]
+    front_y = float(front[:, 1].min()) if len(front) else float(moved[:, 1].min())
+    lowered = deltas[mouth, 2] < 0
+    lip = 0.15 * width
+    upper_z = max(seam + lip, float(moved[~lowered, 2].max()) if (~lowered).any() else seam + lip)
+    lower_z = min(seam - lip, float(moved[lowered, 2].min()) if lowered.any() else seam - lip)
+    return {
+        "upper_lip": np.array([middle_x, front_y, upper_z]),
+        "lower_lip": np.array([middle_x, front_y, lower_z]),
+        "upper_lip_inner": np.array([middle_x, front_y, seam]),
+        "lower_lip_inner": np.array([middle_x, front_y, seam]),
+        "mouth_corner_left": left,
+        "mouth_corner_right": right,
+    }
+
+
+def _eye_from_motion(upright, side, blink, mouth_points, mouth_width) -> dict[str, np.ndarray]:
+    """An eye's corners at the sides of what its blink moves, or where faces put eyes without one."""
+    direction = 1 if side == "left" else -1
+    middle_x = mouth_points["upper_lip"][0]
+    moved = _moved(None if blink is None else blink @ np.eye(3))
+    if len(moved) >= 2:
+        points = upright[moved]
+        inner = points[np.argmin(np.abs(points[:, 0] - middle_x))]
+        outer = points[np.argmax(np.abs(points[:, 0] - middle_x))]
+        height = float(np.median(points[:, 2]))
+        inner, outer = inner.copy(), outer.copy()
+        inner[2] = outer[2] = height
+    else:
+        height = mouth_points["upper_lip"][2] + 1.3 * mouth_width
+        inner = _front_point(upright, mouth_points, height, middle_x + direction * 0.35 * mouth_width)
+        outer = _front_point(upright, mouth_points, height, middle_x + direction * 1.2 * mouth_width)
+    eye_width = float(abs(outer[0] - inner[0]))
+    brow = _front_point(upright, mouth_points, inner[2] + 0.6 * eye_width, 0.5 * (inner[0] + outer[0]))
+    return {f"eye_inner_{side}": inner, f"eye_outer_{side}": outer, f"brow_{side}": brow}
+
+
+def _front_point(upright, mouth_points, height, x=None) -> np.ndarray:
+    """The most forward vertex near (x, height): the face's surface there."""
+    x = mouth_points["upper_lip"][0] if x is None else x
+    width = float(np.linalg.norm(mouth_points["mouth_corner_left"] - mouth_points["mouth_corner_right"]))
+    near = np.hypot(upright[:, 0] - x, upright[:, 2] - height) < 0.25 * width
+    if not near.any():
+        near = (
+            np.hypot(upright[:, 0] - x, upright[:, 2] - height)
+            <= np.hypot(upright[:, 0] - x, upright[:, 2] - height).min()
+        )
+    candidates = upright[near]
+    return candidates[np.argmin(candidates[:, 1])].copy()

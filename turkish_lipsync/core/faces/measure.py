@@ -99,6 +99,7 @@ class FaceMeasure:
     """
 
     def __init__(self, vertices: np.ndarray, polygons, landmarks) -> None:
+        self.landmarks = landmarks  # as given, in the mesh's own frame
         origin, self.axes = face_frame(landmarks)
         self.vertices = (np.asarray(vertices, np.float64) - origin) @ self.axes
         upright = {

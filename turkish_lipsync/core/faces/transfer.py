@@ -15,8 +15,8 @@ from collections.abc import Mapping
 import numpy as np
 
 from ..errors import HeadError
-from .landmarks import connected_pieces, find_landmarks, largest_piece, triangulate
-from .parts import OPPOSITE_PART, PART_LABELS, FaceParts, find_face_parts
+from .landmarks import connected_pieces, face_frame, find_landmarks, largest_piece, triangulate
+from .parts import OPPOSITE_PART, PART_LABELS, FaceParts, edge_graph, find_face_parts, smooth_over_edges
 
 # Reference part names (reference.parts) and the target part each one drives.
 RIGID_PARTS: tuple[str, ...] = ("upper_teeth", "lower_teeth", "left_eye", "right_eye")
@@ -30,6 +30,9 @@ FALLOFF_FAR = 0.15
 # Lid vertices this far behind the eye's corners (in eye widths) are the socket's lining: they fade out.
 LID_FADE_NEAR = 0.1
 LID_FADE_FAR = 0.3
+
+# Sweeps of neighbour averaging that smooth a lid's deltas where the reference lies apart.
+SMOOTHING_SWEEPS = 8
 
 # A similarity fit that leaves landmarks this far off (fraction of the face size) calls for the warp.
 WARP_RESIDUAL = 0.02
@@ -228,9 +231,12 @@ def find_parts(vertices: np.ndarray, polygons, landmarks: Mapping[str, np.ndarra
     Material and object names differ from head to head; geometry does not: a piece inside the mouth
     that reaches forward to the lips is a row of teeth (upper above the lip line, lower below), one
     further back is the tongue; pieces behind each eye's corners are that eye (eyeball, iris, cornea).
-    Parts a head lacks are left out.
+    Parts a head lacks are left out. Read in the face's own frame, so a head looking elsewhere than -Y
+    is judged the same.
     """
-    vertices = np.asarray(vertices, np.float64)
+    origin, axes = face_frame(landmarks)
+    vertices = (np.asarray(vertices, np.float64) - origin) @ axes
+    landmarks = {name: (np.asarray(point, np.float64) - origin) @ axes for name, point in landmarks.items()}
     triangles = triangulate(polygons)
     labels = connected_pieces(len(vertices), triangles)
     skin = set(labels[largest_piece(len(vertices), triangles)].tolist())
@@ -428,6 +434,7 @@ def transfer_units(
     _follow_the_jaw(
         result, skin, target_face, beyond, target_vertices, reference, units, scale, rotation, translation
     )
+    _smooth_lids(result, target_face, target_triangles, target_vertices, beyond)
     # The tongue bends (tongueOut): closest point on the reference tongue.
     for name in SOFT_PARTS:
         if name in target_parts and name in reference_parts and len(target_parts[name]):
@@ -486,6 +493,30 @@ def _fade_behind_the_lids(result, face, upright_vertices, upright_landmarks, apa
         keep = np.maximum(keep, apart[lids] < LID_FADE_NEAR * eye_width)
         for deltas in result.values():
             deltas[lids] *= keep[:, None]
+
+
+def _smooth_lids(result, face, triangles, vertices, unreliable) -> None:
+    """Smooth each lid's deltas along its own edges only (never across the lid line), where the
+    reference surface lies apart from the target's and its samples are rough: a blink then closes the
+    lid as a sheet instead of creasing it at the corners. Where the surfaces coincide (unreliable 0)
+    the sampled deltas stand. (Smoothing the lips this way pulled their corners apart: measured.)"""
+    is_lid = face.label >= PART_LABELS.index("upper_lid_left")
+    labelled = np.flatnonzero(is_lid & (unreliable > 0))
+    if len(labelled) == 0:
+        return
+    edges, _ = edge_graph(len(vertices), triangles, vertices)
+    same = (face.label[edges[:, 0]] == face.label[edges[:, 1]]) & is_lid[edges[:, 0]]
+    edges = edges[same]
+    local = np.full(len(vertices), -1)
+    region = np.unique(np.concatenate((labelled, edges.ravel())))
+    local[region] = np.arange(len(region))
+    names = list(result)
+    stacked = np.concatenate([result[name][region] for name in names], axis=1)
+    smoothed = smooth_over_edges(stacked, local[edges], np.ones(len(region), bool), SMOOTHING_SWEEPS)
+    weight = unreliable[region][:, None]
+    blended = (1 - weight) * stacked + weight * smoothed
+    for index, name in enumerate(names):
+        result[name][region] = blended[:, 3 * index : 3 * index + 3]
 
 
 def _follow_the_jaw(
