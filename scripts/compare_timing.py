@@ -75,8 +75,7 @@ def print_speed(minutes: float) -> None:
     utterance = build_utterance(text)
     tracemalloc.start()
     began = time.perf_counter()
-    speech = synthesize_timeline(utterance)
-    timeline, synthesis = speech.timeline, speech.synthesis
+    synthesis = synthesize_timeline(utterance).synthesis
     elapsed = time.perf_counter() - began
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
