@@ -69,7 +69,10 @@ def plain_material(name: str) -> bpy.types.Material:
 
 
 def eyelash_material(uv_map: str) -> bpy.types.Material:
-    """Dark lashes, drawn as strands on the lash shells: MakeHuman's lash UVs run along the lid."""
+    """Dark lashes drawn on MakeHuman's lash shells: a lash line at the lid, strands thinning to the tips.
+
+    The shells' UVs run along the lid (u) and from root to tip (v: one range per shell, see the settings).
+    """
     existing = bpy.data.materials.get(MATERIAL_PREFIX + "eyelashes")
     if existing is not None:
         return existing
@@ -79,18 +82,40 @@ def eyelash_material(uv_map: str) -> bpy.types.Material:
     _set_surface(material, shader, settings, settings["color"])
     coordinates = tree.nodes.new("ShaderNodeUVMap")
     coordinates.uv_map = uv_map
+    uv = tree.nodes.new("ShaderNodeSeparateXYZ")
+    tree.links.new(coordinates.outputs["UV"], uv.inputs[0])
+    (upper_root, upper_tip), (lower_root, lower_tip) = settings["upper_v"], settings["lower_v"]
+    is_lower = _math(tree, "GREATER_THAN", uv.outputs["Y"], (upper_tip + lower_tip) / 2)
+    along = _mix(
+        tree, "FLOAT", is_lower, _ramp(tree, uv.outputs["Y"], upper_root, upper_tip),
+        _ramp(tree, uv.outputs["Y"], lower_root, lower_tip),
+    )  # fmt: skip
     strands = tree.nodes.new("ShaderNodeTexWave")
     strands.wave_type = "BANDS"
     strands.bands_direction = "X"
     strands.inputs["Scale"].default_value = float(settings["strands"])
     strands.inputs["Distortion"].default_value = 2.0
-    strands.inputs["Detail"].default_value = 1.0
     tree.links.new(coordinates.outputs["UV"], strands.inputs["Vector"])
-    coverage = _smooth_below(tree, strands.outputs["Fac"], float(settings["coverage"]), 0.3)
-    tree.links.new(_math(tree, "MULTIPLY", coverage, float(settings["opacity"])), shader.inputs["Alpha"])
+    # Strands cover less toward the tips and end before the shell does; the lash line at the root is solid.
+    coverage = _math(tree, "MULTIPLY", float(settings["coverage"]), _math(tree, "SUBTRACT", 1.0, along))
+    hairs = _math(tree, "LESS_THAN", strands.outputs["Fac"], coverage)
+    hairs = _math(tree, "MULTIPLY", hairs, _smooth_below(tree, along, float(settings["length"]), 0.2))
+    opacity = _mix(tree, "FLOAT", is_lower, float(settings["opacity"]), float(settings["lower_opacity"]))
+    alpha = _math(tree, "MAXIMUM", hairs, _smooth_below(tree, along, float(settings["line"]), 0.1))
+    tree.links.new(_math(tree, "MULTIPLY", alpha, opacity), shader.inputs["Alpha"])
     if hasattr(material, "surface_render_method"):
         material.surface_render_method = "DITHERED"  # EEVEE: alpha without sorting
     return material
+
+
+def _ramp(tree, value, start: float, end: float) -> bpy.types.NodeSocket:
+    """0 at start, 1 at end (either way round), clamped."""
+    node = tree.nodes.new("ShaderNodeMapRange")
+    node.clamp = True
+    tree.links.new(value, node.inputs["Value"])
+    node.inputs["From Min"].default_value = start
+    node.inputs["From Max"].default_value = end
+    return node.outputs["Result"]
 
 
 def _mask_image(name: str) -> bpy.types.Image:

