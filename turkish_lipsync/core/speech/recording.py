@@ -69,6 +69,7 @@ class TimeWarp:
         return np.clip(warped, 0.0, self.recording_duration)
 
 
+MAX_OUTPUT_RATE = 48_000  # the recording's own rate is kept up to this
 READ_BLOCK_FRAMES = 1 << 20  # frames read and mixed to mono at a time: a long take is never held in stereo
 
 
@@ -175,20 +176,8 @@ class RecordingAlignment:
 class _Reference:
     """The synthetic rendition of the whole text: its events (its audio is only analysed, never kept)."""
 
-    sample_rate: int  # the engine's
-    duration: float
     phone_events: tuple[PhoneEvent, ...]
     word_events: tuple[WordEvent, ...]
-
-
-def resample(samples: np.ndarray, source_rate: int, target_rate: int) -> np.ndarray:
-    """Band-limited resampling (soxr, high quality) to float32."""
-    samples = np.asarray(samples, dtype=np.float32)
-    if source_rate == target_rate or samples.size == 0:
-        return samples
-    import soxr
-
-    return soxr.resample(samples, source_rate, target_rate).astype(np.float32, copy=False)
 
 
 def synthesize_reference(utterance: Utterance, engine: SpeechEngine) -> tuple[_Reference, np.ndarray]:
@@ -197,11 +186,9 @@ def synthesize_reference(utterance: Utterance, engine: SpeechEngine) -> tuple[_R
     phones: list[PhoneEvent] = []
     words: list[WordEvent] = []
     offset = 0.0
-    rate = 0
     for part, first_word in _chunks(utterance):
         spoken = engine.synthesize(part)
-        rate = spoken.sample_rate
-        pieces.append(resample(spoken.samples.astype(np.float32) / 32768, rate, ANALYSIS_RATE))
+        pieces.append(resample(spoken.samples, spoken.sample_rate, ANALYSIS_RATE, 1 / 32768))
         phones.extend(
             replace(
                 event,
@@ -217,7 +204,7 @@ def synthesize_reference(utterance: Utterance, engine: SpeechEngine) -> tuple[_R
         )
         offset += spoken.duration
     analysis = np.concatenate(pieces) if pieces else np.zeros(0, np.float32)
-    return _Reference(rate, offset, tuple(phones), tuple(words)), analysis
+    return _Reference(tuple(phones), tuple(words)), analysis
 
 
 def _chunks(utterance: Utterance) -> list[tuple[Utterance, int]]:
@@ -250,7 +237,11 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
     """Align the synthetic rendition of the utterance to the user's recording of it; see the module text."""
     path = Path(path)
     native, native_rate = read_audio(path)
-    recorded = resample(native, native_rate, ANALYSIS_RATE)
+    # The user's audio is kept at its own rate (up to 48 kHz) as 16-bit PCM, the float copy dropped at once.
+    output_rate = min(native_rate, MAX_OUTPUT_RATE)
+    output = _resampled_pcm(native, native_rate, output_rate)
+    del native
+    recorded = resample(output, output_rate, ANALYSIS_RATE, 1 / 32768)
     # A telephone-quality recording has nothing above its Nyquist frequency: describe both up to there.
     top_hertz = min(TOP_HERTZ, 0.45 * native_rate)
     recorded_speech = speech_frames(recorded, frame_count(recorded.size))
@@ -258,8 +249,6 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
     synthetic_energies = mel_energies(analysis, top_hertz=top_hertz)
     synthetic_speech = speech_frames(analysis, len(synthetic_energies))
     del analysis
-    output = _resampled_pcm(native, native_rate, reference.sample_rate)
-    del native
     _check_lengths(path, recorded_speech, synthetic_speech)
     spoken = np.flatnonzero(recorded_speech)
     lead = int(spoken[0]) + PADDING_FRAMES
@@ -272,11 +261,9 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
     del recorded
     path_x, path_y = dtw_path(x, y, step_penalty=STEP_PENALTY)
     distances = np.sqrt(((x[path_x] - y[path_y]) ** 2).sum(axis=1))
-    warp = _warp_from_path(
-        path_x, path_y, synthetic_speech, recorded_speech, lead, output.size / reference.sample_rate
-    )
+    warp = _warp_from_path(path_x, path_y, synthetic_speech, recorded_speech, lead, output.size / output_rate)
     synthesis = warp_synthesis(
-        Synthesis(output, reference.sample_rate, reference.phone_events, reference.word_events, "recording"),
+        Synthesis(output, output_rate, reference.phone_events, reference.word_events, "recording"),
         warp,
         output,
     )
@@ -294,16 +281,37 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
 
 
 def _resampled_pcm(samples: np.ndarray, source_rate: int, target_rate: int) -> np.ndarray:
-    """16-bit PCM at the target rate, resampled block by block (a long take has no float copy to spare)."""
+    """16-bit PCM at the target rate, made block by block (a long take has no float copy to spare)."""
+    return np.concatenate(
+        [
+            np.clip(np.round(block * 32767), -32768, 32767).astype(np.int16)
+            for block in _resampled_blocks(samples, source_rate, target_rate)
+        ]
+        or [np.zeros(0, np.int16)]
+    )
+
+
+def resample(samples: np.ndarray, source_rate: int, target_rate: int, scale: float = 1.0) -> np.ndarray:
+    """float32 samples (times scale) at the target rate: soxr's band-limited resampling, block by block."""
+    blocks = list(_resampled_blocks(samples, source_rate, target_rate, scale))
+    return np.concatenate(blocks) if blocks else np.zeros(0, np.float32)
+
+
+def _resampled_blocks(samples: np.ndarray, source_rate: int, target_rate: int, scale: float = 1.0):
+    """float32 blocks of the samples (times scale) resampled by one soxr stream."""
     import soxr
 
-    stream = soxr.ResampleStream(source_rate, target_rate, 1, dtype="float32")
-    blocks = []
+    stream = (
+        soxr.ResampleStream(source_rate, target_rate, 1, dtype="float32")
+        if source_rate != target_rate
+        else None
+    )
     for begin in range(0, samples.size, READ_BLOCK_FRAMES):
-        block = samples[begin : begin + READ_BLOCK_FRAMES]
-        resampled = stream.resample_chunk(block, last=begin + READ_BLOCK_FRAMES >= samples.size)
-        blocks.append(np.clip(np.round(resampled * 32767), -32768, 32767).astype(np.int16))
-    return np.concatenate(blocks) if blocks else np.zeros(0, np.int16)
+        block = samples[begin : begin + READ_BLOCK_FRAMES].astype(np.float32) * np.float32(scale)
+        if stream is None:
+            yield block
+        else:
+            yield stream.resample_chunk(block, last=begin + READ_BLOCK_FRAMES >= samples.size)
 
 
 def _check_lengths(path: Path, recorded_speech: np.ndarray, synthetic_speech: np.ndarray) -> None:
