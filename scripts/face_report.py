@@ -52,6 +52,7 @@ MEASURED = (
 )
 BILABIALS = tuple(viseme_key_name(name) for name in ("bpa", "bpe", "bpo", "ma", "me", "mo"))
 THREE_QUARTER_DEGREES = 40.0
+VIEW_HEIGHT = 2.2  # the picture's height in eyes-to-chin spans
 KEYS_PER_ROW = 4  # each key shows front and three-quarter side by side
 BACKGROUND = (0.35, 0.37, 0.4)
 
@@ -143,14 +144,12 @@ def setup_scene(landmarks, tile: int, samples: int) -> tuple[bpy.types.Object, b
     world = bpy.data.worlds.new("TR_FaceReportWorld")
     world.color = BACKGROUND
     scene.world = world
-    origin, axes = face_frame(landmarks)
-    face_height = float(
-        np.linalg.norm(0.5 * (landmarks["brow_left"] + landmarks["brow_right"]) - landmarks["chin"])
-    )
+    _, axes = face_frame(landmarks)
+    view = VIEW_HEIGHT * eyes_and_chin(landmarks)[2]
     camera_data = bpy.data.cameras.new("TR_FaceReportCamera")
     camera_data.type = "ORTHO"
-    camera_data.ortho_scale = 1.9 * face_height
-    camera_data.clip_end = 100 * face_height
+    camera_data.ortho_scale = view
+    camera_data.clip_end = 100 * view
     camera = bpy.data.objects.new("TR_FaceReportCamera", camera_data)
     scene.collection.objects.link(camera)
     scene.camera = camera
@@ -160,30 +159,51 @@ def setup_scene(landmarks, tile: int, samples: int) -> tuple[bpy.types.Object, b
         light = bpy.data.objects.new(light_data.name, light_data)
         light.rotation_euler = _aim(-(axes @ np.array(offset)))
         scene.collection.objects.link(light)
+    # A dark bar along the bottom of the picture with the key's name on it, both riding on the camera.
+    bar_mesh = bpy.data.meshes.new("TR_FaceReportBar")
+    half = view / 2
+    bar_mesh.from_pydata(
+        [(-half, -half, 0), (half, -half, 0), (half, -0.84 * half, 0), (-half, -0.84 * half, 0)],
+        [],
+        [(0, 1, 2, 3)],
+    )
+    bar_mesh.materials.append(_emission_material("TR_FaceReportBar", (0.0, 0.0, 0.0), 1.0))
+    bar = bpy.data.objects.new("TR_FaceReportBar", bar_mesh)
+    bar.parent = camera
+    bar.location = (0.0, 0.0, -0.2 * view)  # camera space: in front of the face
+    scene.collection.objects.link(bar)
     label_data = bpy.data.curves.new("TR_FaceReportLabel", "FONT")
-    label_data.size = 0.12 * face_height
+    label_data.size = 0.11 * half
     label_data.align_x = "CENTER"
+    label_data.align_y = "CENTER"
     label_data.materials.append(_emission_material("TR_FaceReportLabel", (1.0, 0.92, 0.45), 1.0))
     label = bpy.data.objects.new("TR_FaceReportLabel", label_data)
     label.parent = camera
-    label.location = (0.0, -0.85 * face_height, -face_height)  # camera space: below the chin, in front
+    label.location = (0.0, -0.92 * half, -0.19 * view)
     scene.collection.objects.link(label)
     return camera, label
+
+
+def eyes_and_chin(landmarks) -> tuple[np.ndarray, np.ndarray, float]:
+    """(midpoint of the eye corners, chin, their distance): the span the pictures frame."""
+    eyes = np.mean(
+        [landmarks[f"eye_{end}_{side}"] for end in ("inner", "outer") for side in ("left", "right")], 0
+    )
+    return eyes, np.asarray(landmarks["chin"], np.float64), float(np.linalg.norm(eyes - landmarks["chin"]))
 
 
 def place_camera(camera: bpy.types.Object, landmarks, degrees: float) -> None:
     """Look at the face from the front turned by degrees toward the face's left."""
     from mathutils import Matrix, Vector
 
-    origin, axes = face_frame(landmarks)
+    _, axes = face_frame(landmarks)
     across, back, up = axes.T
-    face_height = float(
-        np.linalg.norm(0.5 * (landmarks["brow_left"] + landmarks["brow_right"]) - landmarks["chin"])
-    )
-    centre = 0.5 * (0.5 * (landmarks["brow_left"] + landmarks["brow_right"]) + landmarks["chin"])
+    eyes, chin, span = eyes_and_chin(landmarks)
+    # From a little below the chin (the label bar covers the bottom) to above the brows.
+    centre = chin + (0.5 * VIEW_HEIGHT - 0.45) * span * up
     angle = math.radians(degrees)
     toward = -back * math.cos(angle) + across * math.sin(angle)  # from the face to the camera
-    position = centre + toward * 10 * face_height
+    position = centre + toward * 10 * span
     forward = -toward
     right = np.cross(forward, up)
     right /= np.linalg.norm(right)
@@ -275,7 +295,14 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         face_report(
-            args.head, args.out, args.object, args.keep_keys, args.tile, args.samples, not args.no_render
+            args.head,
+            args.out,
+            args.object,
+            args.keep_keys,
+            args.source,
+            args.tile,
+            args.samples,
+            not args.no_render,
         )
     except LipSyncError as error:
         print(f"face_report.py: error: {error}", file=sys.stderr)

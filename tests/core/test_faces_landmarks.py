@@ -8,10 +8,13 @@ import pytest
 from tests.heads_on_disk import HEADS, read_obj
 from turkish_lipsync.core.errors import HeadError
 from turkish_lipsync.core.faces.landmarks import (
+    FACINGS,
     LANDMARK_NAMES,
     connected_pieces,
+    face_frame,
     find_head_region,
     find_landmarks,
+    landmarks_from_motion,
     triangulate,
     triangulate_loops,
 )
@@ -166,3 +169,50 @@ def test_polygons_of_any_size_become_triangles_and_pieces():
     labels = connected_pieces(10, triangles)
     assert len(set(labels[:4])) == 1 and len(set(labels[4:9])) == 1 and labels[0] != labels[4]
     assert labels[9] not in labels[:9]  # a loose vertex is a piece of its own
+
+
+@pytest.mark.parametrize("facing", [name for name, _ in FACINGS])
+def test_a_head_looking_elsewhere_is_turned_and_found(facing):
+    """Looking toward +Y (a VRM 0.x avatar), sideways, or lying on its back or face."""
+    head = load_reference_head()
+    turn = dict(FACINGS)[facing]
+    upright = find_landmarks(head.vertices, head.polygons)
+    found = find_landmarks(head.vertices @ turn, head.polygons)  # the inverse turn: looks toward `facing`
+    for name in LANDMARK_NAMES:
+        np.testing.assert_allclose(found[name] @ turn.T, upright[name], atol=1e-9)
+    # The face's own frame undoes the turn: it maps the turned landmarks back upright.
+    _, axes = face_frame(found)
+    _, expected_axes = face_frame(upright)
+    np.testing.assert_allclose(turn @ axes, expected_axes, atol=1e-9)
+
+
+def test_landmarks_from_what_the_heads_own_keys_move():
+    """A head whose mouth shows only when a key opens it: the mouth and eyes are where its keys move."""
+    head = load_reference_head()
+    turn = dict(FACINGS)["+Y"]
+    vertices = head.vertices @ turn
+    found = landmarks_from_motion(
+        vertices,
+        head.polygons,
+        head.units["jawOpen"] @ turn,
+        head.units["eyeBlinkLeft"] @ turn,
+        head.units["eyeBlinkRight"] @ turn,
+    )
+    upright = {name: point @ turn.T for name, point in found.items()}
+    expected = find_landmarks(head.vertices, head.polygons)
+    # A rough placing, for faces whose shape tells nothing: the character's left stays its left (+X
+    # upright), the order from brows to chin holds, the eyes land within 16 mm of the shape's (measured
+    # 10 to 14: a blink moves the lids beyond the corners). A jaw moves the cheeks too, so the mouth's
+    # corners come out wide (measured 3 cm): painted mouths open with keys that move the lips alone.
+    assert upright["mouth_corner_left"][0] > 0 > upright["mouth_corner_right"][0]
+    assert upright["eye_outer_left"][0] > upright["eye_inner_left"][0] > 0
+    for name in ("eye_inner_left", "eye_outer_left", "eye_inner_right", "eye_outer_right"):
+        assert np.linalg.norm(upright[name] - expected[name]) < 0.016, name
+    heights = [upright[name][2] for name in ("brow_left", "eye_inner_left", "nose_tip", "upper_lip", "chin")]
+    assert np.all(np.diff(heights) < 0)
+
+
+def test_a_key_that_moves_nothing_gives_no_landmarks():
+    head = load_reference_head()
+    with pytest.raises(HeadError, match="moves nothing"):
+        landmarks_from_motion(head.vertices, head.polygons, np.zeros_like(head.vertices))
