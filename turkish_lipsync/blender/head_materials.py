@@ -2,10 +2,10 @@
 
 The skin follows MPFB's enhanced skin (a Principled BSDF with coat, subsurface and noise pores) and takes
 MPFB's CC0 masks in MakeHuman's UV layout for the lips, the eyelids and the inside of the mouth; the brows
-are a mask of painted hairs on a UV map of their own. The eyes are procedural (MPFB's procedural eyes work
-the same way): iris and pupil from the angle to the eye's axis in its undeformed coordinates, so they turn
-with the eyeball's keys. Every node used exists in Cycles and EEVEE from Blender 4.2 on; the viewport
-colour is set too, for Workbench.
+are a mask of painted hairs on a UV map of their own. The eyes are procedural, as MPFB's are, but from the
+angle to the eye's axis in its undeformed coordinates rather than from UVs (MakeHuman's low-poly eyeballs
+have none fit for an iris), so iris and pupil turn with the eyeball's keys. Every node used exists in
+Cycles and EEVEE from Blender 4.2 on; the viewport colour is set too, for Workbench.
 """
 
 from __future__ import annotations
@@ -57,7 +57,7 @@ def _set_surface(material: bpy.types.Material, shader: bpy.types.Node, settings:
 
 
 def plain_material(name: str) -> bpy.types.Material:
-    """A one-colour material of [materials.<name>] (teeth, tongue, eyelashes), reused when it exists."""
+    """A one-colour material of [materials.<name>] (teeth, tongue), reused when it exists."""
     existing = bpy.data.materials.get(MATERIAL_PREFIX + name)
     if existing is not None:
         return existing
