@@ -1,6 +1,7 @@
 """How well a recording in another voice is aligned to its text: word and phone onset error per condition.
 
     python scripts/measure_recordings.py [--set held-out|tuning] [--voices NAME ...] [--conditions NAME ...]
+                                         [--mismatch]
     python scripts/measure_recordings.py --long MINUTES   # one long take: time, peak memory, onset error
 
 Stand-ins for other speakers are eSpeak NG's Turkish voice with other variants (timbre), pitches and
@@ -8,10 +9,12 @@ rates; each is spoken, then degraded (room noise at an SNR, noise or a breath an
 first word, leading silence, MP3/AAC coding, a synthetic room's reverberation), written as a 44.1 kHz
 WAV and aligned to the text like a user's recording. The truth is the variant's own phone events. The
 sentences come from examples/corpus_tr.txt: the tuning set is lines 1-30, the held-out set lines 31-50.
-Prints median, p90 and max onset error (ms) of words and of letters per condition, and the sentences
-in which a word was keyed inside another word's span. With --long, a take of that many minutes (the
-held-out sentences over and over, voice f3-high, 30 dB SNR) is made by a child process, then aligned
-here: the time, the peak resident memory of this process and the word onset error are printed.
+Prints median, p90 and max onset error (ms) of words and of letters per condition, the sentences in
+which a word was keyed more than 50 ms early or inside the next word's span, the sentences that drew a
+warning, and with --mismatch how many takes were refused when aligned to the next sentence instead.
+With --long, a take of that many minutes (the held-out sentences over and over, voice f3-high, 30 dB
+SNR) is made by a child process, then aligned here: the time, the peak resident memory of this process
+and the word onset error are printed.
 Not a test: the figures go into the README.
 """
 
@@ -34,7 +37,7 @@ import numpy as np
 REPOSITORY = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPOSITORY))
 
-from turkish_lipsync.core.errors import LipSyncError  # noqa: E402
+from turkish_lipsync.core.errors import AudioError, LipSyncError  # noqa: E402
 from turkish_lipsync.core.speech import espeak, synthesize_timeline  # noqa: E402
 from turkish_lipsync.core.speech.recording import resample  # noqa: E402
 from turkish_lipsync.core.text.utterance import build_utterance  # noqa: E402
@@ -203,25 +206,36 @@ def sentences(which: str) -> list[str]:
     return lines[:TUNING_LINES] if which == "tuning" else lines[TUNING_LINES:]
 
 
-def measure(texts: list[str], voices: list[str], conditions: list[str], folder: Path) -> None:
+def measure(texts: list[str], voices: list[str], conditions: list[str], folder: Path, mismatch: bool) -> None:
     print(f"{len(texts)} sentences x {len(voices)} voices ({', '.join(voices)}); onset error in ms")
-    print(f"{'condition':<30}{'words':>24}{'letters':>24}  sentences with a word in another's span")
+    print(
+        f"{'condition':<30}{'words':>24}{'letters':>24}  misplaced  warned"
+        + ("  refused as another text" if mismatch else "")
+    )
     print(f"{'':<30}{'median    p90    max':>24}{'median    p90    max':>24}")
     spoken = {(text, name): speak(text, VOICES[name]) for text in texts for name in voices}
     for condition in conditions:
         lead, degrade = CONDITIONS[condition]
-        word_errors, letter_errors, misplaced, failures = [], [], 0, 0
+        word_errors, letter_errors, misplaced, failures, warned, refused = [], [], 0, 0, 0, 0
         rng = np.random.default_rng(11)
         for (text, _), (samples, rate, words, letters) in spoken.items():
+            other = texts[(texts.index(text) + 1) % len(texts)]
             pad = int(lead * rate)
             padded = np.concatenate((np.zeros(pad), samples, np.zeros(int(0.4 * rate))))
             path = write_wav(folder / "take.wav", degrade(padded, pad, rng), rate)
+            if mismatch:
+                try:
+                    synthesize_timeline(build_utterance(other), recording=path)
+                except AudioError:
+                    refused += 1
             try:
-                timeline = synthesize_timeline(build_utterance(text), recording=path).timeline
+                speech = synthesize_timeline(build_utterance(text), recording=path)
             except LipSyncError as error:
                 failures += 1
                 print(f"  failed: {text[:40]!r}: {error}")
                 continue
+            timeline = speech.timeline
+            warned += bool(speech.warnings)
             found = np.array([word.start for word in timeline.words])
             word_errors.append(np.abs(found - words - lead))
             letter_errors.append(np.abs(np.array([p.start for p in timeline.phones]) - letters - lead))
@@ -234,7 +248,8 @@ def measure(texts: list[str], voices: list[str], conditions: list[str], folder: 
         for errors in (np.concatenate(word_errors), np.concatenate(letter_errors)):
             ms = 1000 * errors
             row += f"{np.median(ms):>10.0f}{np.percentile(ms, 90):>7.0f}{ms.max():>7.0f}"
-        print(f"{row}  {misplaced}" + (f" ({failures} refused)" if failures else ""), flush=True)
+        row += f"{misplaced:>11}{warned:>8}" + (f"{refused:>10} of {len(spoken)}" if mismatch else "")
+        print(row + (f"  ({failures} refused)" if failures else ""), flush=True)
 
 
 def write_long_take(path: Path, minutes: float) -> None:
@@ -275,6 +290,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--voices", nargs="+", choices=sorted(VOICES), default=list(DEFAULT_VOICES))
     parser.add_argument("--conditions", nargs="+", choices=list(CONDITIONS), default=list(CONDITIONS))
     parser.add_argument("--sentences", type=int, default=0, help="use only the first N sentences")
+    parser.add_argument("--mismatch", action="store_true", help="also align each take to the next sentence")
     parser.add_argument("--long", type=float, metavar="MINUTES", help="measure one take this long instead")
     parser.add_argument("--write-long", nargs=2, metavar=("PATH", "MINUTES"), help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
@@ -286,7 +302,7 @@ def main(argv: list[str] | None = None) -> int:
         if args.long:
             measure_long_take(args.long, Path(folder))
         else:
-            measure(texts, args.voices, args.conditions, Path(folder))
+            measure(texts, args.voices, args.conditions, Path(folder), args.mismatch)
     return 0
 
 
