@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import struct
 import wave
+from collections.abc import Iterator
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -208,7 +209,7 @@ def synthesize_reference(utterance: Utterance, engine: SpeechEngine) -> tuple[_R
 
 
 def _chunks(utterance: Utterance) -> list[tuple[Utterance, int]]:
-    """The utterance cut before words that follow a sentence's pause, each piece at most CHUNK_LETTERS long.
+    """Pieces of the utterance (each with its first word's index), cut at sentence pauses past CHUNK_LETTERS.
 
     The pause between two pieces moves to the end of the first, so the voice ends it as a sentence.
     """
@@ -297,7 +298,9 @@ def resample(samples: np.ndarray, source_rate: int, target_rate: int, scale: flo
     return np.concatenate(blocks) if blocks else np.zeros(0, np.float32)
 
 
-def _resampled_blocks(samples: np.ndarray, source_rate: int, target_rate: int, scale: float = 1.0):
+def _resampled_blocks(
+    samples: np.ndarray, source_rate: int, target_rate: int, scale: float = 1.0
+) -> Iterator[np.ndarray]:
     """float32 blocks of the samples (times scale) resampled by one soxr stream."""
     import soxr
 
@@ -444,6 +447,7 @@ STRETCHED = 1.7
 STRETCHED_DISTANCE = 3.6
 STRETCHED_WORD_RATIO = 1.4
 EXTRA_SPEECH_FRAMES = 35  # a stretch of recorded speech this long (350 ms) matched to no synthetic speech
+MOST_WARNINGS = 10  # a take with more places of doubt gets the first ones and a count of the rest
 OTHER_TEXT_SHARE = 0.5  # more than this share of the words unmatched: the recording reads another text
 
 
@@ -514,6 +518,9 @@ def _judge(
         for index in np.flatnonzero(crowded)
         if index not in named
     )
+    if len(warnings) > MOST_WARNINGS:
+        more = len(warnings) - MOST_WARNINGS + 1
+        warnings[MOST_WARNINGS - 1 :] = [f"and {more} more places where the recording and the text part"]
     return phrases, tuple(warnings)
 
 
