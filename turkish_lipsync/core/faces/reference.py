@@ -269,14 +269,21 @@ def _eyebrow_mask(settings: dict) -> tuple[np.ndarray, np.ndarray]:
     grid_x, grid_z = np.meshgrid(x, z)  # rows from the bottom, as Blender stores image pixels
     mask = np.zeros((rows, columns), dtype=np.float64)
     direction = np.stack([np.cos(angle), np.sin(angle)], axis=1)
+    texel = np.array([(x_to - x_from) / columns, (z_to - z_from) / rows])
+    reach = 3.0 * hair_width  # beyond three widths a hair adds nothing a byte can hold
     for start_x, start_z, (dx, dz), hair, dark in zip(
         root_x, root_z, direction, length, darkness, strict=True
     ):
-        offset_x, offset_z = grid_x - start_x, grid_z - start_z
+        # Only the texels around the hair: its box, widened by its reach.
+        ends = np.array([[start_x, start_z], [start_x + dx * hair, start_z + dz * hair]])
+        low = np.floor((ends.min(axis=0) - reach - [x_from, z_from]) / texel).astype(int).clip(0)
+        high = np.ceil((ends.max(axis=0) + reach - [x_from, z_from]) / texel).astype(int) + 1
+        window = (slice(low[1], min(high[1], rows)), slice(low[0], min(high[0], columns)))
+        offset_x, offset_z = grid_x[window] - start_x, grid_z[window] - start_z
         position = np.clip(offset_x * dx + offset_z * dz, 0.0, hair)
         distance = np.hypot(offset_x - position * dx, offset_z - position * dz)
         taper = 1.0 - 0.6 * position / hair  # hairs thin toward their tips
-        np.maximum(mask, dark * taper * np.exp(-((distance / hair_width) ** 2)), out=mask)
+        np.maximum(mask[window], dark * taper * np.exp(-((distance / hair_width) ** 2)), out=mask[window])
     # A faint fill under the hairs, so the brow reads as one shape at a distance.
     centre = np.polyval(centre_fit, grid_x)
     span = np.clip((grid_x - inner[0]) / (tail[0] - inner[0]), 0.0, 1.0)
