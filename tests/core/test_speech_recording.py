@@ -4,6 +4,8 @@ Other speakers are stood in for by eSpeak NG's other voice variants (another tim
 spoken in the test; the truth is that rendition's own phone events.
 """
 
+import subprocess
+import sys
 import tracemalloc
 import wave
 
@@ -252,6 +254,17 @@ def test_a_word_left_out_is_named_and_the_rest_aligned(tmp_path):
     found = [w.start for w in speech.timeline.words if w.text != "bütün"]
     error = np.abs(np.array(found) - [w.start + 1.0 for w in truth.words])
     assert np.median(error) < 0.030
+
+
+def test_the_command_line_prints_the_warning_and_refuses_another_text(tmp_path):
+    voice, _ = other_voice(OTHER_TEXT.replace("bütün ", ""))
+    path = noisy_take(tmp_path / "take.wav", voice, snr=40)
+    command = [sys.executable, "-m", "turkish_lipsync", "timeline", "--format", "tsv", "--audio", str(path)]
+    told = subprocess.run([*command, "--text", OTHER_TEXT], capture_output=True, text=True, check=False)
+    assert told.returncode == 0 and "warning:" in told.stderr and "'bütün'" in told.stderr
+    other = "Kütüphaneden aldığım kitabı iki hafta içinde geri vermem gerekiyor. Yarın hava çok soğuk olacak."
+    refused = subprocess.run([*command, "--text", other], capture_output=True, text=True, check=False)
+    assert refused.returncode != 0 and "does not read this text" in refused.stderr and refused.stdout == ""
 
 
 def test_an_extra_word_is_named_by_its_neighbours(tmp_path):
