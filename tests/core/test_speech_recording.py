@@ -302,3 +302,13 @@ def test_every_phrase_gets_a_confidence(tmp_path):
     assert [phrase.first_word for phrase in phrases] == sorted({phrase.first_word for phrase in phrases})
     assert all(0.5 < phrase.confidence <= 1 and phrase.start < phrase.end for phrase in phrases)
     assert all(a.end <= b.start for a, b in zip(phrases[:-1], phrases[1:], strict=True))
+
+
+def test_a_quiet_take_is_speech_too(tmp_path):
+    voice, truth = other_voice(OTHER_TEXT)
+    path = noisy_take(tmp_path / "take.wav", voice, snr=40)
+    samples, rate = read_audio(path)
+    quiet = write_pcm_wav(tmp_path / "quiet.wav", 0.01 * samples, rate)  # loud frames near -50 dB full scale
+    speech = synthesize_timeline(build_utterance(OTHER_TEXT), recording=quiet)
+    error = np.abs(np.array([w.start for w in speech.timeline.words]) - [w.start + 1.0 for w in truth.words])
+    assert np.median(error) < 0.020 and speech.warnings == ()

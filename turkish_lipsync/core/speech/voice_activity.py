@@ -14,6 +14,8 @@ import numpy as np
 from ..errors import AudioError
 from .features import ANALYSIS_RATE, HOP
 
+# The loud frames are brought to this level (dB full scale) for the detector: a quiet take is still speech.
+DETECTOR_LEVEL_DB = -20.0
 AGGRESSIVENESS = 3  # WebRTC's strictest mode: least noise taken for speech
 ABOVE_NOISE_DB = 6.0  # a speech frame is at least this much louder than the noise floor
 BELOW_SPEECH_DB = 45.0  # ... and no more than this much quieter than the loud speech frames
@@ -41,7 +43,9 @@ def speech_frames(samples: np.ndarray, frames: int) -> np.ndarray:
     loud = np.percentile(levels, 95)
     # Frame i's analysis window is centred 120 samples after hop i's start: close enough for pauses.
     speech = (
-        (levels > floor + ABOVE_NOISE_DB) & (levels > loud - BELOW_SPEECH_DB) & _webrtc(samples, levels.size)
+        (levels > floor + ABOVE_NOISE_DB)
+        & (levels > loud - BELOW_SPEECH_DB)
+        & _webrtc(samples, levels.size, 10 ** ((DETECTOR_LEVEL_DB - loud) / 20))
     )
     speech = _drop_short_runs(_bridge_gaps(speech))
     speech = _drop_isolated_weak_runs(speech, levels, loud)
@@ -73,7 +77,8 @@ def voiced_frames(samples: np.ndarray, candidates: np.ndarray) -> np.ndarray:
     return voiced
 
 
-def _webrtc(samples: np.ndarray, count: int) -> np.ndarray:
+def _webrtc(samples: np.ndarray, count: int, gain: float) -> np.ndarray:
+    """WebRTC's verdict per hop, on the samples brought to a speaking level (it has absolute thresholds)."""
     try:
         import webrtcvad
     except ImportError:
@@ -86,7 +91,7 @@ def _webrtc(samples: np.ndarray, count: int) -> np.ndarray:
     step = 2 * HOP  # bytes of one hop of 16-bit PCM
     for begin in range(0, count, 1 << 14):  # 16-bit PCM made a block of hops at a time
         stop = min(begin + (1 << 14), count)
-        block = np.clip(np.round(samples[begin * HOP : stop * HOP] * 32767), -32768, 32767)
+        block = np.clip(np.round(samples[begin * HOP : stop * HOP] * (gain * 32767)), -32768, 32767)
         pcm = block.astype("<i2").tobytes()
         speech[begin:stop] = [
             detector.is_speech(pcm[index * step : (index + 1) * step], ANALYSIS_RATE)
