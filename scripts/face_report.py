@@ -163,23 +163,23 @@ def setup_scene(landmarks, tile: int, samples: int) -> tuple[bpy.types.Object, b
     bar_mesh = bpy.data.meshes.new("TR_FaceReportBar")
     half = view / 2
     bar_mesh.from_pydata(
-        [(-half, -half, 0), (half, -half, 0), (half, -0.84 * half, 0), (-half, -0.84 * half, 0)],
+        [(-half, -half, 0), (half, -half, 0), (half, -0.8 * half, 0), (-half, -0.8 * half, 0)],
         [],
         [(0, 1, 2, 3)],
     )
     bar_mesh.materials.append(_emission_material("TR_FaceReportBar", (0.0, 0.0, 0.0), 1.0))
     bar = bpy.data.objects.new("TR_FaceReportBar", bar_mesh)
     bar.parent = camera
-    bar.location = (0.0, 0.0, -0.2 * view)  # camera space: in front of the face
+    bar.location = (0.0, 0.0, -2.0 * view)  # camera space: between the camera and the face
     scene.collection.objects.link(bar)
     label_data = bpy.data.curves.new("TR_FaceReportLabel", "FONT")
-    label_data.size = 0.11 * half
+    label_data.size = 0.15 * half
     label_data.align_x = "CENTER"
     label_data.align_y = "CENTER"
     label_data.materials.append(_emission_material("TR_FaceReportLabel", (1.0, 0.92, 0.45), 1.0))
     label = bpy.data.objects.new("TR_FaceReportLabel", label_data)
     label.parent = camera
-    label.location = (0.0, -0.92 * half, -0.19 * view)
+    label.location = (0.0, -0.9 * half, -1.99 * view)
     scene.collection.objects.link(label)
     return camera, label
 

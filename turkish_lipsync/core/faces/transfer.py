@@ -16,7 +16,14 @@ import numpy as np
 
 from ..errors import HeadError
 from .landmarks import connected_pieces, face_frame, find_landmarks, largest_piece, triangulate
-from .parts import OPPOSITE_PART, PART_LABELS, FaceParts, edge_graph, find_face_parts, smooth_over_edges
+from .parts import (
+    OPPOSITE_PART,
+    PART_LABELS,
+    FaceParts,
+    edge_graph,
+    find_face_parts,
+    smooth_over_edges,
+)
 
 # Reference part names (reference.parts) and the target part each one drives.
 RIGID_PARTS: tuple[str, ...] = ("upper_teeth", "lower_teeth", "left_eye", "right_eye")
@@ -32,7 +39,9 @@ LID_FADE_NEAR = 0.1
 LID_FADE_FAR = 0.3
 
 # Sweeps of neighbour averaging that smooth a lid's deltas where the reference lies apart.
-SMOOTHING_SWEEPS = 8
+SMOOTHING_SWEEPS = 12
+# A lid vertex this far from the reference surface (in eye widths) takes fully smoothed deltas.
+LID_ROUGH = 0.1
 
 # A similarity fit that leaves landmarks this far off (fraction of the face size) calls for the warp.
 WARP_RESIDUAL = 0.02
@@ -434,7 +443,15 @@ def transfer_units(
     _follow_the_jaw(
         result, skin, target_face, beyond, target_vertices, reference, units, scale, rotation, translation
     )
-    _smooth_lids(result, target_face, target_triangles, target_vertices, beyond)
+    eye_width = np.mean(
+        [
+            np.linalg.norm(target_landmarks[f"eye_outer_{side}"] - target_landmarks[f"eye_inner_{side}"])
+            for side in ("left", "right")
+        ]
+    )
+    _smooth_lids(
+        result, target_face, target_triangles, target_vertices, np.clip(apart / (LID_ROUGH * eye_width), 0, 1)
+    )
     # The tongue bends (tongueOut): closest point on the reference tongue.
     for name in SOFT_PARTS:
         if name in target_parts and name in reference_parts and len(target_parts[name]):
@@ -496,16 +513,23 @@ def _fade_behind_the_lids(result, face, upright_vertices, upright_landmarks, apa
 
 
 def _smooth_lids(result, face, triangles, vertices, unreliable) -> None:
-    """Smooth each lid's deltas along its own edges only (never across the lid line), where the
-    reference surface lies apart from the target's and its samples are rough: a blink then closes the
-    lid as a sheet instead of creasing it at the corners. Where the surfaces coincide (unreliable 0)
-    the sampled deltas stand. (Smoothing the lips this way pulled their corners apart: measured.)"""
+    """Smooth each lid's deltas along its own edges only (never across the lid line between the corners),
+    where the reference surface lies apart from the target's and its samples are rough: a blink then
+    closes the lid as a sheet instead of creasing it. Where the surfaces coincide (unreliable 0) the
+    sampled deltas stand. (Smoothing the lips this way pulled their corners apart: measured.)"""
     is_lid = face.label >= PART_LABELS.index("upper_lid_left")
     labelled = np.flatnonzero(is_lid & (unreliable > 0))
     if len(labelled) == 0:
         return
     edges, _ = edge_graph(len(vertices), triangles, vertices)
-    same = (face.label[edges[:, 0]] == face.label[edges[:, 1]]) & is_lid[edges[:, 0]]
+    first, second = face.label[edges[:, 0]], face.label[edges[:, 1]]
+    same = (first == second) & is_lid[edges[:, 0]]
+    # Beside the eye's corners, where the lids meet (neither side sure), the two lids of an eye blend.
+    eye_of = np.full(len(PART_LABELS), -1)
+    for eye, side in enumerate(("left", "right")):
+        eye_of[[PART_LABELS.index(f"upper_lid_{side}"), PART_LABELS.index(f"lower_lid_{side}")]] = eye
+    same_eye = (eye_of[first] >= 0) & (eye_of[first] == eye_of[second])
+    same |= same_eye & ~(face.sure[edges[:, 0]] & face.sure[edges[:, 1]])
     edges = edges[same]
     local = np.full(len(vertices), -1)
     region = np.unique(np.concatenate((labelled, edges.ravel())))
