@@ -432,12 +432,14 @@ class _Fit:
 # Mean feature distance (normalised cepstra and slopes) along the path. Measured with scripts/
 # measure_recordings.py on the tuning sentences: the same text in other voices, noise and codecs 1.1-2.9 per
 # sentence, in a reverberant room 3.1-3.9, another text 4.1-4.8; the path's cost over that of the text's
-# sounds reversed 0.5-0.81 for the same text, 0.87-1.0 for another. A voice further from eSpeak's raises
+# sounds reversed 0.5-0.81 for the same text, 0.85-1.0 for another. A voice further from eSpeak's raises
 # every word's distance, so words are judged against the recording's own median word too.
 MATCHED_DISTANCE = 1.5  # a phrase this close has confidence 1
 UNMATCHED_DISTANCE = 4.0  # ... and this far, 0
-OTHER_TEXT_DISTANCE = 3.95  # the whole recording this far off and
-OTHER_TEXT_ORDER_RATIO = 0.85  # its order no better than this: it reads another text
+# The whole recording this far off, and its order no better than this: it reads another text (either alone:
+# a warning of doubt).
+OTHER_TEXT_DISTANCE = 3.95
+OTHER_TEXT_ORDER_RATIO = 0.83
 UNMATCHED_WORD_DISTANCE = 4.4  # one word this far off, and
 UNMATCHED_WORD_RATIO = 1.7  # this many times the median word's distance, is not in the recording
 SQUEEZED = 0.25  # a word given less than this share of the recording's pace is missing
@@ -491,8 +493,9 @@ def _judge(
     crowded = (pace > STRETCHED) & loose & ~unmatched
     phrases = _phrases(utterance, warp, spans, fit, word_distance, per_frame_count, per_frame_sum)
     texts = [word.text for word in utterance.words]
-    far = fit.distances[spoken].mean() > OTHER_TEXT_DISTANCE
-    if fit.order_ratio > OTHER_TEXT_ORDER_RATIO and (far or unmatched.mean() > OTHER_TEXT_SHARE):
+    far = bool(fit.distances[spoken].mean() > OTHER_TEXT_DISTANCE)
+    disordered = bool(fit.order_ratio > OTHER_TEXT_ORDER_RATIO)
+    if disordered and (far or unmatched.mean() > OTHER_TEXT_SHARE):
         unheard = np.flatnonzero(unmatched | (word_distance > OTHER_TEXT_DISTANCE))
         raise AudioError(
             f"recording {path} does not read this text: {_word_list(texts, unheard)} "
@@ -500,6 +503,10 @@ def _judge(
             "and the text belong together"
         )
     warnings = [
+        "the recording fits this text only loosely (it may read another text, or be very noisy or "
+        "reverberant); check that it reads this text: the face follows it as well as it can"
+    ] * (disordered or far)
+    warnings += [
         f"the recording seems not to say {_word_list(texts, run)} (word {run[0] + 1} of the text); "
         "check the recording there: the face is timed on the rest"
         for run in _consecutive(np.flatnonzero(unmatched))
