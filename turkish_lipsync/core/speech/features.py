@@ -19,7 +19,6 @@ ANALYSIS_RATE = 16_000
 HOP = 160  # samples: 10 ms
 WINDOW = 400  # samples: 25 ms
 FFT_SIZE = 512
-HOP_SECONDS = HOP / ANALYSIS_RATE
 MEL_BANDS = 32
 LOW_HERTZ = 150.0  # below this a high voice shows single harmonics, not the vocal tract
 TOP_HERTZ = 7000.0
