@@ -73,15 +73,25 @@ def edge_graph(vertex_count: int, triangles: np.ndarray, vertices: np.ndarray):
 
 
 def smooth_over_edges(values: np.ndarray, edges: np.ndarray, movable: np.ndarray, iterations: int):
-    """Average each movable vertex with its neighbours (Jacobi sweeps); the others hold their values."""
+    """Average each movable vertex with its neighbours (Jacobi sweeps); the others hold their values.
+
+    The neighbour sums are segment sums over the edges sorted by vertex (reduceat), which numpy does
+    far faster than scattered adds."""
     values = values.astype(np.float64, copy=True)
-    degree = np.bincount(edges.ravel(), minlength=len(values)).astype(np.float64)
-    degree = degree.reshape((-1,) + (1,) * (values.ndim - 1))
+    if len(edges) == 0:
+        return values
+    shape = (-1,) + (1,) * (values.ndim - 1)
+    ends = np.concatenate((edges[:, 0], edges[:, 1]))
+    others = np.concatenate((edges[:, 1], edges[:, 0]))
+    order = np.argsort(ends, kind="stable")
+    ends, others = ends[order], others[order]
+    starts = np.flatnonzero(np.diff(ends, prepend=-1))
+    owners = ends[starts]
+    degree = np.diff(np.append(starts, len(ends))).astype(np.float64).reshape(shape)
+    movable = movable[owners].reshape(shape)
     for _ in range(iterations):
-        total = values.copy()
-        np.add.at(total, edges[:, 0], values[edges[:, 1]])
-        np.add.at(total, edges[:, 1], values[edges[:, 0]])
-        values = np.where(movable.reshape((-1,) + (1,) * (values.ndim - 1)), total / (1.0 + degree), values)
+        averaged = (values[owners] + np.add.reduceat(values[others], starts, axis=0)) / (1.0 + degree)
+        values[owners] = np.where(movable, averaged, values[owners])
     return values
 
 
@@ -96,12 +106,18 @@ def geodesic_distance(vertex_count: int, edges, lengths, seeds: np.ndarray, allo
     a = np.concatenate((edges[usable, 0], edges[usable, 1]))
     b = np.concatenate((edges[usable, 1], edges[usable, 0]))
     step = np.concatenate((lengths[usable], lengths[usable]))
+    if len(b) == 0:
+        return distance
+    order = np.argsort(b, kind="stable")  # edges grouped by the vertex they reach: segment minima
+    a, b, step = a[order], b[order], step[order]
+    starts = np.flatnonzero(np.diff(b, prepend=-1))
+    reached = b[starts]
     for _ in range(MAX_SWEEPS):
-        best = distance.copy()
-        np.minimum.at(best, b, distance[a] + step)
-        if np.array_equal(best, distance):
+        offers = np.minimum.reduceat(distance[a] + step, starts)
+        better = offers < distance[reached]
+        if not better.any():
             break
-        distance = best
+        distance[reached[better]] = offers[better]
     return distance
 
 
