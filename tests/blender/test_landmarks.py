@@ -14,7 +14,7 @@ from turkish_lipsync.blender.landmarks import (  # noqa: E402
 )
 from turkish_lipsync.blender.shapekeys import build_shape_keys, head_landmarks  # noqa: E402
 from turkish_lipsync.core.errors import HeadError  # noqa: E402
-from turkish_lipsync.core.faces.landmarks import LANDMARK_NAMES, find_landmarks, triangulate_loops  # noqa: E402
+from turkish_lipsync.core.faces.landmarks import find_landmarks, triangulate_loops  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
 from turkish_lipsync.core.faces.transfer import find_parts, transfer_units  # noqa: E402
 
@@ -130,7 +130,7 @@ def test_markers_round_trip_and_replace_each_other():
     head = new_head()
     landmarks = sample_landmarks()
     markers = show_landmark_markers(head, landmarks)
-    assert sorted(marker.name for marker in markers) == sorted("TR_landmark_" + n for n in LANDMARK_NAMES)
+    assert sorted(marker.name for marker in markers) == sorted("TR_landmark_" + n for n in landmarks)
     assert all(marker.parent == head for marker in markers)
     collection = bpy.data.collections[COLLECTION_NAME]
     assert collection.name in bpy.context.scene.collection.children
@@ -139,10 +139,10 @@ def test_markers_round_trip_and_replace_each_other():
     for name, point in landmarks.items():
         np.testing.assert_allclose(read[name], point, atol=1e-6)
     show_landmark_markers(head, landmarks)  # again: replaces, does not add
-    assert len(collection.objects) == len(LANDMARK_NAMES)
+    assert len(collection.objects) == len(landmarks)
     named = [obj for obj in bpy.data.objects if obj.name.startswith("TR_landmark_")]
-    assert len(named) == len(LANDMARK_NAMES)
-    assert remove_landmark_markers(head) == len(LANDMARK_NAMES)
+    assert len(named) == len(landmarks)
+    assert remove_landmark_markers(head) == len(landmarks)
     assert read_landmark_markers(head) is None and COLLECTION_NAME not in bpy.data.collections
 
 

@@ -13,6 +13,13 @@ import numpy as np
 
 from ..errors import HeadError
 
+# The lids' margins at the middle of each eye: found only where a separate eyeball shows between the lids.
+LID_LANDMARK_NAMES: tuple[str, ...] = (
+    "upper_lid_left",
+    "lower_lid_left",
+    "upper_lid_right",
+    "lower_lid_right",
+)
 LANDMARK_NAMES: tuple[str, ...] = (
     "nose_tip",
     "upper_lip",
@@ -240,7 +247,8 @@ FACINGS: tuple[tuple[str, np.ndarray], ...] = (
 
 
 def find_landmarks(vertices: np.ndarray, polygons) -> dict[str, np.ndarray]:
-    """The 14 landmarks of LANDMARK_NAMES as (3,) points in the mesh's coordinates.
+    """The landmarks of LANDMARK_NAMES as (3,) points in the mesh's coordinates, and those of
+    LID_LANDMARK_NAMES where the mesh's eyeballs show between its lids.
 
     A face looking toward -Y with Z up is searched first; when none is found there, the head is turned
     to each other facing (FACINGS) and searched again. Raises HeadError when no facing shows a face
@@ -583,6 +591,10 @@ class _FaceReader:
             opening = self._eye_opening(top, bottom, first, last, seed, mid)
             if opening is not None:
                 inner, outer = opening
+                # The lids' margins above and below the middle of the opening, where a blink meets.
+                upper_margin, lower_margin = self.lid_margins
+                points[f"upper_lid_{side}"] = self.depth.point(*upper_margin)
+                points[f"lower_lid_{side}"] = self.depth.point(*lower_margin)
             elif socket[seed] < 0.01 * self.size or abs(outer[1] - inner[1]) < self.pixels(0.07):
                 # Closed, smooth eyes (a low-poly mask): no opening or crease to read the corners from.
                 # Faces put the eye centres about a fifth of the face's width either side of the middle,
@@ -619,6 +631,12 @@ class _FaceReader:
             (top + int(np.median(rows[columns == end])), first + int(end))
             for end in (columns.min(), columns.max())
         ]
+        centre = (columns.min() + columns.max()) // 2
+        margins = rows[columns == centre]
+        self.lid_margins = (
+            (top + int(margins.min()) - 1, first + centre),
+            (top + int(margins.max()) + 1, first + centre),
+        )
         return tuple(sorted(ends, key=lambda end: abs(end[1] - mid)))
 
     def _surface_near(self, row: int, column: int) -> np.ndarray:
