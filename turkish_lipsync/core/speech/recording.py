@@ -436,10 +436,12 @@ class _Fit:
 # every word's distance, so words are judged against the recording's own median word too.
 MATCHED_DISTANCE = 1.5  # a phrase this close has confidence 1
 UNMATCHED_DISTANCE = 4.0  # ... and this far, 0
-# The whole recording this far off, and its order no better than this: it reads another text (either alone:
-# a warning of doubt).
+# The whole recording this far off, and its order no better than this: it reads another text.
 OTHER_TEXT_DISTANCE = 3.95
 OTHER_TEXT_ORDER_RATIO = 0.83
+# Either beyond these (above all the same text's clean or noisy takes, below the reverberant ones): a warning.
+DOUBTFUL_DISTANCE = 3.4
+DOUBTFUL_ORDER_RATIO = 0.78
 UNMATCHED_WORD_DISTANCE = 4.4  # one word this far off, and
 UNMATCHED_WORD_RATIO = 1.7  # this many times the median word's distance, is not in the recording
 SQUEEZED = 0.25  # a word given less than this share of the recording's pace is missing
@@ -493,9 +495,10 @@ def _judge(
     crowded = (pace > STRETCHED) & loose & ~unmatched
     phrases = _phrases(utterance, warp, spans, fit, word_distance, per_frame_count, per_frame_sum)
     texts = [word.text for word in utterance.words]
-    far = bool(fit.distances[spoken].mean() > OTHER_TEXT_DISTANCE)
-    disordered = bool(fit.order_ratio > OTHER_TEXT_ORDER_RATIO)
-    if disordered and (far or unmatched.mean() > OTHER_TEXT_SHARE):
+    distance = float(fit.distances[spoken].mean())
+    if fit.order_ratio > OTHER_TEXT_ORDER_RATIO and (
+        distance > OTHER_TEXT_DISTANCE or unmatched.mean() > OTHER_TEXT_SHARE
+    ):
         unheard = np.flatnonzero(unmatched | (word_distance > OTHER_TEXT_DISTANCE))
         raise AudioError(
             f"recording {path} does not read this text: {_word_list(texts, unheard)} "
@@ -505,7 +508,7 @@ def _judge(
     warnings = [
         "the recording fits this text only loosely (it may read another text, or be very noisy or "
         "reverberant); check that it reads this text: the face follows it as well as it can"
-    ] * (disordered or far)
+    ] * (fit.order_ratio > DOUBTFUL_ORDER_RATIO or distance > DOUBTFUL_DISTANCE)
     warnings += [
         f"the recording seems not to say {_word_list(texts, run)} (word {run[0] + 1} of the text); "
         "check the recording there: the face is timed on the rest"
