@@ -50,7 +50,7 @@ def vitruvian():
         ("TR_viseme_a", "aa_02", 0.82),
         ("mouthPucker", "Kiss", 0.45),
         ("mouthSmileLeft", "Smile_Lips_Closed_Left", 0.6),
-        # Target 0.85, not reached: measured 0.65 (0.09 before; 0.52 before the lid margins were
+        # Target 0.85, not reached: measured 0.63 (0.09 before; 0.52 before the lid margins were
         # landmarks); the reference's lid still lands a few millimetres off.
         ("eyeBlinkLeft", "Eyes_Closed_Left", 0.6),
     ],
@@ -77,8 +77,7 @@ def test_no_webbing_the_stretch_stays_near_the_artists(vitruvian, ours, theirs, 
     stretch, artists = face.stretch(built[ours]), face.stretch(artist[theirs])
     assert stretch <= 1.5 * artists
     if ceiling is not None:
-        # The artists' own blink stretches its lid 4.3 (measured; ours 4.4): no stricter than theirs.
-        assert stretch < max(ceiling, 1.05 * artists)
+        assert stretch < ceiling  # measured: jawOpen 8.7 (the artist's 9.0), the blink 3.7 (4.3)
 
 
 def test_open_vowels_part_the_lips_and_bilabials_close_them(vitruvian):
@@ -89,6 +88,10 @@ def test_open_vowels_part_the_lips_and_bilabials_close_them(vitruvian):
         assert face.lip_aperture(built[f"TR_viseme_{vowel}"]) > 0.008, vowel
     for bilabial in ("bpa", "ma", "bpo"):
         assert face.lip_aperture(built[f"TR_viseme_{bilabial}"]) < 0.001, bilabial
+    # The blink closes the lids as far as the artist's does (measured: 5.8 mm open, -2.3 mm under the
+    # blink against the artist's -2.1; -5.1 before the blink was fitted to the opening).
+    closed = face.lid_gap(built["eyeBlinkLeft"])
+    assert closed < 0 and abs(closed - face.lid_gap(artist["Eyes_Closed_Left"])) < 0.0015
 
 
 def test_symmetric_keys_are_symmetric_and_a_blink_is_one_sided(vitruvian):

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from .landmarks import face_frame, triangulate
-from .parts import PART_LABELS, find_face_parts
+from .parts import PART_LABELS, find_face_parts, opening_gap
 from .transfer import find_parts
 
 
@@ -39,30 +39,6 @@ def displacement_cosine(first: np.ndarray, second: np.ndarray) -> float:
     second = np.asarray(second, np.float64).ravel()
     norm = np.linalg.norm(first) * np.linalg.norm(second)
     return float(first @ second / norm) if norm > 0 else 0.0
-
-
-def opening_gap(vertices: np.ndarray, deltas: np.ndarray, upper: np.ndarray, lower: np.ndarray, x: float):
-    """How far apart two facing surfaces (lips, lids) stand on a vertical slice at x, after the key.
-
-    The gap is the lowest point of the upper surface minus the highest of the lower one within a slab
-    around x; it is negative where they press into each other, and NaN when either surface is absent.
-    """
-    moved = vertices + deltas
-    width = _slab_width(vertices, upper, lower)
-    gaps = []
-    for part in (upper, lower):
-        near = part[np.abs(vertices[part, 0] - x) <= width]
-        gaps.append(moved[near, 2] if len(near) else None)
-    if gaps[0] is None or gaps[1] is None:
-        return float("nan")
-    return float(gaps[0].min() - gaps[1].max())
-
-
-def _slab_width(vertices: np.ndarray, upper: np.ndarray, lower: np.ndarray) -> float:
-    """Half-width of the slice: a few typical edge spans of the parts, so each holds some vertices."""
-    both = np.concatenate((upper, lower))
-    span = float(np.ptp(vertices[both, 0])) if len(both) else 0.0
-    return max(0.03 * span, 1e-9)
 
 
 def symmetry(vertices: np.ndarray, deltas: np.ndarray, middle_x: float) -> float:

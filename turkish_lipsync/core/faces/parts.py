@@ -246,3 +246,27 @@ def hidden_depth(vertices: np.ndarray, depth: DepthMap) -> np.ndarray:
     front = depth.front[rows, columns]
     behind = front - (-vertices[:, 1])
     return np.where(np.isfinite(behind), np.maximum(behind, 0.0), 0.0)
+
+
+def opening_gap(vertices: np.ndarray, deltas: np.ndarray, upper: np.ndarray, lower: np.ndarray, x: float):
+    """How far apart two facing surfaces (lips, lids) stand on a vertical slice at x, after the key.
+
+    The gap is the lowest point of the upper surface minus the highest of the lower one within a slab
+    around x; it is negative where they press into each other, and NaN when either surface is absent.
+    """
+    moved = vertices + deltas
+    width = _slab_width(vertices, upper, lower)
+    gaps = []
+    for part in (upper, lower):
+        near = part[np.abs(vertices[part, 0] - x) <= width]
+        gaps.append(moved[near, 2] if len(near) else None)
+    if gaps[0] is None or gaps[1] is None:
+        return float("nan")
+    return float(gaps[0].min() - gaps[1].max())
+
+
+def _slab_width(vertices: np.ndarray, upper: np.ndarray, lower: np.ndarray) -> float:
+    """Half-width of the slice: a few typical edge spans of the parts, so each holds some vertices."""
+    both = np.concatenate((upper, lower))
+    span = float(np.ptp(vertices[both, 0])) if len(both) else 0.0
+    return max(0.03 * span, 1e-9)

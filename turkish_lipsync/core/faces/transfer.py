@@ -22,6 +22,7 @@ from .parts import (
     FaceParts,
     edge_graph,
     find_face_parts,
+    opening_gap,
     smooth_over_edges,
 )
 
@@ -452,6 +453,17 @@ def transfer_units(
     _smooth_lids(
         result, target_face, target_triangles, target_vertices, np.clip(apart / (LID_ROUGH * eye_width), 0, 1)
     )
+    _close_blinks_as_the_reference_does(
+        result,
+        target_face,
+        upright_vertices,
+        upright_landmarks,
+        reference,
+        reference_face,
+        reference_landmarks,
+        rotation,
+        scale,
+    )
     # The tongue bends (tongueOut): closest point on the reference tongue.
     for name in SOFT_PARTS:
         if name in target_parts and name in reference_parts and len(target_parts[name]):
@@ -510,6 +522,51 @@ def _fade_behind_the_lids(result, face, upright_vertices, upright_landmarks, apa
         keep = np.maximum(keep, apart[lids] < LID_FADE_NEAR * eye_width)
         for deltas in result.values():
             deltas[lids] *= keep[:, None]
+
+
+def _close_blinks_as_the_reference_does(
+    result,
+    face,
+    upright_vertices,
+    upright_landmarks,
+    reference,
+    reference_face,
+    reference_landmarks,
+    rotation,
+    scale,
+) -> None:
+    """Scale each blink's lid motion so the target's lids travel the same share of their opening as the
+    reference's do: an eye narrower than the reference's closes without one lid passing through the
+    other, a wider one closes all the way. The openings are measured at the middle of each eye."""
+    reference_vertices = np.asarray(reference.vertices, np.float64)
+    for side in ("left", "right"):
+        unit = f"eyeBlink{side.capitalize()}"
+        if unit not in result:
+            continue
+        shares = []
+        for vertices, parts, landmarks, deltas in (
+            (upright_vertices, face, upright_landmarks, result[unit] @ rotation / scale),
+            (
+                reference_vertices,
+                reference_face,
+                reference_landmarks,
+                np.asarray(reference.units[unit], np.float64),
+            ),
+        ):
+            lids = [
+                np.flatnonzero(parts.seen & (parts.label == PART_LABELS.index(f"{lid}_lid_{side}")))
+                for lid in ("upper", "lower")
+            ]
+            middle = 0.5 * (landmarks[f"eye_inner_{side}"][0] + landmarks[f"eye_outer_{side}"][0])
+            rest = opening_gap(vertices, np.zeros_like(vertices), *lids, middle)
+            closed = opening_gap(vertices, deltas, *lids, middle)
+            shares.append((rest - closed) / rest if rest > 0 else np.nan)
+        if not np.all(np.isfinite(shares)) or shares[0] <= 0:
+            continue
+        lids = np.flatnonzero(
+            np.isin(face.label, [PART_LABELS.index(f"{lid}_lid_{side}") for lid in ("upper", "lower")])
+        )
+        result[unit][lids] *= float(np.clip(shares[1] / shares[0], 0.5, 1.5))
 
 
 def _smooth_lids(result, face, triangles, vertices, unreliable) -> None:
