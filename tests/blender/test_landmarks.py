@@ -14,7 +14,7 @@ from turkish_lipsync.blender.landmarks import (  # noqa: E402
 )
 from turkish_lipsync.blender.shapekeys import build_shape_keys, head_landmarks  # noqa: E402
 from turkish_lipsync.core.errors import HeadError  # noqa: E402
-from turkish_lipsync.core.faces.landmarks import find_landmarks, triangulate_loops  # noqa: E402
+from turkish_lipsync.core.faces.landmarks import LANDMARK_NAMES, find_landmarks, triangulate_loops  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
 from turkish_lipsync.core.faces.transfer import find_parts, transfer_units  # noqa: E402
 
@@ -218,3 +218,35 @@ def test_markers_placed_by_hand_drive_the_build_where_nothing_else_finds_a_face(
     report = build_shape_keys(face, parts=[], source="transfer", arkit_keys=True)
     assert report.source == "transfer" and "jawOpen" in face.data.shape_keys.key_blocks
     assert np.abs(key_deltas(face, "jawOpen")).max() > 0
+
+
+def test_show_landmarks_on_a_head_with_no_face_found_places_markers_to_move(capfd):
+    """Nothing finds a face (Godette's painted mouth, its keys gone): the operator still gives markers."""
+    from turkish_lipsync import blender
+
+    face = imported("godette/Godette_vrm_v4_named.glb")["Face"]
+    face.shape_key_clear()
+    blender.register()
+    try:
+        bpy.context.scene.turkish_lipsync.head = face
+        capfd.readouterr()
+        assert bpy.ops.turkish_lipsync.show_landmarks() == {"FINISHED"}
+        printed = capfd.readouterr()
+        assert "Warning:" in printed.out + printed.err and "move each one" in printed.out + printed.err
+        markers = read_landmark_markers(face)
+        assert set(markers) >= set(LANDMARK_NAMES)
+        # Within the head's bounds, the mouth below the nose and the eyes above it.
+        local = np.array([v.co[:] for v in face.data.vertices])
+        for point in markers.values():
+            assert np.all(point >= local.min(0) - 1e-6) and np.all(point <= local.max(0) + 1e-6)
+        assert markers["upper_lip"][2] < markers["nose_tip"][2] < markers["eye_inner_left"][2]
+        # Shown again, the (possibly moved) markers are kept, not replaced by a new guess.
+        moved = face.children[0]
+        moved.location.x += 0.001
+        kept = read_landmark_markers(face)
+        assert bpy.ops.turkish_lipsync.show_landmarks() == {"FINISHED"}
+        again = read_landmark_markers(face)
+        for name in kept:
+            np.testing.assert_allclose(again[name], kept[name], atol=1e-6)
+    finally:
+        blender.unregister()

@@ -11,9 +11,10 @@ import bpy
 import numpy as np
 
 from ..core.errors import HeadError, LipSyncError
-from ..core.faces.landmarks import find_landmarks
+from ..core.faces.landmarks import landmark_layout_in_box
+from ..core.faces.reference import load_reference_head
 from ..core.pipeline import LipSyncOptions
-from . import exports, gltf_export, landmarks, mesh, pipeline
+from . import exports, gltf_export, landmarks, mesh, pipeline, shapekeys
 from .preferences import ADDON_PACKAGE, configure_speech_engine
 
 # What an operator's work returns: the line to report, and the warnings the user must see.
@@ -93,18 +94,31 @@ def _head_chosen(cls, context) -> bool:
     return True
 
 
-def head_landmarks(head: bpy.types.Object) -> dict[str, np.ndarray]:
-    """The face landmarks found on the head's rest shape, in the head's own coordinates.
+def head_landmarks(head: bpy.types.Object) -> tuple[dict[str, np.ndarray], tuple[str, ...]]:
+    """The face landmarks of the head's rest shape in its own coordinates, and warnings.
 
-    The finder needs the face toward -Y with Z up, which holds in the world (the head's transform may turn
-    it), so it runs on world coordinates; the markers are children of the head and take local ones.
+    The user's markers where there are some, else what the builder would find (from the shape, else from the
+    head's own mouth and blink keys). Where no face is found, the reference's layout scaled into the head's
+    bounds, for the user to move onto the face: the markers workflow works on any head.
     """
     if len(head.data.polygons) == 0:
         raise HeadError(f"{head.name!r} has no faces; a head needs a surface to find a face on.")
     to_local = mesh.world_to_local_linear(head, "show the landmarks")
-    found = find_landmarks(mesh.world_rest_coordinates(head), mesh.triangles(head))
+    warnings: tuple[str, ...] = ()
+    try:
+        found = shapekeys.head_landmarks(head)
+    except HeadError as error:
+        reference = load_reference_head()
+        world = mesh.world_rest_coordinates(head)
+        skin = reference.vertices[reference.parts["skin"]]
+        found = landmark_layout_in_box(reference.landmarks, skin, world.min(axis=0), world.max(axis=0))
+        warnings = (
+            f"{error} The markers are placed by the head's size only: move each one onto its place on the "
+            "face (nose tip, lips, mouth corners, chin, eye corners, lids), then build the keys.",
+        )
     offset = mesh.world_matrix(head)[:3, 3]
-    return {name: (np.asarray(point, np.float64) - offset) @ to_local.T for name, point in found.items()}
+    local = {name: (np.asarray(point, np.float64) - offset) @ to_local.T for name, point in found.items()}
+    return local, warnings
 
 
 class TURKISH_LIPSYNC_OT_build_shape_keys(bpy.types.Operator):
@@ -257,10 +271,13 @@ class TURKISH_LIPSYNC_OT_show_landmarks(bpy.types.Operator):
     def show(context) -> Outcome:
         head = chosen_head(context)
         context.view_layer.update()  # the head's matrix_world is stale right after a transform change
-        found = head_landmarks(head)
+        found, warnings = head_landmarks(head)
         markers = landmarks.show_landmark_markers(head, found, scene=context.scene)
         settings_of(context).head = head
-        return f"{len(markers)} landmark markers on {head.name}: move any that are off, then build keys", ()
+        return (
+            f"{len(markers)} landmark markers on {head.name}: move any that are off, then build keys",
+            warnings,
+        )
 
 
 class TURKISH_LIPSYNC_OT_clear_landmarks(bpy.types.Operator):

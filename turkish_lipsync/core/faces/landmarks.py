@@ -777,3 +777,26 @@ def _front_point(upright, mouth_points, height, x=None) -> np.ndarray:
         )
     candidates = upright[near]
     return candidates[np.argmin(candidates[:, 1])].copy()
+
+
+def landmark_layout_in_box(
+    reference_landmarks: dict[str, np.ndarray],
+    reference_skin: np.ndarray,
+    lower: np.ndarray,
+    upper: np.ndarray,
+) -> dict[str, np.ndarray]:
+    """The reference's landmarks scaled into a box, on its -Y face: a start for markers a user then moves.
+
+    Used where no face can be found on a head, so the markers workflow has something to move.
+    """
+    low, high = reference_skin.min(axis=0), reference_skin.max(axis=0)
+    lower, upper = np.asarray(lower, np.float64), np.asarray(upper, np.float64)
+    scale = float(np.min((upper - lower)[[0, 2]] / np.maximum((high - low)[[0, 2]], 1e-12)))
+    centre = (lower + upper) / 2
+    reference_centre = (low + high) / 2
+    layout = {}
+    for name, point in reference_landmarks.items():
+        placed = centre + (np.asarray(point, np.float64) - reference_centre) * scale
+        placed[1] = lower[1] + (point[1] - low[1]) * scale  # the face's depth from the box's front
+        layout[name] = placed
+    return layout
