@@ -50,9 +50,10 @@ def vitruvian():
         ("TR_viseme_a", "aa_02", 0.82),
         ("mouthPucker", "Kiss", 0.45),
         ("mouthSmileLeft", "Smile_Lips_Closed_Left", 0.6),
-        # Target 0.85, not reached: measured 0.63 (0.09 before; 0.52 before the lid margins were
-        # landmarks); the reference's lid still lands a few millimetres off.
-        ("eyeBlinkLeft", "Eyes_Closed_Left", 0.6),
+        # Target 0.85, not reached: measured 0.71 (0.09 before; 0.52 before the lid margins were
+        # landmarks; 0.63 before the lid unrolled from its crease); the artist's blink also pushes the
+        # lower lid forward and turns the eyeball, which the reference's does not.
+        ("eyeBlinkLeft", "Eyes_Closed_Left", 0.68),
     ],
 )
 def test_transferred_keys_point_the_artists_way(vitruvian, ours, theirs, cosine):
@@ -77,7 +78,7 @@ def test_no_webbing_the_stretch_stays_near_the_artists(vitruvian, ours, theirs, 
     stretch, artists = face.stretch(built[ours]), face.stretch(artist[theirs])
     assert stretch <= 1.5 * artists
     if ceiling is not None:
-        assert stretch < ceiling  # measured: jawOpen 8.7 (the artist's 9.0), the blink 3.7 (4.3)
+        assert stretch < ceiling  # measured: jawOpen 8.7 (the artist's 9.0), the blink 3.4 (4.3)
 
 
 def test_open_vowels_part_the_lips_and_bilabials_close_them(vitruvian):
