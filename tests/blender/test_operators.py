@@ -503,6 +503,34 @@ def test_a_missing_recording_is_reported_and_changes_nothing(tmp_path):
     assert sequencer.speech_wav_of(scene) is None
 
 
+def test_the_panel_warns_of_a_word_the_recording_leaves_out_and_refuses_another_text(tmp_path, capfd):
+    from tests.core.test_speech_recording import OTHER_TEXT, noisy_take, other_voice
+
+    head = _default_head_with_keys()
+    _speak(OTHER_TEXT)
+    settings = _settings()
+    settings.audio_folder = str(tmp_path)
+    voice, _ = other_voice(OTHER_TEXT.replace("bütün ", ""))
+    settings.recording = str(noisy_take(tmp_path / "take.wav", voice, snr=40))
+    capfd.readouterr()
+    assert bpy.ops.turkish_lipsync.generate() == {"FINISHED"}
+    printed = capfd.readouterr()
+    assert "Warning:" in printed.out + printed.err and "'bütün'" in printed.out + printed.err
+    action = head.data.shape_keys.animation_data.action
+    frame_end = bpy.context.scene.frame_end
+
+    # A recording of another text: refused, and the animation, frame range and sound stay as they were.
+    other = "Kütüphaneden aldığım kitabı iki hafta içinde geri vermem gerekiyor. Yarın hava çok soğuk olacak."
+    voice, _ = other_voice(other)
+    settings.recording = str(noisy_take(tmp_path / "other.wav", voice, snr=40))
+    wav_before = sequencer.speech_wav_of(bpy.context.scene)
+    with pytest.raises(RuntimeError, match="does not read this text"):
+        bpy.ops.turkish_lipsync.generate()
+    assert head.data.shape_keys.animation_data.action == action
+    assert bpy.context.scene.frame_end == frame_end
+    assert sequencer.speech_wav_of(bpy.context.scene) == wav_before
+
+
 def test_panel_texts_are_translated():
     import inspect
     import re
