@@ -20,8 +20,9 @@ GODETTE = HEADS / "godette" / "Godette_vrm_v4_named.glb"
 
 
 def built_head(path, object_name=None, strip=True):
-    """(head, artist keys, built keys, FaceMeasure) after building by transfer, on a copy without its
-    own keys unless strip is False."""
+    """(head's name, artist keys, built keys, FaceMeasure) after building by transfer, on a copy without its
+    own keys unless strip is False. Only the name is kept: a module-wide Blender reference would outlive
+    the next test's new file (and crash Blender 4.2 as it exits)."""
     if not path.exists():
         pytest.skip(f"{path} not present")
     bpy.ops.wm.read_factory_settings(use_empty=True)
@@ -33,7 +34,7 @@ def built_head(path, object_name=None, strip=True):
         strip_keys([head])
     shapekeys.build_shape_keys(head, parts=[], source="transfer", arkit_keys=True)
     vertices = mesh.world_rest_coordinates(head).astype(np.float64)
-    return head, artist, world_key_deltas(head), FaceMeasure(vertices, mesh.triangles(head), landmarks)
+    return head.name, artist, world_key_deltas(head), FaceMeasure(vertices, mesh.triangles(head), landmarks)
 
 
 @pytest.fixture(scope="module")
@@ -103,7 +104,8 @@ def test_symmetric_keys_are_symmetric_and_a_blink_is_one_sided(vitruvian):
 
 
 def test_a_painted_mouth_facing_plus_y_builds_from_what_its_own_keys_move():
-    head, artist, built, face = built_head(GODETTE, "Face", strip=False)
+    head_name, artist, built, face = built_head(GODETTE, "Face", strip=False)
+    head = bpy.data.objects[head_name]
     moved = np.linalg.norm(built["jawOpen"], axis=1)
     assert moved.max() > 0
     # The jaw drops the chin (down in the face's own frame: it looks toward +Y), not the brows.
