@@ -26,6 +26,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from scripts.contact_sheet import _aim, _emission_material  # noqa: E402
 from turkish_lipsync.blender import heads, mesh, shapekeys  # noqa: E402
+from turkish_lipsync.blender.landmarks import read_landmark_markers, show_landmark_markers  # noqa: E402
 from turkish_lipsync.core.data import load_table  # noqa: E402
 from turkish_lipsync.core.errors import LipSyncError  # noqa: E402
 from turkish_lipsync.core.faces.landmarks import face_frame  # noqa: E402
@@ -260,6 +261,10 @@ def face_report(head_path: Path | None, out_dir: Path, object_name: str | None, 
     landmarks = shapekeys.head_landmarks(head)
     if not keep_keys:
         strip_keys([head, *parts])
+        if read_landmark_markers(head) is None:
+            # Found from the keys just removed (a mouth painted on a texture): kept as the user's markers.
+            placed = mesh.world_points_to_local(head, np.array(list(landmarks.values())), "build")
+            show_landmark_markers(head, dict(zip(landmarks, placed, strict=True)))
     report = shapekeys.build_shape_keys(head, parts=parts, source=source, arkit_keys=True)
     print(f"{head.name}: {len(report.keys)} keys from source {report.source}")
     for warning in report.warnings:
