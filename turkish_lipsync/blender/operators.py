@@ -68,6 +68,13 @@ def run_reported(operator: bpy.types.Operator, work: Callable[[], Outcome]) -> s
     return {"FINISHED"}
 
 
+class ReportedOperator:
+    """An operator whose execute runs its work(context) through run_reported."""
+
+    def execute(self, context):
+        return run_reported(self, lambda: self.work(context))
+
+
 def settings_of(context: bpy.types.Context):
     return context.scene.turkish_lipsync
 
@@ -121,7 +128,7 @@ def head_landmarks(head: bpy.types.Object) -> tuple[dict[str, np.ndarray], tuple
     return local, warnings
 
 
-class TURKISH_LIPSYNC_OT_build_shape_keys(bpy.types.Operator):
+class TURKISH_LIPSYNC_OT_build_shape_keys(ReportedOperator, bpy.types.Operator):
     """Build the Turkish viseme and emotion shape keys on the head (the reference head when none is chosen)"""
 
     bl_idname = "turkish_lipsync.build_shape_keys"
@@ -144,11 +151,8 @@ class TURKISH_LIPSYNC_OT_build_shape_keys(bpy.types.Operator):
             return False
         return True
 
-    def execute(self, context):
-        return run_reported(self, lambda: self.build(context))
-
     @staticmethod
-    def build(context) -> Outcome:
+    def work(context) -> Outcome:
         settings = settings_of(context)
         from_folder = settings.key_source == "obj_folder"
         mapped = settings.key_source in ("auto", "convention") and settings.mapping_file
@@ -171,7 +175,7 @@ class TURKISH_LIPSYNC_OT_build_shape_keys(bpy.types.Operator):
         )
 
 
-class TURKISH_LIPSYNC_OT_generate(bpy.types.Operator):
+class TURKISH_LIPSYNC_OT_generate(ReportedOperator, bpy.types.Operator):
     """Speak the text: key the head's mouth shapes and emotions, and put the speech in the sequencer"""
 
     bl_idname = "turkish_lipsync.generate"
@@ -197,11 +201,8 @@ class TURKISH_LIPSYNC_OT_generate(bpy.types.Operator):
             return False
         return True
 
-    def execute(self, context):
-        return run_reported(self, lambda: self.generate(context))
-
     @staticmethod
-    def generate(context) -> Outcome:
+    def work(context) -> Outcome:
         settings = settings_of(context)
         head = chosen_head(context)
         configure_speech_engine(context)
@@ -253,7 +254,7 @@ def source_of(settings) -> str:
     return pipeline.read_source(text_name, file_path)
 
 
-class TURKISH_LIPSYNC_OT_show_landmarks(bpy.types.Operator):
+class TURKISH_LIPSYNC_OT_show_landmarks(ReportedOperator, bpy.types.Operator):
     """Find the face landmarks on the head and show them as markers to move where they are off"""
 
     bl_idname = "turkish_lipsync.show_landmarks"
@@ -264,11 +265,8 @@ class TURKISH_LIPSYNC_OT_show_landmarks(bpy.types.Operator):
     def poll(cls, context) -> bool:
         return _in_object_mode(cls, context) and _head_chosen(cls, context)
 
-    def execute(self, context):
-        return run_reported(self, lambda: self.show(context))
-
     @staticmethod
-    def show(context) -> Outcome:
+    def work(context) -> Outcome:
         head = chosen_head(context)
         context.view_layer.update()  # the head's matrix_world is stale right after a transform change
         found, warnings = head_landmarks(head)
@@ -421,7 +419,7 @@ def _speech_generated(cls, context) -> bool:
     return True
 
 
-class TURKISH_LIPSYNC_OT_export_animation(bpy.types.Operator):
+class TURKISH_LIPSYNC_OT_export_animation(ReportedOperator, bpy.types.Operator):
     """Write the speech for other tools: Rhubarb mouth cues, Moho switch data, Papagayo or ARKit CSV"""
 
     bl_idname = "turkish_lipsync.export_animation"
@@ -441,11 +439,8 @@ class TURKISH_LIPSYNC_OT_export_animation(bpy.types.Operator):
             return False
         return True
 
-    def execute(self, context):
-        return run_reported(self, lambda: self.export(context))
-
     @staticmethod
-    def export(context) -> Outcome:
+    def work(context) -> Outcome:
         settings = settings_of(context)
         configure_speech_engine(context)
         result = exports.export_animation(
@@ -459,7 +454,7 @@ class TURKISH_LIPSYNC_OT_export_animation(bpy.types.Operator):
         return f"Exported {result.export_format} to {result.path}", result.warnings
 
 
-class TURKISH_LIPSYNC_OT_export_gltf(bpy.types.Operator):
+class TURKISH_LIPSYNC_OT_export_gltf(ReportedOperator, bpy.types.Operator):
     """Export the head, its shape keys and the speech animation as .glb, the speech WAV beside it"""
 
     bl_idname = "turkish_lipsync.export_gltf"
@@ -475,11 +470,8 @@ class TURKISH_LIPSYNC_OT_export_gltf(bpy.types.Operator):
             return False
         return True
 
-    def execute(self, context):
-        return run_reported(self, lambda: self.export(context))
-
     @staticmethod
-    def export(context) -> Outcome:
+    def work(context) -> Outcome:
         result = gltf_export.export_gltf(context, chosen_head(context), settings_of(context).gltf_path)
         sound = f", the speech in {result.wav_path}" if result.wav_path else ", no speech WAV in the scene"
         return f"Exported {result.path} ({result.morph_targets} morph targets){sound}", ()
