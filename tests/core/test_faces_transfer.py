@@ -6,16 +6,11 @@ import pytest
 from tests.heads_on_disk import HEADS, read_obj
 from turkish_lipsync.core.errors import HeadError
 from turkish_lipsync.core.faces.arkit_names import ARKIT_UNITS
+from turkish_lipsync.core.faces.closest import closest_points
 from turkish_lipsync.core.faces.landmarks import find_landmarks, triangulate
 from turkish_lipsync.core.faces.reference import load_reference_head
-from turkish_lipsync.core.faces.transfer import (
-    ThinPlateWarp,
-    closest_points,
-    find_parts,
-    rigid_fit,
-    similarity_fit,
-    transfer_units,
-)
+from turkish_lipsync.core.faces.registration import ThinPlateWarp, rigid_fit, similarity_fit
+from turkish_lipsync.core.faces.transfer import find_parts, transfer_units
 
 
 def relative_error(found: np.ndarray, expected: np.ndarray) -> float:

@@ -15,6 +15,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from ..errors import HeadError
+from .closest import closest_points, triangles_around
 from .landmarks import connected_pieces, face_frame, find_landmarks, largest_piece, triangulate
 from .parts import (
     OPPOSITE_PART,
@@ -25,6 +26,7 @@ from .parts import (
     opening_gap,
     smooth_over_edges,
 )
+from .registration import ThinPlateWarp, register_onto_target, rigid_fit, similarity_fit
 
 # Reference part names (reference.parts) and the target part each one drives.
 RIGID_PARTS: tuple[str, ...] = ("upper_teeth", "lower_teeth", "left_eye", "right_eye")
@@ -49,190 +51,6 @@ LID_ROUGH = 0.1
 
 # A similarity fit that leaves landmarks this far off (fraction of the face size) calls for the warp.
 WARP_RESIDUAL = 0.02
-
-
-# ---------------------------------------------------------------- registration
-
-
-def similarity_fit(source: np.ndarray, target: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
-    """Scale, rotation and translation that best map source points onto target points (Umeyama 1991)."""
-    source = np.asarray(source, np.float64)
-    target = np.asarray(target, np.float64)
-    source_mean, target_mean = source.mean(0), target.mean(0)
-    source_centred, target_centred = source - source_mean, target - target_mean
-    covariance = target_centred.T @ source_centred / len(source)
-    u, singular, vt = np.linalg.svd(covariance)
-    sign = np.ones(3)
-    if np.linalg.det(u) * np.linalg.det(vt) < 0:
-        sign[2] = -1.0  # a reflection is not a head turned around
-    rotation = u @ np.diag(sign) @ vt
-    variance = (source_centred**2).sum() / len(source)
-    scale = float((singular * sign).sum() / variance) if variance > 0 else 1.0
-    translation = target_mean - scale * rotation @ source_mean
-    return scale, rotation, translation
-
-
-def rigid_fit(before: np.ndarray, after: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Rotation and translation that best move `before` onto `after` (no scaling: teeth do not grow)."""
-    before_mean, after_mean = before.mean(0), after.mean(0)
-    covariance = (after - after_mean).T @ (before - before_mean)
-    u, _, vt = np.linalg.svd(covariance)
-    sign = np.ones(3)
-    if np.linalg.det(u) * np.linalg.det(vt) < 0:
-        sign[2] = -1.0
-    rotation = u @ np.diag(sign) @ vt
-    return rotation, after_mean - rotation @ before_mean
-
-
-class ThinPlateWarp:
-    """A smooth 3D warp that moves each source landmark exactly onto its target (kernel |r|, affine part)."""
-
-    def __init__(self, source: np.ndarray, target: np.ndarray, smoothing: float = 0.0) -> None:
-        self.source = np.asarray(source, np.float64)
-        count = len(self.source)
-        kernel = np.linalg.norm(self.source[:, None] - self.source[None], axis=2)
-        kernel += smoothing * np.eye(count)  # > 0: follow the landmarks loosely, as their placing is rough
-        affine = np.hstack((np.ones((count, 1)), self.source))
-        system = np.zeros((count + 4, count + 4))
-        system[:count, :count] = kernel
-        system[:count, count:] = affine
-        system[count:, :count] = affine.T
-        right = np.zeros((count + 4, 3))
-        right[:count] = target
-        solution = np.linalg.lstsq(system, right, rcond=None)[0]
-        self.weights, self.affine = solution[:count], solution[count:]
-
-    def __call__(self, points: np.ndarray) -> np.ndarray:
-        out = self.affine[0] + points @ self.affine[1:]
-        for start in range(0, len(points), 8192):
-            chunk = points[start : start + 8192]
-            kernel = np.linalg.norm(chunk[:, None] - self.source[None], axis=2)
-            out[start : start + 8192] += kernel @ self.weights
-        return out
-
-
-# ---------------------------------------------------------------- closest points on a surface
-
-
-def _nearest_vertex(points: np.ndarray, vertices: np.ndarray) -> np.ndarray:
-    """Index of the nearest vertex for each point (chunked brute force: BLAS beats a tree at this size)."""
-    nearest = np.empty(len(points), np.int64)
-    squared = (vertices**2).sum(1)
-    for start in range(0, len(points), 1024):
-        chunk = points[start : start + 1024]
-        distance = squared[None, :] - 2.0 * chunk @ vertices.T
-        nearest[start : start + 1024] = np.argmin(distance, axis=1)
-    return nearest
-
-
-def _triangles_around(vertex_count: int, triangles: np.ndarray) -> np.ndarray:
-    """For each vertex, the triangles touching it or one of its neighbours, padded with -1."""
-    corner_vertex = triangles.ravel()
-    order = np.argsort(corner_vertex, kind="stable")
-    triangle_of_corner = np.repeat(np.arange(len(triangles)), 3)[order]
-    first_corner = np.searchsorted(corner_vertex[order], np.arange(vertex_count + 1))
-    edges = np.concatenate(
-        [triangles[:, [i, j]] for i, j in ((0, 1), (1, 2), (2, 0), (1, 0), (2, 1), (0, 2))]
-    )
-    own = np.unique(corner_vertex)
-    links = np.unique(np.concatenate((edges, np.stack((own, own), 1))), axis=0)  # (vertex, neighbour)
-    counts = first_corner[links[:, 1] + 1] - first_corner[links[:, 1]]
-    vertex = np.repeat(links[:, 0], counts)
-    offsets = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
-    triangle = triangle_of_corner[np.repeat(first_corner[links[:, 1]], counts) + offsets]
-    pairs = np.unique(np.stack((vertex, triangle), 1), axis=0)
-    per_vertex = np.bincount(pairs[:, 0], minlength=vertex_count)
-    table = np.full((vertex_count, max(int(per_vertex.max()), 1)), -1, np.int64)
-    slot = np.arange(len(pairs)) - np.repeat(np.cumsum(per_vertex) - per_vertex, per_vertex)
-    table[pairs[:, 0], slot] = pairs[:, 1]
-    return table
-
-
-def closest_points(
-    points: np.ndarray, vertices: np.ndarray, triangles: np.ndarray, allowed=None, around=None
-):
-    """(triangle index, barycentric weights (P, 3), distance) of the closest surface point to each point.
-
-    The search looks at the triangles around the nearest vertex and its neighbours. Where two sheets
-    of surface nearly touch (eyelid and socket) it can pick the other sheet, a fraction of a millimetre
-    further away, whose deltas are the same. allowed: a mask of the triangles to search (all if None);
-    around: _triangles_around of the triangles, when the caller searches the same surface many times.
-    """
-    points = np.asarray(points, np.float64)
-    if allowed is None:
-        allowed = np.ones(len(triangles), bool)
-    if around is None:
-        around = _triangles_around(len(vertices), triangles)
-    used = np.unique(triangles[allowed])
-    nearest = used[_nearest_vertex(points, vertices[used])]
-    best_distance = np.full(len(points), np.inf)
-    best_triangle = np.zeros(len(points), np.int64)
-    best_weights = np.zeros((len(points), 3))
-    candidates = around[nearest]
-    candidates = np.where((candidates >= 0) & allowed[np.maximum(candidates, 0)], candidates, -1)
-    _search(
-        points,
-        vertices,
-        triangles,
-        candidates,
-        np.arange(len(points)),
-        best_distance,
-        best_triangle,
-        best_weights,
-    )
-    return best_triangle, best_weights, best_distance
-
-
-def _search(points, vertices, triangles, candidates, rows_of, best_distance, best_triangle, best_weights):
-    """Keep, for each point, the closest of its candidate triangles (columns of `candidates`)."""
-    for column in range(candidates.shape[1]):
-        triangle = candidates[:, column]
-        valid = triangle >= 0
-        if not valid.any():
-            continue
-        rows = rows_of[valid]
-        corners = vertices[triangles[triangle[valid]]]
-        weights, distance = _closest_on_triangles(points[rows], corners)
-        better = distance < best_distance[rows]
-        chosen = rows[better]
-        best_distance[chosen] = distance[better]
-        best_triangle[chosen] = triangle[valid][better]
-        best_weights[chosen] = weights[better]
-
-
-def _closest_on_triangles(points: np.ndarray, corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Barycentric weights of the closest point on each triangle (P, 3, 3) and its distance."""
-    a, b, c = corners[:, 0], corners[:, 1], corners[:, 2]
-    ab, ac, ap = b - a, c - a, points - a
-    d00 = (ab * ab).sum(1)
-    d01 = (ab * ac).sum(1)
-    d11 = (ac * ac).sum(1)
-    d20 = (ap * ab).sum(1)
-    d21 = (ap * ac).sum(1)
-    denominator = d00 * d11 - d01 * d01
-    with np.errstate(divide="ignore", invalid="ignore"):
-        v = (d11 * d20 - d01 * d21) / denominator
-        w = (d00 * d21 - d01 * d20) / denominator
-    u = 1.0 - v - w
-    weights = np.stack((u, v, w), 1)
-    inside = (denominator > 0) & (u >= 0) & (v >= 0) & (w >= 0)
-    weights[~inside] = np.nan
-    best = np.where(inside, np.linalg.norm(points - (weights[:, :, None] * corners).sum(1), axis=1), np.inf)
-    weights = np.where(inside[:, None], weights, 0.0)
-    for first, second in ((0, 1), (1, 2), (2, 0)):
-        start, edge = corners[:, first], corners[:, second] - corners[:, first]
-        length = (edge * edge).sum(1)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t = np.clip(((points - start) * edge).sum(1) / length, 0.0, 1.0)
-        t = np.where(length > 0, t, 0.0)
-        distance = np.linalg.norm(points - (start + t[:, None] * edge), axis=1)
-        better = distance < best
-        best = np.where(better, distance, best)
-        edge_weights = np.zeros_like(weights)
-        edge_weights[:, first] = 1.0 - t
-        edge_weights[:, second] = t
-        weights = np.where(better[:, None], edge_weights, weights)
-    return weights, best
 
 
 # ---------------------------------------------------------------- parts of the target
@@ -348,6 +166,7 @@ def transfer_units(
     target_parts: Mapping[str, np.ndarray] | None = None,
     warp: str = "auto",
     reference_landmarks: Mapping[str, np.ndarray] | None = None,
+    register: bool = False,
 ) -> dict[str, np.ndarray]:
     """Deltas (M, 3) on the target's vertices for each of the reference's units.
 
@@ -356,6 +175,8 @@ def transfer_units(
     with find_parts when not given. warp: "similarity", "thin_plate" or "auto" (the warp when the
     similarity fit leaves the landmarks more than a few percent of the face apart). reference_landmarks
     default to find_landmarks on the reference, the convention the target's landmarks follow.
+    register: bend the placed reference onto the target's skin (registration.register_onto_target)
+    before sampling it.
     """
     if warp not in ("auto", "similarity", "thin_plate"):
         raise ValueError(f"warp must be 'auto', 'similarity' or 'thin_plate', not {warp!r}")
@@ -389,11 +210,13 @@ def transfer_units(
             gaps = np.linalg.norm(placed_landmarks[distinct] - placed_landmarks[index], axis=1)
             if gaps.min() > 1e-3 * face_size:
                 distinct.append(index)
-        placed = ThinPlateWarp(placed_landmarks[distinct], target_points[distinct])(placed)
+        warp_by_landmarks = ThinPlateWarp(placed_landmarks[distinct], target_points[distinct])
+        placed = warp_by_landmarks(placed)
+        placed_landmarks = warp_by_landmarks(placed_landmarks)
     turn = scale * rotation  # deltas follow the global rotation and scale only
 
     reference_triangles = triangulate(reference.polygons)
-    surface = (reference_triangles, _triangles_around(len(placed), reference_triangles))
+    surface = (reference_triangles, triangles_around(len(placed), reference_triangles))
     reference_parts = {name: np.asarray(indices) for name, indices in reference.parts.items()}
     if target_parts is None:
         target_parts = find_parts(target_vertices, target_triangles, target_landmarks)
@@ -423,6 +246,22 @@ def transfer_units(
     reference_face = _reference_face_parts(
         reference, tuple((name, tuple(map(float, point))) for name, point in reference_landmarks.items())
     )
+    if register:
+        placed = register_onto_target(
+            placed,
+            surface,
+            reference_skin,
+            np.where(reference_face.sure, reference_face.label, 0),
+            target_vertices,
+            # Only the face's outer surface: inside the mouth and behind the lids the jaw and the
+            # lids' own rules decide, and the reference has no lining as deep to pair with.
+            skin[target_face.seen[skin] & (target_face.inside_mouth[skin] == 0)],
+            np.where(target_face.sure, target_face.label, 0),
+            upright_vertices,
+            np.array([upright_landmarks[name] for name in names]),
+            (placed_landmarks, target_points),
+            face_size,
+        )
     apart = np.zeros(len(target_vertices))  # each vertex's distance from the reference surface it samples
     sampled = upright_vertices.copy()  # where on the reference at rest each vertex samples (itself if none)
     for index, label in enumerate(PART_LABELS):
@@ -679,7 +518,7 @@ def _carry_by_closest_point(
 ):
     """Deltas at the closest reference point, interpolated over its triangle, turned and scaled.
 
-    surface: (triangles, _triangles_around of them) of the placed reference. Returns the distances and
+    surface: (triangles, triangles_around of them) of the placed reference. Returns the distances and
     the sampled triangles' corners with their barycentric weights (None, None when nothing was sampled).
     """
     triangles, around = surface
