@@ -26,7 +26,7 @@ from .parts import (
     opening_gap,
     smooth_over_edges,
 )
-from .registration import ThinPlateWarp, register_onto_target, rigid_fit, similarity_fit
+from .registration import ThinPlateWarp, rigid_fit, similarity_fit
 
 # Reference part names (reference.parts) and the target part each one drives.
 RIGID_PARTS: tuple[str, ...] = ("upper_teeth", "lower_teeth", "left_eye", "right_eye")
@@ -166,7 +166,6 @@ def transfer_units(
     target_parts: Mapping[str, np.ndarray] | None = None,
     warp: str = "auto",
     reference_landmarks: Mapping[str, np.ndarray] | None = None,
-    register: bool = False,
 ) -> dict[str, np.ndarray]:
     """Deltas (M, 3) on the target's vertices for each of the reference's units.
 
@@ -175,8 +174,6 @@ def transfer_units(
     with find_parts when not given. warp: "similarity", "thin_plate" or "auto" (the warp when the
     similarity fit leaves the landmarks more than a few percent of the face apart). reference_landmarks
     default to find_landmarks on the reference, the convention the target's landmarks follow.
-    register: bend the placed reference onto the target's skin (registration.register_onto_target)
-    before sampling it.
     """
     if warp not in ("auto", "similarity", "thin_plate"):
         raise ValueError(f"warp must be 'auto', 'similarity' or 'thin_plate', not {warp!r}")
@@ -210,9 +207,7 @@ def transfer_units(
             gaps = np.linalg.norm(placed_landmarks[distinct] - placed_landmarks[index], axis=1)
             if gaps.min() > 1e-3 * face_size:
                 distinct.append(index)
-        warp_by_landmarks = ThinPlateWarp(placed_landmarks[distinct], target_points[distinct])
-        placed = warp_by_landmarks(placed)
-        placed_landmarks = warp_by_landmarks(placed_landmarks)
+        placed = ThinPlateWarp(placed_landmarks[distinct], target_points[distinct])(placed)
     turn = scale * rotation  # deltas follow the global rotation and scale only
 
     reference_triangles = triangulate(reference.polygons)
@@ -246,22 +241,6 @@ def transfer_units(
     reference_face = _reference_face_parts(
         reference, tuple((name, tuple(map(float, point))) for name, point in reference_landmarks.items())
     )
-    if register:
-        placed = register_onto_target(
-            placed,
-            surface,
-            reference_skin,
-            np.where(reference_face.sure, reference_face.label, 0),
-            target_vertices,
-            # Only the face's outer surface: inside the mouth and behind the lids the jaw and the
-            # lids' own rules decide, and the reference has no lining as deep to pair with.
-            skin[target_face.seen[skin] & (target_face.inside_mouth[skin] == 0)],
-            np.where(target_face.sure, target_face.label, 0),
-            upright_vertices,
-            np.array([upright_landmarks[name] for name in names]),
-            (placed_landmarks, target_points),
-            face_size,
-        )
     apart = np.zeros(len(target_vertices))  # each vertex's distance from the reference surface it samples
     sampled = upright_vertices.copy()  # where on the reference at rest each vertex samples (itself if none)
     for index, label in enumerate(PART_LABELS):
