@@ -13,6 +13,9 @@ import numpy as np
 
 from ..errors import HeadError
 
+# Under the chin the profile falls back more than UNDER_CHIN_FALL within UNDER_CHIN_RUN (face sizes).
+UNDER_CHIN_FALL = 0.04
+UNDER_CHIN_RUN = 0.02
 # The lids' margins at the middle of each eye: found only where a separate eyeball shows between the lids.
 LID_LANDMARK_NAMES: tuple[str, ...] = (
     "upper_lid_left",
@@ -516,8 +519,12 @@ class _FaceReader:
         column_rows = np.flatnonzero(self.valid[:, mid])
         end = min(nose_row + self.pixels(0.45), column_rows[-1])
         start = lower + self.pixels(0.03)
-        # Under the chin the surface turns to face down: the profile falls back faster than it descends.
-        falls = np.flatnonzero(np.diff(profile[start : end + 1]) < -1.5 * self.depth.pixel)
+        # Under the chin the surface turns to face down: the profile falls back faster than it descends,
+        # and keeps falling (the groove under a full lower lip falls steeply too, but only millimetres).
+        rows = np.arange(start, end + 1)
+        ahead = profile[np.minimum(rows + self.pixels(UNDER_CHIN_RUN), end)] - profile[rows]
+        steep = np.diff(profile[rows]) < -1.5 * self.depth.pixel
+        falls = np.flatnonzero(steep & (ahead[:-1] < -UNDER_CHIN_FALL * self.size))
         if falls.size:
             end = start + int(falls[0])
         if end <= start:
