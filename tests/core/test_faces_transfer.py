@@ -11,7 +11,7 @@ from turkish_lipsync.core.faces.closest import closest_points
 from turkish_lipsync.core.faces.landmarks import find_landmarks, triangulate
 from turkish_lipsync.core.faces.measure import displacement_cosine
 from turkish_lipsync.core.faces.reference import load_reference_head
-from turkish_lipsync.core.faces.registration import ThinPlateWarp, rigid_fit, similarity_fit
+from turkish_lipsync.core.faces.registration import LandmarkWarp, rigid_fit, similarity_fit
 from turkish_lipsync.core.faces.transfer import find_parts, transfer_units
 
 
@@ -84,7 +84,7 @@ def test_whole_body_gets_the_face_units_on_its_head_only(reference):
 
 
 def test_a_head_of_other_proportions_is_warped_onto(reference):
-    """A wider face with a longer jaw: the thin-plate warp beats one global similarity."""
+    """A wider face with a longer jaw: the landmark warp beats one global similarity."""
     vertices = reference.vertices.copy()
     vertices[:, 0] *= 1.25
     nose = reference.landmarks["nose_tip"][2]
@@ -101,8 +101,10 @@ def test_a_head_of_other_proportions_is_warped_onto(reference):
     for warp in ("similarity", "auto"):
         units = transfer_units(reference, vertices, reference.polygons, landmarks, warp=warp)
         median[warp] = np.median([relative_error(units[name], expected[name]) for name in units])
-    # Measured: 27.5 % with the similarity alone, 11.5 % once the warp (chosen automatically) is added.
-    assert median["auto"] < 0.15 < 0.2 < median["similarity"]
+    # Measured: 22.5 % with the similarity alone, 15.9 % once the warp (chosen automatically) is added
+    # (a thin-plate spline, which extrapolates a stretch all over the face, gave 11.5 % here but bent
+    # real heads' mouths toward their brows: registration.py).
+    assert median["auto"] < 0.75 * median["similarity"] and median["similarity"] > 0.2
 
 
 def reshape_face(points: np.ndarray, landmarks) -> np.ndarray:
@@ -124,7 +126,8 @@ def reshape_face(points: np.ndarray, landmarks) -> np.ndarray:
 def test_a_face_of_other_proportions_and_topology_gets_the_units_it_would_have(reference):
     """The truth is known: the reference subdivided (19,879 vertices) and bent into another face, its units
     bent alike. Before the chin was told from the groove under a full lower lip, this face had no landmarks
-    ("no chin was found"). Measured: mean cosine 0.967, the lowest browInnerUp 0.81."""
+    ("no chin was found"). Measured: mean cosine 0.975, the lowest browInnerUp 0.91 (0.967 and 0.81 with
+    a thin-plate warp)."""
     cuts = 2
     rest, quads = subdivide_quads(np.asarray(reference.vertices), reference.polygons, cuts)
     target = reshape_face(rest, reference.landmarks)
@@ -135,7 +138,7 @@ def test_a_face_of_other_proportions_and_topology_gets_the_units_it_would_have(r
     landmarks = find_landmarks(target, quads)
     units = transfer_units(reference, target, quads, landmarks)
     cosines = [displacement_cosine(units[name], expected[name]) for name in units if np.any(expected[name])]
-    assert np.mean(cosines) > 0.95 and min(cosines) > 0.75
+    assert np.mean(cosines) > 0.96 and min(cosines) > 0.85
 
 
 def test_too_few_landmarks_are_refused(reference):
@@ -161,11 +164,11 @@ def test_similarity_and_rigid_fits_recover_a_known_motion():
     np.testing.assert_allclose(shift, [3.0, 3.0, 3.0], atol=1e-9)
 
 
-def test_thin_plate_warp_takes_each_landmark_to_its_target():
+def test_landmark_warp_takes_each_landmark_to_its_target():
     rng = np.random.default_rng(2)
     source = rng.normal(size=(10, 3))
     target = source + 0.1 * rng.normal(size=(10, 3))
-    warp = ThinPlateWarp(source, target)
+    warp = LandmarkWarp(source, target)
     np.testing.assert_allclose(warp(source), target, atol=1e-9)
 
 

@@ -13,6 +13,8 @@ import numpy as np
 
 from ..errors import HeadError
 
+# An eye's opening and upper lid reach at most this far above its corners (face sizes).
+EYE_HEIGHT = 0.05
 # Under the chin the profile falls back more than UNDER_CHIN_FALL within UNDER_CHIN_RUN (face sizes).
 UNDER_CHIN_FALL = 0.04
 UNDER_CHIN_RUN = 0.02
@@ -614,7 +616,9 @@ class _FaceReader:
             points[f"eye_inner_{side}"] = self._surface_near(*inner)
             points[f"eye_outer_{side}"] = self._surface_near(*outer)
             centre_column = (inner[1] + outer[1]) // 2
-            eye_top = min(inner[0], outer[0], top + rows.min())
+            # The socket's recess may run on up a flat forehead: the eye ends a little above its corners.
+            corners_row = min(inner[0], outer[0])
+            eye_top = min(corners_row, max(top + rows.min(), corners_row - self.pixels(EYE_HEIGHT)))
             brow_rows = np.arange(max(eye_top - self.pixels(0.1), 0), eye_top)
             brow_row = int(brow_rows[np.argmax(self.filled[brow_rows, centre_column])])
             points[f"brow_{side}"] = self.depth.point(brow_row, centre_column)

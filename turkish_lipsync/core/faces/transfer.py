@@ -1,10 +1,11 @@
 """Carry the reference head's 52 ARKit units over to a head that has none.
 
 The landmarks register the reference onto the target (a similarity fit, and for heads whose proportions
-differ a thin-plate-spline warp on top); each target skin vertex then takes the deltas of the closest
-point on the reference surface, turned and scaled by the fitted similarity. Teeth and eyes are rigid:
-each unit's motion of the reference's teeth and eyes is fitted as a rotation and translation and applied
-to the target's, so the jaw carries the lower teeth without bending them, and the eyes turn in place.
+differ a local warp that takes each landmark onto its own); each target skin vertex then takes the
+deltas of the closest point on the reference surface, turned and scaled by the fitted similarity. Teeth
+and eyes are rigid: each unit's motion of the reference's teeth and eyes is fitted as a rotation and
+translation and applied to the target's, so the jaw carries the lower teeth without bending them, and
+the eyes turn in place.
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ from .parts import (
     opening_gap,
     smooth_over_edges,
 )
-from .registration import ThinPlateWarp, rigid_fit, similarity_fit
+from .registration import LandmarkWarp, rigid_fit, similarity_fit
 
 # Reference part names (reference.parts) and the target part each one drives.
 RIGID_PARTS: tuple[str, ...] = ("upper_teeth", "lower_teeth", "left_eye", "right_eye")
@@ -171,12 +172,12 @@ def transfer_units(
 
     reference: a ReferenceHead (vertices, polygons, parts, units). target_parts: vertex indices of
     "upper_teeth", "lower_teeth", "tongue", "left_eye", "right_eye" (or "eyes", split by side), found
-    with find_parts when not given. warp: "similarity", "thin_plate" or "auto" (the warp when the
+    with find_parts when not given. warp: "similarity", "landmarks" or "auto" (the warp when the
     similarity fit leaves the landmarks more than a few percent of the face apart). reference_landmarks
     default to find_landmarks on the reference, the convention the target's landmarks follow.
     """
-    if warp not in ("auto", "similarity", "thin_plate"):
-        raise ValueError(f"warp must be 'auto', 'similarity' or 'thin_plate', not {warp!r}")
+    if warp not in ("auto", "similarity", "landmarks"):
+        raise ValueError(f"warp must be 'auto', 'similarity' or 'landmarks', not {warp!r}")
     target_vertices = np.asarray(target_vertices, np.float64)
     target_triangles = triangulate(target_polygons)
     if reference_landmarks is None:
@@ -195,7 +196,7 @@ def transfer_units(
     placed_landmarks = scale * source_points @ rotation.T + translation
     face_size = float(np.linalg.norm(np.ptp(target_points, axis=0)))
     residual = float(np.sqrt(((placed_landmarks - target_points) ** 2).sum(1).mean()))
-    use_warp = warp == "thin_plate" or (warp == "auto" and residual > WARP_RESIDUAL * face_size)
+    use_warp = warp == "landmarks" or (warp == "auto" and residual > WARP_RESIDUAL * face_size)
 
     reference_vertices = np.asarray(reference.vertices, np.float64)
     placed = scale * reference_vertices @ rotation.T + translation
@@ -207,7 +208,7 @@ def transfer_units(
             gaps = np.linalg.norm(placed_landmarks[distinct] - placed_landmarks[index], axis=1)
             if gaps.min() > 1e-3 * face_size:
                 distinct.append(index)
-        placed = ThinPlateWarp(placed_landmarks[distinct], target_points[distinct])(placed)
+        placed = LandmarkWarp(placed_landmarks[distinct], target_points[distinct])(placed)
     turn = scale * rotation  # deltas follow the global rotation and scale only
 
     reference_triangles = triangulate(reference.polygons)
