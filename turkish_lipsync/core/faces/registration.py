@@ -6,10 +6,10 @@ with distance) let the brows' 7 mm of disagreement between Vitruvian and the ref
 (pucker and smile against its artists' keys 0.63 and 0.62; local 0.71 and 0.73), and on the reference
 bent into 24 other faces (scripts/measure_transfer.py) the local warp gives mean cosine 0.971 against
 the thin-plate's 0.970, the worst face 0.951 against 0.924. An affine fit under the local pulls (for a
-face wider all over) lost on both (Vitruvian 0.67 and 0.67, the bent faces 0.968 and 0.935). A non-rigid ICP on top (pairs of closest points,
-a smoothing spline through them) brought the surfaces together on Vitruvian (median gap 2.15 -> 0.43 mm)
-but did not bring the transferred keys nearer its artists' (31 units compared, each within +-0.05) and
-took 4 s more; it is not used.
+face wider all over) lost on both (Vitruvian 0.67 and 0.67, the bent faces 0.968 and 0.935).
+A non-rigid ICP on top (pairs of closest points, a smoothing spline through them) brought the surfaces
+together on Vitruvian (median gap 2.15 -> 0.43 mm) but did not bring the transferred keys nearer its
+artists' (31 units compared, each within +-0.05) and took 4 s more; it is not used.
 """
 
 from __future__ import annotations
