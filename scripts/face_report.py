@@ -29,6 +29,7 @@ from turkish_lipsync.blender import heads, mesh, shapekeys  # noqa: E402
 from turkish_lipsync.blender.landmarks import read_landmark_markers, show_landmark_markers  # noqa: E402
 from turkish_lipsync.core.data import load_table  # noqa: E402
 from turkish_lipsync.core.errors import LipSyncError  # noqa: E402
+from turkish_lipsync.core.faces.arkit_names import ARKIT_UNITS  # noqa: E402
 from turkish_lipsync.core.faces.landmarks import face_frame  # noqa: E402
 from turkish_lipsync.core.faces.measure import FaceMeasure, displacement_cosine  # noqa: E402
 from turkish_lipsync.core.model import BLINK_KEYS, EMOTIONS, emotion_key_name, viseme_key_name  # noqa: E402
@@ -84,8 +85,14 @@ def measure(head, built: dict[str, np.ndarray], artist: dict[str, np.ndarray], l
     vertices = mesh.world_rest_coordinates(head).astype(np.float64)
     face = FaceMeasure(vertices, mesh.triangles(head), landmarks)
     comparisons = load_table("artist_comparisons")["compare"]
+    # Every ARKit unit the head's artist also made (by its own name, or the table's) is compared too.
+    compared_units = [
+        unit
+        for unit in ARKIT_UNITS
+        if unit not in MEASURED and any(name in artist for name in _artist_names(unit, comparisons))
+    ]
     rows = []
-    for key in MEASURED:
+    for key in (*MEASURED, *compared_units):
         if key not in built:
             continue
         deltas = built[key]
@@ -99,7 +106,7 @@ def measure(head, built: dict[str, np.ndarray], artist: dict[str, np.ndarray], l
             row["lip_gap_mm"] = max(row["aperture_mm"], 0.0)
         if key in (BLINK_KEYS[0], "eyeBlinkLeft"):
             row["lid_gap_mm"] = 1000 * face.lid_gap(deltas, "left")
-        theirs = next((name for name in comparisons.get(key, ()) if name in artist), None)
+        theirs = next((name for name in _artist_names(key, comparisons) if name in artist), None)
         if theirs is not None:
             row["artist_key"] = theirs
             row["cosine"] = displacement_cosine(deltas, artist[theirs])
@@ -109,6 +116,13 @@ def measure(head, built: dict[str, np.ndarray], artist: dict[str, np.ndarray], l
                 row["artist_lid_gap_mm"] = 1000 * face.lid_gap(artist[theirs], "left")
         rows.append(row)
     return rows
+
+
+def _artist_names(key: str, comparisons) -> tuple[str, ...]:
+    """The artist key names that show the same shape as our key: the table's, else an ARKit unit's own."""
+    if key in comparisons:
+        return tuple(comparisons[key])
+    return (key, key[0].upper() + key[1:]) if key in ARKIT_UNITS else ()
 
 
 def print_table(rows: list[dict], rest_aperture: float, rest_lid_gap: float) -> None:
@@ -129,6 +143,9 @@ def print_table(rows: list[dict], rest_aperture: float, rest_lid_gap: float) -> 
             f"{cell(row, 'artist_stretch', '7.1f'):>7s} {cell(row, 'artist_aperture_mm', '6.1f'):>6s} "
             f"{cell(row, 'artist_lid_gap_mm', '7.1f'):>7s}"
         )
+    cosines = [row["cosine"] for row in rows if "cosine" in row]
+    if cosines:
+        print(f"mean cosine against the artist's keys: {np.mean(cosines):.2f} over {len(cosines)} keys")
 
 
 # ---------------------------------------------------------------- the picture

@@ -4,8 +4,8 @@ The landmarks place the reference (a similarity fit, and a warp where the propor
 fit turns teeth and eyes as solids. The warp is local: a thin-plate spline (kernel |r|, whose pull grows
 with distance) let the brows' 7 mm of disagreement between Vitruvian and the reference bend its mouth
 (pucker and smile against its artists' keys 0.63 and 0.62; local 0.71 and 0.73), and on the reference
-bent into 24 other faces (scripts/measure_transfer.py) the local warp gives mean cosine 0.971 against
-the thin-plate's 0.970, the worst face 0.951 against 0.924. An affine fit under the local pulls (for a
+bent into 24 other faces (scripts/measure_transfer.py) the local warp gives mean cosine 0.970 against
+the thin-plate's 0.970, the worst face 0.938 against 0.924. An affine fit under the local pulls (for a
 face wider all over) lost on both (Vitruvian 0.67 and 0.67, the bent faces 0.968 and 0.935).
 A non-rigid ICP on top (pairs of closest points, a smoothing spline through them) brought the surfaces
 together on Vitruvian (median gap 2.15 -> 0.43 mm) but did not bring the transferred keys nearer its
@@ -16,9 +16,14 @@ from __future__ import annotations
 
 import numpy as np
 
-# How far a landmark's pull reaches, as a share of the landmarks' spread (about the face's diagonal):
-# 0.1 to 0.15 measured best on Vitruvian and on the bent faces; 0.25 and 0.4 fell back toward the spline.
-LANDMARK_REACH = 0.15
+# How far the landmarks' pull reaches, as a share of their spread (about the face's diagonal):
+# REACH_PER_OFFSET times the median distance (same share) the similarity fit leaves them from their
+# targets, within REACH_RANGE. Most landmarks near their fit mean local differences (Vitruvian, median
+# 1.1 %: 0.15, best there and on the bent faces; 0.25 and 0.4 fell back toward the spline); most of them
+# far off mean a face of other proportions all over (Godette's stylised eyes, 6.7 %: 0.27; at 0.15 its
+# transferred blink stretched its lids 4.0, now 1.7). Bent faces: mean 0.970, worst 0.938.
+REACH_PER_OFFSET = 4.0
+REACH_RANGE = (0.15, 0.6)
 
 
 def similarity_fit(source: np.ndarray, target: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
@@ -53,12 +58,14 @@ def rigid_fit(before: np.ndarray, after: np.ndarray) -> tuple[np.ndarray, np.nda
 
 class LandmarkWarp:
     """A smooth 3D warp that moves each source landmark exactly onto its target, its pull fading with
-    distance (Gaussian, reach LANDMARK_REACH of the landmarks' spread): a landmark that two heads place a
-    little differently (a brow, a nose tip) bends its own region, not the mouth across the face."""
+    distance (Gaussian, reach as REACH_PER_OFFSET says): a landmark that two heads place a little
+    differently (a brow, a nose tip) bends its own region, not the mouth across the face."""
 
     def __init__(self, source: np.ndarray, target: np.ndarray) -> None:
         self.source = np.asarray(source, np.float64)
-        self.reach = LANDMARK_REACH * float(np.linalg.norm(np.ptp(self.source, axis=0)))
+        spread = float(np.linalg.norm(np.ptp(self.source, axis=0)))
+        offset = float(np.median(np.linalg.norm(np.asarray(target) - self.source, axis=1))) / spread
+        self.reach = spread * float(np.clip(REACH_PER_OFFSET * offset, *REACH_RANGE))
         kernel = self._kernel(self.source)
         # Distinct landmarks make the kernel positive definite; the ridge only guards near-duplicates.
         kernel[np.diag_indices(len(kernel))] += 1e-9
