@@ -59,7 +59,9 @@ def closest_points(
         allowed = np.ones(len(triangles), bool)
     if around is None:
         around = triangles_around(len(vertices), triangles)
-    used = np.unique(triangles[allowed])
+    used = np.zeros(len(vertices), bool)
+    used[triangles[allowed].ravel()] = True
+    used = np.flatnonzero(used)
     nearest = used[_nearest_vertex(points, vertices[used])]
     best_distance = np.full(len(points), np.inf)
     best_triangle = np.zeros(len(points), np.int64)

@@ -447,7 +447,9 @@ def _smooth_lids(result, face, triangles, vertices, unreliable) -> None:
     local = np.full(len(vertices), -1)
     region = np.unique(np.concatenate((labelled, edges.ravel())))
     local[region] = np.arange(len(region))
-    names = list(result)
+    names = [name for name in result if np.any(result[name][region])]  # most units leave the lids be
+    if not names:
+        return
     stacked = np.concatenate([result[name][region] for name in names], axis=1)
     smoothed = smooth_over_edges(stacked, local[edges], np.ones(len(region), bool), SMOOTHING_SWEEPS)
     weight = unreliable[region][:, None]
