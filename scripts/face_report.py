@@ -32,6 +32,9 @@ from turkish_lipsync.core.errors import LipSyncError  # noqa: E402
 from turkish_lipsync.core.faces.arkit_names import ARKIT_UNITS  # noqa: E402
 from turkish_lipsync.core.faces.landmarks import face_frame  # noqa: E402
 from turkish_lipsync.core.faces.measure import FaceMeasure, displacement_cosine  # noqa: E402
+from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
+from turkish_lipsync.core.faces.registration import similarity_fit  # noqa: E402
+from turkish_lipsync.core.faces.transfer import reference_landmarks_of  # noqa: E402
 from turkish_lipsync.core.model import BLINK_KEYS, EMOTIONS, emotion_key_name, viseme_key_name  # noqa: E402
 
 # Picture rows: label -> the keys set to 1 (on the head and its parts).
@@ -80,8 +83,21 @@ def strip_keys(objects) -> None:
             obj.shape_key_clear()
 
 
+def millimetres_per_unit(landmarks) -> float:
+    """Millimetres in one of the head's units, read from its size against the reference head's (a human
+    head in metres): the nearest power of ten, so a head in metres reads true and one modelled in
+    centimetres or decimetres (MediaPipe's mask, MakeHuman's body) reads in millimetres all the same."""
+    reference = reference_landmarks_of(load_reference_head())
+    names = [name for name in reference if name in landmarks]
+    scale, _, _ = similarity_fit(
+        np.array([reference[name] for name in names]), np.array([landmarks[name] for name in names])
+    )
+    return 1000.0 / 10.0 ** round(math.log10(scale))
+
+
 def measure(head, built: dict[str, np.ndarray], artist: dict[str, np.ndarray], landmarks) -> list[dict]:
-    """One row of figures per measured key the build wrote."""
+    """One row of figures per measured key the build wrote (lengths in mm: millimetres_per_unit)."""
+    millimetres = millimetres_per_unit(landmarks)
     vertices = mesh.world_rest_coordinates(head).astype(np.float64)
     face = FaceMeasure(vertices, mesh.triangles(head), landmarks)
     comparisons = load_table("artist_comparisons")["compare"]
@@ -98,22 +114,22 @@ def measure(head, built: dict[str, np.ndarray], artist: dict[str, np.ndarray], l
         deltas = built[key]
         row = {
             "key": key,
-            "aperture_mm": 1000 * face.lip_aperture(deltas),
+            "aperture_mm": millimetres * face.lip_aperture(deltas),
             "stretch": face.stretch(deltas),
             "symmetry": face.symmetry(deltas),
         }
         if key in BILABIALS:
             row["lip_gap_mm"] = max(row["aperture_mm"], 0.0)
         if key in (BLINK_KEYS[0], "eyeBlinkLeft"):
-            row["lid_gap_mm"] = 1000 * face.lid_gap(deltas, "left")
+            row["lid_gap_mm"] = millimetres * face.lid_gap(deltas, "left")
         theirs = next((name for name in _artist_names(key, comparisons) if name in artist), None)
         if theirs is not None:
             row["artist_key"] = theirs
             row["cosine"] = displacement_cosine(deltas, artist[theirs])
             row["artist_stretch"] = face.stretch(artist[theirs])
-            row["artist_aperture_mm"] = 1000 * face.lip_aperture(artist[theirs])
+            row["artist_aperture_mm"] = millimetres * face.lip_aperture(artist[theirs])
             if "lid_gap_mm" in row:
-                row["artist_lid_gap_mm"] = 1000 * face.lid_gap(artist[theirs], "left")
+                row["artist_lid_gap_mm"] = millimetres * face.lid_gap(artist[theirs], "left")
         rows.append(row)
     return rows
 
@@ -290,7 +306,8 @@ def face_report(head_path: Path | None, out_dir: Path, object_name: str | None, 
     rows = measure(head, built, artist, landmarks)
     face = FaceMeasure(mesh.world_rest_coordinates(head).astype(np.float64), mesh.triangles(head), landmarks)
     zero = np.zeros((len(head.data.vertices), 3))
-    print_table(rows, 1000 * face.lip_aperture(zero), 1000 * face.lid_gap(zero, "left"))
+    millimetres = millimetres_per_unit(landmarks)
+    print_table(rows, millimetres * face.lip_aperture(zero), millimetres * face.lid_gap(zero, "left"))
     if render:
         out_dir.mkdir(parents=True, exist_ok=True)
         stem = head_path.stem if head_path else "default_head"

@@ -153,7 +153,7 @@ def _is_ball(points: np.ndarray, eye_width: float) -> bool:
 
 
 @functools.lru_cache(maxsize=4)
-def _reference_landmarks_of(reference) -> dict[str, np.ndarray]:
+def reference_landmarks_of(reference) -> dict[str, np.ndarray]:
     """The reference's landmarks found the same way as a target's, so both follow one convention."""
     return find_landmarks(reference.vertices, reference.polygons)
 
@@ -181,7 +181,7 @@ def transfer_units(
     target_vertices = np.asarray(target_vertices, np.float64)
     target_triangles = triangulate(target_polygons)
     if reference_landmarks is None:
-        reference_landmarks = _reference_landmarks_of(reference)
+        reference_landmarks = reference_landmarks_of(reference)
     names = [name for name in reference_landmarks if name in target_landmarks]
     if len(names) < 4:
         raise HeadError(
