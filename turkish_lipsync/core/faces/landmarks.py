@@ -13,6 +13,8 @@ import numpy as np
 
 from ..errors import HeadError
 
+# Slices (of 200, from the top) where find_head_region looks for no neck yet.
+CROWN_SLICES = 10
 # An eye's opening and upper lid reach at most this far above its corners (face sizes).
 EYE_HEIGHT = 0.05
 # Under the chin the profile falls back more than UNDER_CHIN_FALL within UNDER_CHIN_RUN (face sizes).
@@ -141,7 +143,8 @@ def find_head_region(vertices: np.ndarray, polygons) -> np.ndarray:
     for index, value in enumerate(width):
         if np.isnan(value):
             continue
-        if value > 1.6 * widest and narrowest < 0.85 * widest:
+        # The crown's first slices hold a few vertices each (a tilted head's top): no neck is there.
+        if index >= CROWN_SLICES and value > 1.6 * widest and narrowest < 0.85 * widest:
             neck_z = top - (neck_slice + 0.5) / slice_count * height
             centre = 0.5 * (low[:neck_slice].min() + high[:neck_slice].max())
             above = vertices[:, 2] >= neck_z
@@ -256,8 +259,9 @@ def find_landmarks(vertices: np.ndarray, polygons) -> dict[str, np.ndarray]:
     LID_LANDMARK_NAMES where the mesh's eyeballs show between its lids.
 
     A face looking toward -Y with Z up is searched first; when none is found there, the head is turned
-    to each other facing (FACINGS) and searched again. Raises HeadError when no facing shows a face
-    (no nose above a mouth, no eyes).
+    to each other facing (FACINGS), then tilted (TILTS), and searched again; a face found leaning or
+    turned is searched once more seen straight on. Raises HeadError when no view shows a face (no nose
+    above a mouth, no eyes).
     """
     vertices = np.asarray(vertices, np.float64)
     if vertices.ndim != 2 or vertices.shape[1] != 3 or len(vertices) < 4:
@@ -267,19 +271,87 @@ def find_landmarks(vertices: np.ndarray, polygons) -> dict[str, np.ndarray]:
     triangles = triangulate(polygons)
     if triangles.size and (triangles.min() < 0 or triangles.max() >= len(vertices)):
         raise HeadError("The head mesh has polygons that refer to missing vertices; clean up the mesh.")
-    try:
-        return _find_facing_front(vertices, triangles)
-    except HeadError as error:
-        first_error = error
-    for _, turn in FACINGS:
+    return _search_views(vertices, triangles)
+
+
+def _rotation(axis: int, degrees: float) -> np.ndarray:
+    first, second = [index for index in range(3) if index != axis]
+    angle = np.radians(degrees)
+    turn = np.eye(3)
+    turn[first, first] = turn[second, second] = np.cos(angle)
+    turn[first, second], turn[second, first] = -np.sin(angle), np.sin(angle)
+    return turn
+
+
+# Tilts tried on a head that shows no face along any axis: rolled (about the view axis Y), pitched
+# (about X) and turned (about Z) by these many degrees. A head rolled 10 degrees showed no mouth.
+TILTS: tuple[np.ndarray, ...] = tuple(
+    _rotation(axis, sign * degrees)
+    for axis, steps in ((1, (15, 30)), (0, (15, 30)), (2, (20,)))
+    for degrees in steps
+    for sign in (1, -1)
+)
+# A face whose line across (mouth and eye corners) runs more than this far aslant in the view it was
+# found in is searched again in a view turned to level it, so the depth map's rows run along its mouth.
+REFINE_DEGREES = 3.0
+# Seen straight on, every landmark must come back within this share of the face's size: further, and one
+# of the two views read something else as a face (a forehead as the nose of a head looking down, a
+# mouth corner run out along a cheek), so the search goes on.
+AGREEMENT = 0.08
+
+
+def _search_views(vertices: np.ndarray, triangles: np.ndarray) -> dict[str, np.ndarray]:
+    """The landmarks of the first view that shows a face and agrees with itself seen straight on: looking
+    toward -Y, then each other facing, then -Y and +Y tilted by TILTS (view = mesh @ turn.T)."""
+    first_error, doubtful = None, None
+    views = [np.eye(3), *(turn for _, turn in FACINGS)]
+    views += [tilt @ facing for facing in views[:2] for tilt in TILTS]
+    for turn in views:
         try:
             found = _find_facing_front(vertices @ turn.T, triangles)
-        except HeadError:
+        except HeadError as error:
+            first_error = first_error or error
             continue
-        return {name: point @ turn for name, point in found.items()}
+        found = {name: point @ turn for name, point in found.items()}
+        refined, disagreement = _seen_straight_on(vertices, triangles, found, turn)
+        if disagreement <= AGREEMENT:
+            return refined
+        if doubtful is None or disagreement < doubtful[1]:
+            doubtful = (found, disagreement)
+    if doubtful is not None:
+        return doubtful[0]
     raise HeadError(
-        f"{first_error} (The head was also searched turned to look toward +Y, +X, -X, up and down.)"
+        f"{first_error} (The head was also searched turned to look toward +Y, +X, -X, up and down, "
+        "and tilted.)"
     ) from first_error
+
+
+def _seen_straight_on(vertices, triangles, found, turn) -> tuple[dict[str, np.ndarray], float]:
+    """(landmarks, disagreement): when the line across the face (mouth corners, inner eye corners) runs
+    aslant in the view it was found in (a head rolled or turned a little), the landmarks found again in a
+    view turned to run along it, and how far the furthest moved (share of the face's size); the landmarks
+    as found, 0, when the face was seen level. (Only roll and turn are corrected: the lean of the chin
+    below the eyes is a matter of proportions as much as of pose.)"""
+    view_across, view_up = turn[0], turn[2]
+    across = (found["mouth_corner_left"] - found["mouth_corner_right"]) + (
+        found["eye_inner_left"] - found["eye_inner_right"]
+    )
+    across /= np.linalg.norm(across)
+    if np.degrees(np.arccos(np.clip(across @ view_across, -1.0, 1.0))) <= REFINE_DEGREES:
+        return found, 0.0
+    up = view_up - (view_up @ across) * across
+    up /= np.linalg.norm(up)
+    level = np.stack((across, np.cross(up, across), up))  # view = mesh @ level.T, as turn is
+    try:
+        again = _find_facing_front(vertices @ level.T, triangles)
+    except HeadError:
+        return found, np.inf
+    again = {name: point @ level for name, point in again.items()}
+    names = [name for name in found if name in again]
+    points = np.array([found[name] for name in names])
+    size = float(np.linalg.norm(np.ptp(points, axis=0)))
+    moved = max(np.linalg.norm(again[name] - found[name]) for name in names) / size
+    return again, float(moved)
 
 
 # How far the line from the chin to the eyes leans back from the vertical on an upright face (measured on
@@ -379,10 +451,18 @@ def _check_proportions(points: dict[str, np.ndarray], widths: bool = True) -> No
     mouth = np.linalg.norm(points["mouth_corner_left"] - points["mouth_corner_right"])
     eyes = np.linalg.norm(points["eye_outer_left"] - points["eye_outer_right"])
     heights = [points[name][2] for name in ("brow_left", "eye_inner_left", "nose_tip", "upper_lip", "chin")]
-    if (widths and not 0.3 * eyes < mouth < 1.5 * eyes) or np.any(np.diff(heights) >= 0):
+    # The eyes' inner corners lie apart, the left one toward +X: a head looking up far enough shows its
+    # chin as the most forward point, and what lies above it (the lips) is no pair of eyes.
+    inner_gap = points["eye_inner_left"][0] - points["eye_inner_right"][0]
+    if (
+        (widths and not 0.3 * eyes < mouth < 1.5 * eyes)
+        or np.any(np.diff(heights) >= 0)
+        or inner_gap < 0.15 * eyes
+    ):
         raise HeadError(
             "What looks like a face toward -Y has no face's proportions (mouth width against the eyes' "
-            "distance, brows over eyes over nose over mouth over chin); place the landmark markers."
+            "distance, the eyes apart, brows over eyes over nose over mouth over chin); place the "
+            "landmark markers."
         )
 
 
@@ -585,6 +665,11 @@ class _FaceReader:
             window = recess[top:bottom, first : last + 1]
             blob = _grow_blob(window > min(0.015 * self.size, 0.5 * window[seed]), seed)
             rows, columns = np.nonzero(blob)
+            if rows.size == 0:
+                raise HeadError(
+                    f"No {side} eye found beside the nose (its socket is too shallow to outline). "
+                    "Turn the head so its face looks toward -Y with Z up, or place the landmark markers."
+                )
             distance = np.abs(first + columns - mid)
             inner_column, outer_column = distance.min(), distance.max()
             inner_row = top + int(np.median(rows[distance == inner_column]))
