@@ -1,10 +1,11 @@
 """Transfer quality where the truth is known: the reference head bent into other faces at random.
 
-    .venv/bin/python scripts/measure_transfer.py [--faces 24] [--seed 0] [--cuts 1]
+    .venv/bin/python scripts/measure_transfer.py [--faces 24] [--seed 0] [--cuts 1] [--tilt DEGREES]
 
 Each face is the reference head (subdivided `cuts` times) bent smoothly: a wider or narrower jaw, a longer
 or shorter chin, a bigger or smaller nose, fuller lips, eyes further apart, a sloping forehead, a midface
-pushed forward, taller or shorter, at 1/100, 1 or 10 times the size. The reference's units bent the same
+pushed forward, taller or shorter, at 1/100, 1 or 10 times the size, and with --tilt rolled, nodding and
+turned. The reference's units bent the same
 way are the truth. Printed per face: the landmark found furthest from where the reference's own landmark
 went (share of the face's size), and the cosine of the transferred units against the truth (mean and
 lowest, with the lowest unit's name).
@@ -40,6 +41,9 @@ BEND_RANGES = {
     "midface": (-0.01, 0.01),  # the middle of the face pushed forward by
     "tall": (0.85, 1.2),  # the face's height, as a factor about the nose tip
 }
+# With --tilt DEGREES, each face is also rolled (about Y), nodding (about X) and turned (about Z) by up
+# to that many degrees each, after the bends.
+TILT_NAMES = ("roll", "nod", "turn")
 SIZES = (0.01, 1.0, 10.0)
 
 
@@ -65,7 +69,21 @@ def reshape_face(points: np.ndarray, landmarks, bends: dict[str, float]) -> np.n
     middle = np.exp(-((x / 0.05) ** 2)) * np.clip((z - chin[2]) / 0.1, 0, 1)
     out[:, 1] -= bends.get("midface", 0.0) * middle * np.clip((brow_z + 0.02 - z) / 0.03, 0, 1)
     out[:, 2] = nose_tip[2] + (out[:, 2] - nose_tip[2]) * bends.get("tall", 1.0)
-    return out * bends.get("size", 1.0)
+    turn = tilt(bends)
+    return ((out - nose_tip) @ turn.T + nose_tip) * bends.get("size", 1.0)
+
+
+def tilt(bends: dict[str, float]) -> np.ndarray:
+    """The rotation of the bends' roll, nod and turn (degrees; none when absent)."""
+    turn = np.eye(3)
+    for axis, name in ((1, "roll"), (0, "nod"), (2, "turn")):
+        first, second = [index for index in range(3) if index != axis]
+        angle = np.radians(bends.get(name, 0.0))
+        step = np.eye(3)
+        step[first, first] = step[second, second] = np.cos(angle)
+        step[first, second], step[second, first] = -np.sin(angle), np.sin(angle)
+        turn = step @ turn
+    return turn
 
 
 def measure_face(reference, bends: dict[str, float], cuts: int) -> dict:
@@ -97,6 +115,7 @@ def main() -> int:
     parser.add_argument("--faces", type=int, default=24, help="how many bent faces (default 24)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the random bends")
     parser.add_argument("--cuts", type=int, default=1, help="subdivide the reference this many times first")
+    parser.add_argument("--tilt", type=float, default=0.0, help="also tilt each face up to this many degrees")
     arguments = parser.parse_args()
     reference = load_reference_head()
     random = np.random.default_rng(arguments.seed)
@@ -105,6 +124,7 @@ def main() -> int:
     for face in range(arguments.faces):
         bends = {name: float(random.uniform(*limits)) for name, limits in BEND_RANGES.items()}
         bends["size"] = float(random.choice(SIZES))
+        bends.update({name: float(random.uniform(-arguments.tilt, arguments.tilt)) for name in TILT_NAMES})
         try:
             row = measure_face(reference, bends, arguments.cuts)
         except HeadError as error:
