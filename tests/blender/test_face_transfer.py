@@ -185,3 +185,16 @@ def test_a_low_poly_game_head_on_its_back_builds_with_an_open_mouth_and_closing_
         assert face.lip_aperture(built[f"TR_viseme_{bilabial}"]) < 0.001, bilabial
     assert face.lid_gap(built["eyeBlinkLeft"]) < 0 and face.stretch(built["eyeBlinkLeft"]) < 4
     assert face.symmetry(built["jawOpen"]) > 0.9
+
+
+def test_the_face_report_reads_millimetres_whatever_the_units():
+    """A head modelled in centimetres or decimetres reports its lip and lid gaps in millimetres too: the
+    MediaPipe mask (cm) opens 39.7 mm, not 3,970 (measured)."""
+    from scripts.face_report import millimetres_per_unit
+    from turkish_lipsync.core.faces.reference import load_reference_head
+    from turkish_lipsync.core.faces.transfer import reference_landmarks_of
+
+    landmarks = reference_landmarks_of(load_reference_head())
+    for unit, expected in ((1.0, 1000.0), (100.0, 10.0), (10.0, 100.0), (1.3, 1000.0), (0.001, 1e6)):
+        scaled = {name: point * unit for name, point in landmarks.items()}
+        assert millimetres_per_unit(scaled) == pytest.approx(expected)
