@@ -95,11 +95,10 @@ def millimetres_per_unit(landmarks) -> float:
     return 1000.0 / 10.0 ** round(math.log10(scale))
 
 
-def measure(head, built: dict[str, np.ndarray], artist: dict[str, np.ndarray], landmarks) -> list[dict]:
-    """One row of figures per measured key the build wrote (lengths in mm: millimetres_per_unit)."""
-    millimetres = millimetres_per_unit(landmarks)
-    vertices = mesh.world_rest_coordinates(head).astype(np.float64)
-    face = FaceMeasure(vertices, mesh.triangles(head), landmarks)
+def measure(
+    face: FaceMeasure, built: dict[str, np.ndarray], artist: dict[str, np.ndarray], millimetres: float
+) -> list[dict]:
+    """One row of figures per measured key the build wrote (lengths times `millimetres` per unit)."""
     comparisons = load_table("artist_comparisons")["compare"]
     # Every ARKit unit the head's artist also made (by its own name, or the table's) is compared too.
     compared_units = [
@@ -303,10 +302,10 @@ def face_report(head_path: Path | None, out_dir: Path, object_name: str | None, 
     for warning in report.warnings:
         print(f"warning: {warning}")
     built = world_key_deltas(head)
-    rows = measure(head, built, artist, landmarks)
     face = FaceMeasure(mesh.world_rest_coordinates(head).astype(np.float64), mesh.triangles(head), landmarks)
-    zero = np.zeros((len(head.data.vertices), 3))
     millimetres = millimetres_per_unit(landmarks)
+    rows = measure(face, built, artist, millimetres)
+    zero = np.zeros((len(head.data.vertices), 3))
     print_table(rows, millimetres * face.lip_aperture(zero), millimetres * face.lid_gap(zero, "left"))
     if render:
         out_dir.mkdir(parents=True, exist_ok=True)

@@ -23,7 +23,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from scripts.bench_transfer import subdivide_quads  # noqa: E402
 from turkish_lipsync.core.errors import HeadError  # noqa: E402
-from turkish_lipsync.core.faces.landmarks import find_landmarks  # noqa: E402
+from turkish_lipsync.core.faces.landmarks import axis_rotation, find_landmarks  # noqa: E402
 from turkish_lipsync.core.faces.measure import displacement_cosine  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
 from turkish_lipsync.core.faces.transfer import transfer_units  # noqa: E402
@@ -77,12 +77,7 @@ def tilt(bends: dict[str, float]) -> np.ndarray:
     """The rotation of the bends' roll, nod and turn (degrees; none when absent)."""
     turn = np.eye(3)
     for axis, name in ((1, "roll"), (0, "nod"), (2, "turn")):
-        first, second = [index for index in range(3) if index != axis]
-        angle = np.radians(bends.get(name, 0.0))
-        step = np.eye(3)
-        step[first, first] = step[second, second] = np.cos(angle)
-        step[first, second], step[second, first] = -np.sin(angle), np.sin(angle)
-        turn = step @ turn
+        turn = axis_rotation(axis, bends.get(name, 0.0)) @ turn
     return turn
 
 

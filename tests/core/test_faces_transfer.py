@@ -8,7 +8,7 @@ from tests.heads_on_disk import HEADS, read_obj
 from turkish_lipsync.core.errors import HeadError
 from turkish_lipsync.core.faces.arkit_names import ARKIT_UNITS
 from turkish_lipsync.core.faces.closest import closest_points
-from turkish_lipsync.core.faces.landmarks import find_landmarks, triangulate
+from turkish_lipsync.core.faces.landmarks import axis_rotation, find_landmarks, triangulate
 from turkish_lipsync.core.faces.measure import displacement_cosine
 from turkish_lipsync.core.faces.reference import load_reference_head
 from turkish_lipsync.core.faces.registration import LandmarkWarp, rigid_fit, similarity_fit
@@ -149,11 +149,7 @@ def test_a_face_of_other_proportions_and_topology_gets_the_units_it_would_have(r
     [(1, 10), (1, -20), (0, 20), (0, -20), (2, 10), (2, -20)],
 )
 def test_a_tilted_head_is_found_and_gets_its_units_turned_with_it(reference, axis, degrees):
-    first, second = [index for index in range(3) if index != axis]
-    angle = np.radians(degrees)
-    turn = np.eye(3)
-    turn[first, first] = turn[second, second] = np.cos(angle)
-    turn[first, second], turn[second, first] = -np.sin(angle), np.sin(angle)
+    turn = axis_rotation(axis, degrees)
     centre = reference.vertices.mean(0)
     tilted = (reference.vertices - centre) @ turn.T + centre
     units = transfer_units(reference, tilted, reference.polygons, find_landmarks(tilted, reference.polygons))

@@ -274,7 +274,8 @@ def find_landmarks(vertices: np.ndarray, polygons) -> dict[str, np.ndarray]:
     return _search_views(vertices, triangles)
 
 
-def _rotation(axis: int, degrees: float) -> np.ndarray:
+def axis_rotation(axis: int, degrees: float) -> np.ndarray:
+    """The 3x3 rotation by `degrees` about coordinate axis `axis` (0 X, 1 Y, 2 Z)."""
     first, second = [index for index in range(3) if index != axis]
     angle = np.radians(degrees)
     turn = np.eye(3)
@@ -286,7 +287,7 @@ def _rotation(axis: int, degrees: float) -> np.ndarray:
 # Tilts tried on a head that shows no face along any axis: rolled (about the view axis Y), pitched
 # (about X) and turned (about Z) by these many degrees. A head rolled 10 degrees showed no mouth.
 TILTS: tuple[np.ndarray, ...] = tuple(
-    _rotation(axis, sign * degrees)
+    axis_rotation(axis, sign * degrees)
     for axis, steps in ((1, (15, 30)), (0, (15, 30)), (2, (20,)))
     for degrees in steps
     for sign in (1, -1)
