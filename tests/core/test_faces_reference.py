@@ -8,6 +8,9 @@ import pytest
 from turkish_lipsync.core.errors import DataError
 from turkish_lipsync.core.faces import reference
 from turkish_lipsync.core.faces.arkit_names import ARKIT_UNITS
+from turkish_lipsync.core.faces.landmarks import find_landmarks, triangulate
+from turkish_lipsync.core.faces.measure import edge_stretch
+from turkish_lipsync.core.faces.parts import PART_LABELS, edge_graph, find_face_parts, opening_gap
 from turkish_lipsync.core.faces.reference import load_reference_head
 
 
@@ -80,6 +83,27 @@ def test_blinks_move_only_their_own_eye():
         assert blink.max() > 0.01  # the lid still closes
         assert blink[away].max() == 0.0
         assert blink[head.vertices[:, 0] * sign <= 0].max() == 0.0  # nothing on the other side
+
+
+def test_blinks_close_the_lids_without_tearing_the_fold():
+    """faceunits01's blinks grew the upper lid's fold edges 4.7 times (p99.9 4.1); the reference smooths the
+    fold's motion, so a blink keeps under the ceiling of 4 and the lids close as far as before."""
+    head = load_reference_head()
+    vertices = np.asarray(head.vertices, np.float64)
+    edges, _ = edge_graph(len(vertices), triangulate(head.polygons), vertices)
+    landmarks = find_landmarks(head.vertices, head.polygons)
+    skin = np.asarray(head.parts["skin"])
+    face = find_face_parts(vertices, triangulate(head.polygons), skin, landmarks)
+    for side in ("left", "right"):
+        blink = np.asarray(head.units[f"eyeBlink{side.title()}"], np.float64)
+        assert edge_stretch(vertices, edges, blink) < 4.0  # measured 3.35 (4.13 unsmoothed)
+        lids = [
+            np.flatnonzero(face.seen & (face.label == PART_LABELS.index(f"{lid}_lid_{side}")))
+            for lid in ("upper", "lower")
+        ]
+        middle = (landmarks[f"eye_inner_{side}"][0] + landmarks[f"eye_outer_{side}"][0]) / 2
+        assert opening_gap(vertices, np.zeros_like(vertices), *lids, middle) > 0.006  # 7.8 mm open
+        assert opening_gap(vertices, blink, *lids, middle) < -0.003  # closed, lids overlapping 3.3 mm
 
 
 def test_the_head_is_cut_along_one_closed_neck_loop():
