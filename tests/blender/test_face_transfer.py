@@ -52,9 +52,9 @@ def vitruvian():
         ("TR_viseme_a", "aa_02", 0.85),
         ("mouthPucker", "Kiss", 0.65),
         ("mouthSmileLeft", "Smile_Lips_Closed_Left", 0.65),
-        # Target 0.85, not reached: measured 0.73 (0.09 before; 0.52 before the lid margins were
-        # landmarks; 0.63 before the lid unrolled from its crease); the artist's blink also pushes the
-        # lower lid forward and turns the eyeball, which the reference's does not.
+        # Target 0.85, not reached: measured 0.74 (0.09 before; 0.52 before the lid margins were
+        # landmarks; 0.63 before the lid unrolled from its crease, 0.73 before the skin above it was
+        # eased); the artist's blink also brings the lids 1-2 mm forward and pulls the eyeball back.
         ("eyeBlinkLeft", "Eyes_Closed_Left", 0.7),
         # Measured 0.67 and 0.60; 0.34 and 0.38 while the brows were found at the hairline.
         ("browDownLeft", "Eyebrows_Lower_Left", 0.55),
