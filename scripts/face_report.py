@@ -8,7 +8,8 @@ without keys); where the head had an artist's comparable key (shapekeys/artist_c
 transferred one is compared with it. The PNG (Cycles on the CPU, small tiles, a couple of minutes) shows
 front and three-quarter views of neutral, jawOpen, a, o, u, bpa, fvae, blink and the six emotions.
 Figures, in mm where a length: lip aperture at the midline, the bilabial lip gap, the eyelid gap under
-the blink, left-right symmetry (1 = mirror-symmetric), edge stretch p99.9 (deformed / rest length).
+the blink, the blink's creases (edges of the seen skin above the upper lid it folds by more than 60
+degrees), left-right symmetry (1 = mirror-symmetric), edge stretch p99.9 (deformed / rest length).
 """
 
 from __future__ import annotations
@@ -121,6 +122,7 @@ def measure(
             row["lip_gap_mm"] = max(row["aperture_mm"], 0.0)
         if key in (BLINK_KEYS[0], "eyeBlinkLeft"):
             row["lid_gap_mm"] = millimetres * face.lid_gap(deltas, "left")
+            row["creases"] = face.lid_creases(deltas, "left")
         theirs = next((name for name in _artist_names(key, comparisons) if name in artist), None)
         if theirs is not None:
             row["artist_key"] = theirs
@@ -129,6 +131,7 @@ def measure(
             row["artist_aperture_mm"] = millimetres * face.lip_aperture(artist[theirs])
             if "lid_gap_mm" in row:
                 row["artist_lid_gap_mm"] = millimetres * face.lid_gap(artist[theirs], "left")
+                row["artist_creases"] = face.lid_creases(artist[theirs], "left")
         rows.append(row)
     return rows
 
@@ -143,8 +146,9 @@ def _artist_names(key: str, comparisons) -> tuple[str, ...]:
 def print_table(rows: list[dict], rest_aperture: float, rest_lid_gap: float) -> None:
     print(f"at rest: lip aperture {rest_aperture:.1f} mm, left eyelid gap {rest_lid_gap:.1f} mm")
     print(
-        f"{'key':22s} {'aperture':>8s} {'lip gap':>7s} {'lid gap':>7s} {'symm':>5s} {'stretch':>7s}"
-        f"  {'artist key':22s} {'cosine':>6s} {'art.str':>7s} {'art.ap':>6s} {'art.lid':>7s}"
+        f"{'key':22s} {'aperture':>8s} {'lip gap':>7s} {'lid gap':>7s} {'crease':>6s} {'symm':>5s}"
+        f" {'stretch':>7s}"
+        f"  {'artist key':22s} {'cosine':>6s} {'art.str':>7s} {'art.ap':>6s} {'art.lid':>7s} {'art.cr':>6s}"
     )
 
     def cell(row, name, form):
@@ -153,10 +157,11 @@ def print_table(rows: list[dict], rest_aperture: float, rest_lid_gap: float) -> 
     for row in rows:
         print(
             f"{row['key']:22s} {cell(row, 'aperture_mm', '8.1f'):>8s} {cell(row, 'lip_gap_mm', '7.1f'):>7s} "
-            f"{cell(row, 'lid_gap_mm', '7.1f'):>7s} {row['symmetry']:5.2f} {row['stretch']:7.1f}  "
+            f"{cell(row, 'lid_gap_mm', '7.1f'):>7s} {cell(row, 'creases', '6.0f'):>6s} "
+            f"{row['symmetry']:5.2f} {row['stretch']:7.1f}  "
             f"{row.get('artist_key', '-'):22s} {cell(row, 'cosine', '6.2f'):>6s} "
             f"{cell(row, 'artist_stretch', '7.1f'):>7s} {cell(row, 'artist_aperture_mm', '6.1f'):>6s} "
-            f"{cell(row, 'artist_lid_gap_mm', '7.1f'):>7s}"
+            f"{cell(row, 'artist_lid_gap_mm', '7.1f'):>7s} {cell(row, 'artist_creases', '6.0f'):>6s}"
         )
     cosines = [row["cosine"] for row in rows if "cosine" in row]
     if cosines:

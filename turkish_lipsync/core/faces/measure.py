@@ -2,8 +2,8 @@
 
 A transferred key can look plausible in numbers and still pull a curtain of stretched faces across the
 mouth, so every key is judged by how much it stretches the mesh's edges, how far the lips and lids part
-at the middle, how symmetric it is, and (where an artist made the same shape) how closely its
-displacement field points the artist's way.
+at the middle, how symmetric it is, whether a blink creases the skin above the lid, and (where an artist
+made the same shape) how closely its displacement field points the artist's way.
 """
 
 from __future__ import annotations
@@ -13,6 +13,9 @@ import numpy as np
 from .landmarks import face_frame, triangulate
 from .parts import PART_LABELS, find_face_parts, opening_gap
 from .transfer import find_parts
+
+# Reach of the skin above an upper lid whose folds count as the lid's creases, in eye widths.
+LID_CREASE_REACH = 1.2
 
 
 def mesh_edges(polygons) -> np.ndarray:
@@ -31,6 +34,31 @@ def edge_stretch(vertices: np.ndarray, edges: np.ndarray, deltas: np.ndarray, pe
     if not touched.any():
         return 1.0
     return float(np.percentile(deformed[touched] / rest[touched], percentile))
+
+
+def edge_folds(
+    triangles: np.ndarray, vertices: np.ndarray, deltas: np.ndarray, region: np.ndarray, degrees=60.0
+):
+    """How many edges inside region (a vertex mask) the key folds: the angle between the two triangles
+    that share the edge grows by more than `degrees`. A key that creases the skin folds a row of them."""
+    sides = np.sort(
+        np.concatenate((triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]])), axis=1
+    )
+    owners = np.tile(np.arange(len(triangles)), 3)
+    order = np.lexsort((sides[:, 1], sides[:, 0]))
+    sides, owners = sides[order], owners[order]
+    shared = np.all(sides[1:] == sides[:-1], axis=1)  # an edge of two triangles: consecutive once sorted
+    first, second, ends = owners[:-1][shared], owners[1:][shared], sides[:-1][shared]
+    keep = region[ends].all(1) & np.any(deltas[ends].reshape(len(ends), -1) != 0, axis=1)
+    first, second = first[keep], second[keep]
+
+    def angles(points):
+        corners = points[triangles]
+        normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+        normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-300)
+        return np.degrees(np.arccos(np.clip((normals[first] * normals[second]).sum(1), -1.0, 1.0)))
+
+    return int(np.count_nonzero(angles(vertices + deltas) - angles(vertices) > degrees))
 
 
 def displacement_cosine(first: np.ndarray, second: np.ndarray) -> float:
@@ -81,20 +109,29 @@ class FaceMeasure:
         upright = {
             name: (np.asarray(point, np.float64) - origin) @ self.axes for name, point in landmarks.items()
         }
-        triangles = triangulate(polygons)
-        self.edges = mesh_edges(triangles)
+        self.triangles = triangulate(polygons)
+        self.edges = mesh_edges(self.triangles)
         in_part = np.zeros(len(self.vertices), bool)
-        for indices in find_parts(self.vertices, triangles, upright).values():
+        for indices in find_parts(self.vertices, self.triangles, upright).values():
             in_part[indices] = True  # teeth, eyeballs and lashes are not skin
-        parts = find_face_parts(self.vertices, triangles, np.flatnonzero(~in_part), upright)
+        parts = find_face_parts(self.vertices, self.triangles, np.flatnonzero(~in_part), upright)
         self.middle_x = parts.middle_x
         self.lips = [
             np.flatnonzero(parts.seen & (parts.label == PART_LABELS.index(n)))
             for n in ("upper_lip", "lower_lip")
         ]
         self.lids = {}
+        self.above_lids = {}  # the seen skin above each upper lid's margin, within LID_CREASE_REACH of the eye
         for side in ("left", "right"):
             inner, outer = upright[f"eye_inner_{side}"], upright[f"eye_outer_{side}"]
+            if f"upper_lid_{side}" in upright:
+                reach = LID_CREASE_REACH * np.linalg.norm(outer - inner)
+                self.above_lids[side] = (
+                    parts.seen
+                    & (parts.label >= 0)
+                    & (self.vertices[:, 2] > upright[f"upper_lid_{side}"][2])
+                    & (np.linalg.norm(self.vertices - (inner + outer) / 2, axis=1) < reach)
+                )
             self.lids[side] = (
                 [
                     np.flatnonzero(parts.seen & (parts.label == PART_LABELS.index(f"{n}_lid_{side}")))
@@ -116,6 +153,12 @@ class FaceMeasure:
 
     def stretch(self, deltas: np.ndarray) -> float:
         return edge_stretch(self.vertices, self.edges, self.upright(deltas))
+
+    def lid_creases(self, deltas: np.ndarray, side: str = "left") -> float:
+        """Edges of the skin above the upper lid that the key folds (edge_folds); NaN with no lid margin."""
+        if side not in self.above_lids:
+            return float("nan")
+        return float(edge_folds(self.triangles, self.vertices, self.upright(deltas), self.above_lids[side]))
 
     def symmetry(self, deltas: np.ndarray) -> float:
         return symmetry(self.vertices, self.upright(deltas), self.middle_x)
