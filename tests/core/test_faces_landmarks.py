@@ -15,6 +15,7 @@ from turkish_lipsync.core.faces.landmarks import (
     face_frame,
     find_head_region,
     find_landmarks,
+    hidden_face_share,
     landmarks_from_motion,
     triangulate,
     triangulate_loops,
@@ -217,3 +218,27 @@ def test_a_key_that_moves_nothing_gives_no_landmarks():
     head = load_reference_head()
     with pytest.raises(HeadError, match="moves nothing"):
         landmarks_from_motion(head.vertices, head.polygons, np.zeros_like(head.vertices))
+
+
+def test_a_sheet_over_the_face_hides_it_and_eyes_and_lashes_do_not():
+    """hidden_face_share: the reference with its eyes, teeth and lashes in one mesh shows its face; a
+    sheet of the same mesh hung a little in front of it hides nearly all of it."""
+    reference = load_reference_head()
+    vertices = np.asarray(reference.vertices, np.float64)
+    polygons = np.asarray(reference.polygons)
+    landmarks = find_landmarks(vertices, polygons)
+    assert hidden_face_share(vertices, polygons, landmarks) < 0.1
+    skin = vertices[reference.parts["skin"]]
+    front = skin[:, 1].min() - 0.01  # a centimetre in front of the nose tip
+    low, high = skin[:, [0, 2]].min(0), skin[:, [0, 2]].max(0)
+    sheet = np.array(
+        [
+            [low[0], front, low[1]],
+            [high[0], front, low[1]],
+            [high[0], front, high[1]],
+            [low[0], front, high[1]],
+        ]
+    )
+    covered = np.concatenate((vertices, sheet))
+    quads = np.concatenate((polygons, [np.arange(4) + len(vertices)]))
+    assert hidden_face_share(covered, quads, landmarks) > 0.95

@@ -26,7 +26,7 @@ from ..core.faces.conventions import (
     read_user_mapping,
     recognise_convention,
 )
-from ..core.faces.landmarks import find_landmarks, landmarks_from_motion
+from ..core.faces.landmarks import connected_pieces, find_landmarks, hidden_face_share, landmarks_from_motion
 from ..core.faces.recipes import VISEME_NAMES, key_deltas, load_recipes
 from ..core.faces.reference import ReferenceHead, load_reference_head
 from ..core.model import EMOTIONS, OWNED_PREFIX, emotion_key_name, viseme_key_name
@@ -39,6 +39,8 @@ SOURCES = ("auto", "convention", "arkit", "reference", "transfer", "obj_folder")
 BUILT_ARKIT_PROPERTY = "tr_built_arkit_keys"
 # Mesh property: built key name -> where it came from (the panel lists it).
 KEY_SOURCES_PROPERTY = "tr_key_sources"
+# A build warns when other pieces of the head's mesh hide this share of its face (hidden_face_share).
+HIDDEN_FACE_WARNING = 0.3
 _MATCH_GRID = 1e-4  # metres: vertices this close to a reference vertex are that vertex
 
 
@@ -146,8 +148,9 @@ def reference_units(obj: bpy.types.Object, reference: ReferenceHead) -> dict[str
 
 def _transfer_units(
     head: bpy.types.Object, parts: list[bpy.types.Object], reference: ReferenceHead
-) -> dict[str, dict[str, np.ndarray]]:
-    """The reference's units carried over by landmark registration, in world space, onto head and parts."""
+) -> tuple[dict[str, dict[str, np.ndarray]], dict[str, np.ndarray]]:
+    """The reference's units carried over by landmark registration, in world space, onto head and parts;
+    and the head's landmarks (world space) they were registered by."""
     objects = [head, *parts]
     world = [mesh.world_rest_coordinates(obj) for obj in objects]
     offsets = np.cumsum([0] + [len(points) for points in world])
@@ -169,7 +172,7 @@ def _transfer_units(
         result[obj.name] = {
             unit: mesh.world_deltas_to_local(obj, moved[start:stop]) for unit, moved in deltas.items()
         }
-    return result
+    return result, landmarks
 
 
 def head_landmarks(head: bpy.types.Object, world_vertices=None, triangles=None) -> dict[str, np.ndarray]:
@@ -265,8 +268,9 @@ def obj_folder_keys(head: bpy.types.Object, folder: str | Path) -> dict[str, np.
 
 def _unit_sets(
     head: bpy.types.Object, parts: list[bpy.types.Object], source: str, reference: ReferenceHead
-) -> tuple[str, dict[str, dict[str, np.ndarray]]]:
-    """(source used, object name -> ARKit unit deltas) for the head and its parts."""
+) -> tuple[str, dict[str, dict[str, np.ndarray]], dict[str, np.ndarray] | None]:
+    """(source used, object name -> ARKit unit deltas, the head's landmarks where they were needed) for
+    the head and its parts."""
     objects = [head, *parts]
     own = {obj.name: own_arkit_units(obj) for obj in objects}
     if source in ("auto", "arkit") and has_arkit_basis(match_arkit_keys(list(own[head.name]))):
@@ -274,7 +278,7 @@ def _unit_sets(
         for part in parts:  # a part without keys of its own may still be a piece of the reference
             if not units[part.name]:
                 units[part.name] = reference_units(part, reference) or {}
-        return "arkit", units
+        return "arkit", units, None
     if source == "arkit":
         found = ", ".join(sorted(own[head.name])) or "none"
         raise HeadError(
@@ -287,10 +291,10 @@ def _unit_sets(
             units = {head.name: head_units}
             for part in parts:
                 units[part.name] = reference_units(part, reference) or own[part.name]
-            return "reference", units
+            return "reference", units, None
         if source == "reference":
             raise HeadError(f"{head.name!r} is not the reference head (or a piece of MakeHuman's base mesh).")
-    return "transfer", _transfer_units(head, parts, reference)
+    return "transfer", *_transfer_units(head, parts, reference)
 
 
 def _validate_head(head: bpy.types.Object) -> None:
@@ -345,11 +349,11 @@ def build_shape_keys(
             head, parts, obj_folder, shaping
         )
     else:
-        used_source, unit_sets = _unit_sets(head, parts, source, load_reference_head())
+        used_source, unit_sets, landmarks = _unit_sets(head, parts, source, load_reference_head())
         planned = {obj.name: shaping.keys(unit_sets.get(obj.name, {}), obj) for obj in objects}
         if arkit_keys:
             _plan_arkit_keys(objects, unit_sets, planned)
-        warnings = []
+        warnings = _hidden_face_warnings(head, landmarks) if used_source != "arkit" else []
         key_sources = dict.fromkeys(planned[head.name], used_source)
     missing = (
         () if used_source in ("obj_folder", "convention") else _missing_units(unit_sets.get(head.name, {}))
@@ -406,7 +410,7 @@ def _plan_from_convention(head, parts, match: ConventionMatch, shaping: _Shaping
     fallback, unit_sets = None, {}
     if any(plan.units for plan in plans.values()):
         try:
-            fallback, unit_sets = _unit_sets(head, parts, "auto", load_reference_head())
+            fallback, unit_sets, _ = _unit_sets(head, parts, "auto", load_reference_head())
         except LipSyncError as error:
             lacking = sorted(key for key, plan in plans.items() if plan.units)
             warnings.append(
@@ -448,7 +452,7 @@ def _plan_from_obj_folder(head, parts, obj_folder, shaping: _Shaping):
     obj_keys = obj_folder_keys(head, obj_folder)
     warnings: list[str] = []
     try:
-        basis, unit_sets = _unit_sets(head, parts, "auto", load_reference_head())
+        basis, unit_sets, _ = _unit_sets(head, parts, "auto", load_reference_head())
     except HeadError as error:
         basis, unit_sets = "nothing", {}
         warnings.append(f"No ARKit basis on {head.name!r} for blinks and brows, so they stay still: {error}")
@@ -479,6 +483,26 @@ def _plan_arkit_keys(objects, unit_sets, planned) -> None:
 
 def _missing_units(units: dict[str, np.ndarray]) -> tuple[str, ...]:
     return tuple(unit for unit in ARKIT_UNITS if unit not in units)
+
+
+def _hidden_face_warnings(head: bpy.types.Object, landmarks: dict[str, np.ndarray] | None) -> list[str]:
+    """A warning when other pieces of the head's mesh stand over much of its face (helper geometry)."""
+    world_vertices, triangles = mesh.world_rest_coordinates(head), mesh.triangles(head)
+    if len(np.unique(connected_pieces(len(world_vertices), triangles)[triangles[:, 0]])) < 2:
+        return []  # one piece: nothing else of the mesh can hide the face
+    if landmarks is None:
+        try:
+            landmarks = head_landmarks(head, world_vertices, triangles)
+        except HeadError:
+            return []
+    share = hidden_face_share(world_vertices, triangles, landmarks)
+    if share < HIDDEN_FACE_WARNING:
+        return []
+    return [
+        f"{share:.0%} of {head.name!r}'s face is hidden behind other pieces of its mesh (helper, hair or "
+        "clothing geometry?): renders will not show it speaking. Delete those pieces, or separate them "
+        "(Edit Mode, Mesh > Separate > By Loose Parts) and hide them."
+    ]
 
 
 def _missing_units_warning(head_name: str, missing: tuple[str, ...]) -> str:

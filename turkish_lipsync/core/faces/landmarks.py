@@ -46,6 +46,10 @@ LANDMARK_NAMES: tuple[str, ...] = (
 
 # Depth-map pixels across the head's height: about 1 mm on a real head, enough for lips and eye corners.
 DEPTH_MAP_ROWS = 320
+# The hidden share of a face is read off depth maps this many pixels from the brows to the chin; another
+# piece hides the skin where it stands this share of that height in front of it.
+HIDDEN_FACE_ROWS = 120
+HIDDEN_FACE_GAP = 0.01
 
 
 # ---------------------------------------------------------------- mesh topology
@@ -381,6 +385,47 @@ def face_frame(landmarks) -> tuple[np.ndarray, np.ndarray]:
     return lm["nose_tip"], np.stack((across, back, up), axis=1)
 
 
+def hidden_face_share(vertices: np.ndarray, polygons, landmarks) -> float:
+    """The share of the face (between the outer eye corners, from the brows to the chin, seen from the
+    front) that other pieces of the same mesh hide: pieces standing in front of the skin there, eyeballs
+    aside. MakeHuman's raw base mesh keeps its hair and clothing helpers over the face; a beard or lashes
+    hide a little of it."""
+    names = ("nose_tip", "chin", "eye_outer_left", "eye_outer_right", "brow_left", "brow_right")
+    if not all(name in landmarks for name in names) or "mouth_corner_left" not in landmarks:
+        return 0.0
+    origin, axes = face_frame(landmarks)
+    upright = (np.asarray(vertices, np.float64) - origin) @ axes
+    marks = {name: (np.asarray(landmarks[name], np.float64) - origin) @ axes for name in names}
+    triangles = triangulate(polygons)
+    labels = connected_pieces(len(upright), triangles)
+    skin_label = labels[np.argmin(np.linalg.norm(upright - marks["nose_tip"], axis=1))]
+    on_skin = labels[triangles[:, 0]] == skin_label
+    if on_skin.all():
+        return 0.0
+    height = float(np.mean([marks["brow_left"][2], marks["brow_right"][2]]) - marks["chin"][2])
+    if height <= 0:
+        return 0.0
+    # Only what lies over the face, from the right eye's outer corner to the left's, chin to brows.
+    low = np.array([marks["eye_outer_right"][0], marks["chin"][2]])
+    high = np.array([marks["eye_outer_left"][0], marks["chin"][2] + height])
+    corners = upright[triangles][:, :, [0, 2]]
+    over = np.all(corners.max(1) >= low, axis=1) & np.all(corners.min(1) <= high, axis=1)
+    others = triangles[over & ~on_skin]
+    others = others[~_round_pieces(upright, others)]
+    if len(others) == 0 or not np.any(over & on_skin):
+        return 0.0
+    skin = DepthMap(upright, triangles[over & on_skin], height / HIDDEN_FACE_ROWS)
+    cover = DepthMap(upright, others, skin.pixel, like=skin)
+    rows = slice(max(skin.row_of(high[1]), 0), skin.row_of(low[1]) + 1)
+    columns = slice(max(skin.column_of(low[0]), 0), skin.column_of(high[0]) + 1)
+    front, hiding = skin.front[rows, columns], cover.front[rows, columns]
+    face = np.isfinite(front)
+    if not face.any():
+        return 0.0
+    hidden = face & np.isfinite(hiding) & (hiding > front + HIDDEN_FACE_GAP * height)
+    return float(hidden.sum() / face.sum())
+
+
 def _find_facing_front(vertices: np.ndarray, triangles: np.ndarray) -> dict[str, np.ndarray]:
     head = find_head_region(vertices, triangles)
     # The skin is normally the biggest piece; a hair or helmet mesh can be bigger, so the next biggest
@@ -426,7 +471,8 @@ def _landmarks_on_piece(
         raise HeadError("The head mesh is flat; a head must stand upright (Z up) and face -Y.")
     depth = DepthMap(vertices, skin_triangles, size / DEPTH_MAP_ROWS)
     # Eyeballs (and anything else not of the skin) seen in front of it: the eye openings, where there are.
-    other_triangles = _round_pieces(vertices, triangles[~keep[triangles].any(1)])
+    other_triangles = triangles[~keep[triangles].any(1)]
+    other_triangles = other_triangles[_round_pieces(vertices, other_triangles)]
     others = DepthMap(vertices, other_triangles, depth.pixel, like=depth) if len(other_triangles) else None
     points = _FaceReader(depth, size, others).landmarks()
     _check_proportions(points)
@@ -434,17 +480,17 @@ def _landmarks_on_piece(
 
 
 def _round_pieces(vertices: np.ndarray, triangles: np.ndarray) -> np.ndarray:
-    """The triangles of pieces about as deep and tall as wide (eyeballs), not of flat ones (lashes,
-    corneas, clothing)."""
+    """Which triangles belong to pieces about as deep and tall as wide (eyeballs), not to flat ones
+    (lashes, corneas, clothing)."""
     if len(triangles) == 0:
-        return triangles
+        return np.zeros(0, bool)
     labels = connected_pieces(len(vertices), triangles)[triangles[:, 0]]
     keep = np.zeros(len(triangles), bool)
     for label in np.unique(labels):
         mine = labels == label
         extent = np.ptp(vertices[np.unique(triangles[mine])], axis=0)
         keep[mine] = extent.min() > 0.6 * extent.max()
-    return triangles[keep]
+    return keep
 
 
 def _check_proportions(points: dict[str, np.ndarray], widths: bool = True) -> None:
