@@ -19,6 +19,7 @@ from turkish_lipsync.core.faces.landmarks import (
     landmarks_from_motion,
     triangulate,
     triangulate_loops,
+    unique_pairs,
 )
 from turkish_lipsync.core.faces.reference import load_reference_head
 
@@ -242,3 +243,9 @@ def test_a_sheet_over_the_face_hides_it_and_eyes_and_lashes_do_not():
     covered = np.concatenate((vertices, sheet))
     quads = np.concatenate((polygons, [np.arange(4) + len(vertices)]))
     assert hidden_face_share(covered, quads, landmarks) > 0.95
+
+
+def test_unique_pairs_are_numpys_unique_rows():
+    rows = np.random.default_rng(7).integers(0, 40, (500, 2))
+    np.testing.assert_array_equal(unique_pairs(rows), np.unique(rows, axis=0))
+    assert unique_pairs(np.zeros((0, 2), np.int64)).shape == (0, 2)

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .landmarks import unique_pairs
+
 
 def _nearest_vertex(points: np.ndarray, vertices: np.ndarray) -> np.ndarray:
     """Index of the nearest vertex for each point (chunked brute force: BLAS beats a tree at this size)."""
@@ -31,12 +33,12 @@ def triangles_around(vertex_count: int, triangles: np.ndarray) -> np.ndarray:
         [triangles[:, [i, j]] for i, j in ((0, 1), (1, 2), (2, 0), (1, 0), (2, 1), (0, 2))]
     )
     own = np.unique(corner_vertex)
-    links = np.unique(np.concatenate((edges, np.stack((own, own), 1))), axis=0)  # (vertex, neighbour)
+    links = unique_pairs(np.concatenate((edges, np.stack((own, own), 1))))  # (vertex, neighbour)
     counts = first_corner[links[:, 1] + 1] - first_corner[links[:, 1]]
     vertex = np.repeat(links[:, 0], counts)
     offsets = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
     triangle = triangle_of_corner[np.repeat(first_corner[links[:, 1]], counts) + offsets]
-    pairs = np.unique(np.stack((vertex, triangle), 1), axis=0)
+    pairs = unique_pairs(np.stack((vertex, triangle), 1))
     per_vertex = np.bincount(pairs[:, 0], minlength=vertex_count)
     table = np.full((vertex_count, max(int(per_vertex.max()), 1)), -1, np.int64)
     slot = np.arange(len(pairs)) - np.repeat(np.cumsum(per_vertex) - per_vertex, per_vertex)

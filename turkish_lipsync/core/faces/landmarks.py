@@ -93,6 +93,17 @@ def triangulate_loops(
     )
 
 
+def unique_pairs(pairs: np.ndarray) -> np.ndarray:
+    """The distinct rows of an (N, 2) array of non-negative integers, sorted (as np.unique(axis=0) gives
+    them, several times faster: each row is one integer key)."""
+    pairs = np.asarray(pairs, np.int64)
+    if len(pairs) == 0:
+        return pairs.reshape(0, 2)
+    base = int(pairs[:, 1].max()) + 1
+    keys = np.unique(pairs[:, 0] * base + pairs[:, 1])
+    return np.stack((keys // base, keys % base), axis=1)
+
+
 def connected_pieces(vertex_count: int, triangles: np.ndarray) -> np.ndarray:
     """A label per vertex; vertices share a label when edges connect them (isolated vertices stand alone)."""
     labels = np.arange(vertex_count)

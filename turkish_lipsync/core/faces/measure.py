@@ -11,18 +11,11 @@ from __future__ import annotations
 import numpy as np
 
 from .landmarks import face_frame, triangulate
-from .parts import PART_LABELS, find_face_parts, opening_gap
+from .parts import PART_LABELS, edge_graph, find_face_parts, opening_gap
 from .transfer import find_parts
 
 # Reach of the skin above an upper lid whose folds count as the lid's creases, in eye widths.
 LID_CREASE_REACH = 1.2
-
-
-def mesh_edges(polygons) -> np.ndarray:
-    """(E, 2) unique vertex pairs of the triangles' edges."""
-    triangles = triangulate(polygons)
-    edges = np.concatenate((triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]))
-    return np.unique(np.sort(edges, axis=1), axis=0)
 
 
 def edge_stretch(vertices: np.ndarray, edges: np.ndarray, deltas: np.ndarray, percentile: float = 99.9):
@@ -110,7 +103,7 @@ class FaceMeasure:
             name: (np.asarray(point, np.float64) - origin) @ self.axes for name, point in landmarks.items()
         }
         self.triangles = triangulate(polygons)
-        self.edges = mesh_edges(self.triangles)
+        self.edges, _ = edge_graph(len(self.vertices), self.triangles, self.vertices)
         in_part = np.zeros(len(self.vertices), bool)
         for indices in find_parts(self.vertices, self.triangles, upright).values():
             in_part[indices] = True  # teeth, eyeballs and lashes are not skin
@@ -121,7 +114,7 @@ class FaceMeasure:
             for n in ("upper_lip", "lower_lip")
         ]
         self.lids = {}
-        self.above_lids = {}  # the seen skin above each upper lid's margin, within LID_CREASE_REACH of the eye
+        self.above_lids = {}  # the seen skin above each upper lid's margin, near the eye (LID_CREASE_REACH)
         for side in ("left", "right"):
             inner, outer = upright[f"eye_inner_{side}"], upright[f"eye_outer_{side}"]
             if f"upper_lid_{side}" in upright:

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .landmarks import DepthMap
+from .landmarks import DepthMap, unique_pairs
 
 # Label names, in the order of FaceParts.label values (0 is the rest of the skin).
 PART_LABELS: tuple[str, ...] = (
@@ -67,7 +67,7 @@ class FaceParts:
 def edge_graph(vertex_count: int, triangles: np.ndarray, vertices: np.ndarray):
     """(E, 2) unique edges and their lengths."""
     edges = np.concatenate((triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]))
-    edges = np.unique(np.sort(edges, axis=1), axis=0)
+    edges = unique_pairs(np.sort(edges, axis=1))
     lengths = np.linalg.norm(vertices[edges[:, 0]] - vertices[edges[:, 1]], axis=1)
     return edges, lengths
 

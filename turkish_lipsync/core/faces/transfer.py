@@ -284,9 +284,8 @@ def transfer_units(
             for side in ("left", "right")
         ]
     )
-    _smooth_lids(
-        result, target_face, target_triangles, target_vertices, np.clip(apart / (LID_ROUGH * eye_width), 0, 1)
-    )
+    target_edges, _ = edge_graph(len(target_vertices), target_triangles, target_vertices)
+    _smooth_lids(result, target_face, target_edges, np.clip(apart / (LID_ROUGH * eye_width), 0, 1))
     _close_blinks_as_the_reference_does(
         result,
         target_face,
@@ -300,12 +299,7 @@ def transfer_units(
         sampled,
     )
     _ease_the_skin_above_the_lids(
-        result,
-        target_face,
-        target_triangles,
-        upright_vertices,
-        upright_landmarks,
-        apart / eye_width,
+        result, target_face, target_edges, upright_vertices, upright_landmarks, apart / eye_width
     )
     # The tongue bends (tongueOut): closest point on the reference tongue.
     for name in SOFT_PARTS:
@@ -416,15 +410,12 @@ def _close_blinks_as_the_reference_does(
         result[unit][lids] *= float(np.clip(shares[1] / shares[0], 0.5, 1.5))
 
 
-def _ease_the_skin_above_the_lids(
-    result, face, triangles, upright_vertices, upright_landmarks, apart
-) -> None:
+def _ease_the_skin_above_the_lids(result, face, edges, upright_vertices, upright_landmarks, apart) -> None:
     """Smooth each blink's motion of the skin above its upper lid's margin (BLINK_EASE_*): the margin,
     the lower lid and the lid's corners keep their motion, so the lids close as far as before. apart:
     each vertex's distance from the reference surface it sampled, in eye widths; the smoothing counts
     in full where that region lies BLINK_EASE_APART apart (median), not at all where the surfaces
     coincide (the reference onto itself keeps its own blink)."""
-    edges = None
     for side, other in (("left", "right"), ("right", "left")):
         unit = f"eyeBlink{side.capitalize()}"
         names = (f"eye_inner_{side}", f"eye_outer_{side}", f"upper_lid_{side}")
@@ -444,8 +435,6 @@ def _ease_the_skin_above_the_lids(
         )
         if not movable.any():
             continue
-        if edges is None:
-            edges, _ = edge_graph(len(upright_vertices), triangles, upright_vertices)
         near = movable[edges[:, 0]] | movable[edges[:, 1]]  # the region and the ring that holds it
         smoothed = smooth_over_edges(result[unit], edges[near], movable, BLINK_EASE_SWEEPS)
         weight = min(float(np.median(apart[movable])) / BLINK_EASE_APART, 1.0)
@@ -478,7 +467,7 @@ def _unfold_the_upper_lid(deltas, upright_vertices, upright_landmarks, sampled, 
     deltas[near] *= np.exp(-np.maximum(higher, 0.0) / LID_UNFOLD_LENGTH)[:, None]
 
 
-def _smooth_lids(result, face, triangles, vertices, unreliable) -> None:
+def _smooth_lids(result, face, edges, unreliable) -> None:
     """Smooth each lid's deltas along its own edges only (never across the lid line between the corners),
     where the reference surface lies apart from the target's and its samples are rough: a blink then
     closes the lid as a sheet instead of creasing it. Where the surfaces coincide (unreliable 0) the
@@ -487,7 +476,6 @@ def _smooth_lids(result, face, triangles, vertices, unreliable) -> None:
     labelled = np.flatnonzero(is_lid & (unreliable > 0))
     if len(labelled) == 0:
         return
-    edges, _ = edge_graph(len(vertices), triangles, vertices)
     first, second = face.label[edges[:, 0]], face.label[edges[:, 1]]
     same = (first == second) & is_lid[edges[:, 0]]
     # Beside the eye's corners, where the lids meet (neither side sure), the two lids of an eye blend.
@@ -497,7 +485,7 @@ def _smooth_lids(result, face, triangles, vertices, unreliable) -> None:
     same_eye = (eye_of[first] >= 0) & (eye_of[first] == eye_of[second])
     same |= same_eye & ~(face.sure[edges[:, 0]] & face.sure[edges[:, 1]])
     edges = edges[same]
-    local = np.full(len(vertices), -1)
+    local = np.full(len(face.label), -1)
     region = np.unique(np.concatenate((labelled, edges.ravel())))
     local[region] = np.arange(len(region))
     names = [name for name in result if np.any(result[name][region])]  # most units leave the lids be
