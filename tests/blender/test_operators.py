@@ -14,7 +14,7 @@ from mathutils import Matrix  # noqa: E402
 from tests.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import compat, heads, landmarks, pipeline, sequencer  # noqa: E402
-from turkish_lipsync.core.faces.landmarks import LANDMARK_NAMES  # noqa: E402
+from turkish_lipsync.core.faces.landmarks import LANDMARK_NAMES, LID_LANDMARK_NAMES  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
 from turkish_lipsync.core.model import EMOTIONS, emotion_key_name, viseme_key_name  # noqa: E402
 from turkish_lipsync.core.speech import synthesize_timeline  # noqa: E402
@@ -259,7 +259,8 @@ def test_show_landmarks_puts_movable_markers_on_the_face_and_clear_removes_them(
     assert not bpy.ops.turkish_lipsync.clear_landmarks.poll()  # nothing to clear
     assert bpy.ops.turkish_lipsync.show_landmarks() == {"FINISHED"}
     markers = _markers(head)
-    assert set(markers) == set(LANDMARK_NAMES)
+    # Its eyes are objects of their own; seen between the lids beside the head, they mark the lids too.
+    assert set(markers) == set(LANDMARK_NAMES + LID_LANDMARK_NAMES)
     assert all(marker.name.startswith(landmarks.MARKER_PREFIX) for marker in markers.values())
     # The reference head sits where MakeHuman's mesh does, so its known landmarks are where the markers are.
     bpy.context.view_layer.update()
@@ -267,7 +268,7 @@ def test_show_landmarks_puts_movable_markers_on_the_face_and_clear_removes_them(
         assert np.linalg.norm(np.array(markers[name].matrix_world.translation) - point) < 0.01, name
     # Showing again replaces the markers instead of adding a second set.
     assert bpy.ops.turkish_lipsync.show_landmarks() == {"FINISHED"}
-    assert len([obj for obj in bpy.data.objects if obj.type == "EMPTY"]) == len(LANDMARK_NAMES)
+    assert len([obj for obj in bpy.data.objects if obj.type == "EMPTY"]) == len(markers)
     assert bpy.ops.turkish_lipsync.clear_landmarks.poll()
     assert bpy.ops.turkish_lipsync.clear_landmarks() == {"FINISHED"}
     assert _markers(head) == {} and landmarks.read_landmark_markers(head) is None
@@ -331,7 +332,7 @@ def test_a_moved_marker_steers_the_transfer():
     assert bpy.ops.turkish_lipsync.build_shape_keys() == {"FINISHED"}
     moved = _world_deltas(head, viseme_key_name("a"))
     assert np.abs(moved - as_found).max() > 1e-4  # the registration used the moved marker
-    assert set(_markers(head)) == set(LANDMARK_NAMES)  # building keeps the markers for the next build
+    assert set(_markers(head)) == set(LANDMARK_NAMES + LID_LANDMARK_NAMES)  # kept for the next build
 
 
 # ---------------------------------------------------------------- shape-key sources and empowered emotions
@@ -547,7 +548,7 @@ def test_undo_takes_the_landmark_markers_back():
     head = _reference_head()
     bpy.ops.ed.undo_push(message="before landmarks")
     assert bpy.ops.turkish_lipsync.show_landmarks("EXEC_DEFAULT", True) == {"FINISHED"}
-    assert len(_markers(bpy.data.objects[head.name])) == len(LANDMARK_NAMES)
+    assert len(_markers(bpy.data.objects[head.name])) == len(LANDMARK_NAMES + LID_LANDMARK_NAMES)
     bpy.ops.ed.undo()
     head = bpy.data.objects["TR_Head"]
     assert _markers(head) == {}

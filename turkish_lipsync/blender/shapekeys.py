@@ -161,7 +161,7 @@ def _transfer_units(
     head_triangles = mesh.triangles(head)
     if len(head_triangles) == 0:
         raise HeadError(f"{head.name!r} has no faces; a head needs a surface to build shape keys on.")
-    landmarks = head_landmarks(head, world[0], head_triangles)
+    landmarks = head_landmarks(head, parts)
     target_parts = transfer.find_parts(all_vertices, all_triangles, landmarks)
     deltas = transfer.transfer_units(
         reference, all_vertices, all_triangles, landmarks, target_parts=target_parts
@@ -175,19 +175,29 @@ def _transfer_units(
     return result, landmarks
 
 
-def head_landmarks(head: bpy.types.Object, world_vertices=None, triangles=None) -> dict[str, np.ndarray]:
-    """The head's landmarks in world space: its markers where the user placed them; else from its shape;
-    else from what its own mouth-opening and blink keys move (a mouth painted on the texture that only a
-    key opens); else the shape's error, which says to place markers."""
+def head_landmarks(
+    head: bpy.types.Object, parts: list[bpy.types.Object] | None = None
+) -> dict[str, np.ndarray]:
+    """The head's landmarks in world space: its markers where the user placed them; else from its shape,
+    with its parts (find_head_parts when not given) beside it, so that eyeballs of their own showing between
+    the lids mark the lids' margins and the eyes' corners; else from what its own mouth-opening and blink
+    keys move (a mouth painted on the texture that only a key opens); else the shape's error, which says to
+    place markers."""
     markers = read_landmark_markers(head)
     if markers:
         names = list(markers)
         placed = mesh.to_world(head, np.array([markers[name] for name in names], dtype=np.float32))
         return dict(zip(names, placed.astype(np.float64), strict=True))
-    if world_vertices is None:
-        world_vertices, triangles = mesh.world_rest_coordinates(head), mesh.triangles(head)
+    world_vertices, triangles = mesh.world_rest_coordinates(head), mesh.triangles(head)
+    if parts is None:
+        parts = find_head_parts(head)
+    parts = [part for part in parts if part is not head and part.type == "MESH" and len(part.data.vertices)]
+    with_parts, with_parts_triangles = world_vertices, triangles
+    for part in parts:
+        with_parts_triangles = np.concatenate((with_parts_triangles, mesh.triangles(part) + len(with_parts)))
+        with_parts = np.concatenate((with_parts, mesh.world_rest_coordinates(part)))
     try:
-        return find_landmarks(world_vertices, triangles)
+        return find_landmarks(with_parts, with_parts_triangles)
     except HeadError as error:
         names = load_table("artist_comparisons")["compare"]
         linear = mesh.world_matrix(head)[:3, :3]
@@ -353,7 +363,7 @@ def build_shape_keys(
         planned = {obj.name: shaping.keys(unit_sets.get(obj.name, {}), obj) for obj in objects}
         if arkit_keys:
             _plan_arkit_keys(objects, unit_sets, planned)
-        warnings = _hidden_face_warnings(head, landmarks) if used_source != "arkit" else []
+        warnings = _hidden_face_warnings(head, parts, landmarks) if used_source != "arkit" else []
         key_sources = dict.fromkeys(planned[head.name], used_source)
     missing = (
         () if used_source in ("obj_folder", "convention") else _missing_units(unit_sets.get(head.name, {}))
@@ -485,14 +495,16 @@ def _missing_units(units: dict[str, np.ndarray]) -> tuple[str, ...]:
     return tuple(unit for unit in ARKIT_UNITS if unit not in units)
 
 
-def _hidden_face_warnings(head: bpy.types.Object, landmarks: dict[str, np.ndarray] | None) -> list[str]:
+def _hidden_face_warnings(
+    head: bpy.types.Object, parts: list[bpy.types.Object], landmarks: dict[str, np.ndarray] | None
+) -> list[str]:
     """A warning when other pieces of the head's mesh stand over much of its face (helper geometry)."""
     world_vertices, triangles = mesh.world_rest_coordinates(head), mesh.triangles(head)
     if len(np.unique(connected_pieces(len(world_vertices), triangles)[triangles[:, 0]])) < 2:
         return []  # one piece: nothing else of the mesh can hide the face
     if landmarks is None:
         try:
-            landmarks = head_landmarks(head, world_vertices, triangles)
+            landmarks = head_landmarks(head, parts)
         except HeadError:
             return []
     share = hidden_face_share(world_vertices, triangles, landmarks)
