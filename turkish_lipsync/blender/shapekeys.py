@@ -175,6 +175,13 @@ def _transfer_units(
     return result, landmarks
 
 
+def _mesh_parts(head: bpy.types.Object, parts: list[bpy.types.Object] | None) -> list[bpy.types.Object]:
+    """The head's parts that are meshes with vertices (find_head_parts when none are given)."""
+    if parts is None:
+        parts = find_head_parts(head)
+    return [part for part in parts if part is not head and part.type == "MESH" and len(part.data.vertices)]
+
+
 def head_landmarks(
     head: bpy.types.Object, parts: list[bpy.types.Object] | None = None
 ) -> dict[str, np.ndarray]:
@@ -189,11 +196,8 @@ def head_landmarks(
         placed = mesh.to_world(head, np.array([markers[name] for name in names], dtype=np.float32))
         return dict(zip(names, placed.astype(np.float64), strict=True))
     world_vertices, triangles = mesh.world_rest_coordinates(head), mesh.triangles(head)
-    if parts is None:
-        parts = find_head_parts(head)
-    parts = [part for part in parts if part is not head and part.type == "MESH" and len(part.data.vertices)]
     with_parts, with_parts_triangles = world_vertices, triangles
-    for part in parts:
+    for part in _mesh_parts(head, parts):
         with_parts_triangles = np.concatenate((with_parts_triangles, mesh.triangles(part) + len(with_parts)))
         with_parts = np.concatenate((with_parts, mesh.world_rest_coordinates(part)))
     try:
@@ -342,9 +346,7 @@ def build_shape_keys(
         raise HeadError(
             "The OBJ-folder source needs a folder of viseme models (a.obj, bpa.obj, ..., Neutral.obj)."
         )
-    if parts is None:
-        parts = find_head_parts(head)
-    parts = [part for part in parts if part is not head and part.type == "MESH" and len(part.data.vertices)]
+    parts = _mesh_parts(head, parts)
     objects = [head, *parts]
     shaping = _Shaping(load_recipes(), empowered, rho)
 
@@ -500,9 +502,9 @@ def _hidden_face_warnings(
 ) -> list[str]:
     """A warning when other pieces of the head's mesh stand over much of its face (helper geometry)."""
     world_vertices, triangles = mesh.world_rest_coordinates(head), mesh.triangles(head)
-    if len(np.unique(connected_pieces(len(world_vertices), triangles)[triangles[:, 0]])) < 2:
-        return []  # one piece: nothing else of the mesh can hide the face
     if landmarks is None:
+        if len(np.unique(connected_pieces(len(world_vertices), triangles)[triangles[:, 0]])) < 2:
+            return []  # one piece: nothing else of the mesh can hide the face, no landmarks needed
         try:
             landmarks = head_landmarks(head, parts)
         except HeadError:

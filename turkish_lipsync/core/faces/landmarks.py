@@ -402,7 +402,8 @@ def hidden_face_share(vertices: np.ndarray, polygons, landmarks) -> float:
     aside. MakeHuman's raw base mesh keeps its hair and clothing helpers over the face; a beard or lashes
     hide a little of it."""
     names = ("nose_tip", "chin", "eye_outer_left", "eye_outer_right", "brow_left", "brow_right")
-    if not all(name in landmarks for name in names) or "mouth_corner_left" not in landmarks:
+    framing = ("mouth_corner_left", "mouth_corner_right", "eye_inner_left", "eye_inner_right")  # face_frame
+    if not all(name in landmarks for name in names + framing):
         return 0.0
     origin, axes = face_frame(landmarks)
     upright = (np.asarray(vertices, np.float64) - origin) @ axes

@@ -49,7 +49,7 @@ _BLINK_FADE_RADIUS = 0.036
 # of the head's edges 4.1, over the ceiling of 4 a blink keeps to). The blink's motion of the skin higher
 # than this share of the eye's width above the lid's margin is smoothed over the mesh's edges this many
 # times; the margin and the lower lid keep theirs, so the lids close as far as before. Measured: p99.9
-# 4.13 -> 3.36, cosine to faceunits01's blink 0.996.
+# 4.13 -> 3.35, cosine to faceunits01's blink 0.996.
 _FOLD_ABOVE_MARGIN = 0.06
 _FOLD_SMOOTHING_SWEEPS = 5
 # faceunits01's mouthPucker keeps the teeth together behind the pushed-out lips; a pucker parts them a
