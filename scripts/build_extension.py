@@ -31,7 +31,7 @@ REPOSITORY = Path(__file__).resolve().parent.parent
 if str(REPOSITORY) not in sys.path:
     sys.path.insert(0, str(REPOSITORY))
 
-from turkish_lipsync.core.errors import LipSyncError  # noqa: E402
+from turkish_lipsync.core.base.errors import LipSyncError  # noqa: E402
 
 PYTHON_VERSION = "3.11"  # Blender 4.2 LTS to 5.0
 # Blender platform name -> pip platform tags accepted for it.

@@ -22,7 +22,7 @@ if str(REPOSITORY) not in sys.path:
 
 import numpy as np  # noqa: E402
 
-from turkish_lipsync.core.errors import LipSyncError  # noqa: E402
+from turkish_lipsync.core.base.errors import LipSyncError  # noqa: E402
 from turkish_lipsync.core.faces import reference  # noqa: E402
 
 DEFAULT_FOLDER = reference.BUILT_HEAD_DATA

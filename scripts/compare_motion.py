@@ -44,8 +44,8 @@ def _arguments(argv: list[str]) -> argparse.Namespace:
 
 def main(argv: list[str]) -> int:
     args = _arguments(argv)
+    from turkish_lipsync.core.base.errors import LipSyncError
     from turkish_lipsync.core.cli import read_source
-    from turkish_lipsync.core.errors import LipSyncError
     from turkish_lipsync.core.motion.quality import format_quality, quality_report
 
     try:

@@ -21,7 +21,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from turkish_lipsync.core.errors import LipSyncError  # noqa: E402
+from turkish_lipsync.core.base.errors import LipSyncError  # noqa: E402
 from turkish_lipsync.core.speech import synthesize_timeline, write_wav  # noqa: E402
 from turkish_lipsync.core.text.utterance import build_utterance  # noqa: E402
 

@@ -28,15 +28,15 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from scripts.contact_sheet import _aim, _emission_material  # noqa: E402
 from turkish_lipsync.blender import heads, mesh, shapekeys  # noqa: E402
 from turkish_lipsync.blender.landmarks import read_landmark_markers, show_landmark_markers  # noqa: E402
-from turkish_lipsync.core.data import load_table  # noqa: E402
-from turkish_lipsync.core.errors import LipSyncError  # noqa: E402
+from turkish_lipsync.core.base.data import load_table  # noqa: E402
+from turkish_lipsync.core.base.errors import LipSyncError  # noqa: E402
+from turkish_lipsync.core.base.model import BLINK_KEYS, EMOTIONS, emotion_key_name, viseme_key_name  # noqa: E402
 from turkish_lipsync.core.faces.arkit_names import ARKIT_UNITS  # noqa: E402
 from turkish_lipsync.core.faces.landmarks import face_frame  # noqa: E402
 from turkish_lipsync.core.faces.measure import FaceMeasure, displacement_cosine  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
 from turkish_lipsync.core.faces.registration import similarity_fit  # noqa: E402
 from turkish_lipsync.core.faces.transfer import reference_landmarks_of  # noqa: E402
-from turkish_lipsync.core.model import BLINK_KEYS, EMOTIONS, emotion_key_name, viseme_key_name  # noqa: E402
 
 # Picture rows: label -> the keys set to 1 (on the head and its parts).
 ROWS: tuple[tuple[str, tuple[str, ...]], ...] = (

@@ -25,16 +25,10 @@ import numpy as np
 REPOSITORY = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPOSITORY))
 
-from turkish_lipsync.core.interchange import (  # noqa: E402
-    EXPORT_FORMATS,
-    export_text,
-    read_cue_source,
-    timeline_from_cues,
-)
 from turkish_lipsync.core.speech import synthesize_timeline  # noqa: E402
+from turkish_lipsync.core.speech.cue_timing import timeline_from_cues  # noqa: E402
+from turkish_lipsync.core.speech.cues import cue_formats, read_cue_file  # noqa: E402
 from turkish_lipsync.core.text.utterance import build_utterance  # noqa: E402
-
-CUE_FORMATS = ("rhubarb-tsv", "rhubarb-json", "rhubarb-xml", "papagayo-pgo", "moho-dat")
 
 
 def _stretched(path: Path, factor: float, lead_in: float) -> None:
@@ -51,15 +45,16 @@ def measure_cue_timing(sentences: list[str], fps: float) -> None:
         for number, sentence in enumerate(sentences):
             utterance = build_utterance(sentence)
             timeline = synthesize_timeline(utterance, "phone").timeline
-            for export_format in (*CUE_FORMATS, "stretched rhubarb-json"):
+            for export_format in (*cue_formats(), "stretched rhubarb-json"):
                 stretched = export_format.startswith("stretched")
                 name = export_format.split()[-1]
-                path = Path(folder) / f"{number}{EXPORT_FORMATS[name]}"
-                path.write_text(export_text(name, timeline, fps)[0], encoding="utf-8")
+                cue_format = cue_formats()[name]
+                path = Path(folder) / f"{number}{cue_format.suffixes[0]}"
+                path.write_text(cue_format.write(timeline, fps)[0], encoding="utf-8")
                 factor, lead_in = (1.3, 0.2) if stretched else (1.0, 0.0)
                 if stretched:
                     _stretched(path, factor, lead_in)
-                imported, _ = timeline_from_cues(utterance, read_cue_source(path, fps))
+                imported, _ = timeline_from_cues(utterance, read_cue_file(path, fps))
                 letters, words = errors.setdefault(export_format, ([], []))
                 for original, phone in zip(timeline.phones, imported.phones, strict=True):
                     letters.append(abs(phone.start - (lead_in + factor * original.start)))
@@ -81,7 +76,7 @@ def measure_join(repeats: int = 3) -> None:
     import av
     import soundfile
 
-    from turkish_lipsync.core.video import join_videos
+    from turkish_lipsync.core.interchange.video import join_videos
 
     with tempfile.TemporaryDirectory() as folder:
         folder = Path(folder)

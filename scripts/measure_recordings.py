@@ -37,7 +37,7 @@ import numpy as np
 REPOSITORY = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPOSITORY))
 
-from turkish_lipsync.core.errors import AudioError, LipSyncError  # noqa: E402
+from turkish_lipsync.core.base.errors import AudioError, LipSyncError  # noqa: E402
 from turkish_lipsync.core.speech import espeak, synthesize_timeline  # noqa: E402
 from turkish_lipsync.core.speech.recording import resample  # noqa: E402
 from turkish_lipsync.core.text.utterance import build_utterance  # noqa: E402

@@ -22,7 +22,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from scripts.bench_transfer import subdivide_quads  # noqa: E402
-from turkish_lipsync.core.errors import HeadError  # noqa: E402
+from turkish_lipsync.core.base.errors import HeadError  # noqa: E402
 from turkish_lipsync.core.faces.landmarks import axis_rotation, find_landmarks  # noqa: E402
 from turkish_lipsync.core.faces.measure import displacement_cosine  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402

@@ -26,7 +26,7 @@ REPOSITORY = Path(__file__).resolve().parent.parent
 if str(REPOSITORY) not in sys.path:
     sys.path.insert(0, str(REPOSITORY))
 
-from turkish_lipsync.core.errors import LipSyncError  # noqa: E402  (the core needs no bpy)
+from turkish_lipsync.core.base.errors import LipSyncError  # noqa: E402  (the core needs no bpy)
 from turkish_lipsync.core.pipeline import (  # noqa: E402
     INTERPOLATION_CHOICES,
     MOTION_CHOICES,
@@ -88,12 +88,12 @@ def _frame_range(text: str) -> tuple[int, int]:
 
 
 def _export(text: str) -> tuple[str, Path]:
-    from turkish_lipsync.core.interchange import EXPORT_FORMATS
+    from turkish_lipsync.core.interchange import export_formats
 
     export_format, _, path = text.partition("=")
-    if export_format not in EXPORT_FORMATS or not path:
+    if export_format not in export_formats() or not path:
         raise argparse.ArgumentTypeError(
-            f"--export {text!r} is not FORMAT=PATH with FORMAT one of {', '.join(EXPORT_FORMATS)}"
+            f"--export {text!r} is not FORMAT=PATH with FORMAT one of {', '.join(export_formats())}"
         )
     return export_format, Path(path)
 
@@ -274,7 +274,7 @@ def _print_warnings(warnings: tuple[str, ...]) -> None:
 
 def run_join(arguments: argparse.Namespace) -> None:
     """Join rendered chunks with the speech, copying the video: no Blender needed."""
-    from turkish_lipsync.core.video import join_videos
+    from turkish_lipsync.core.interchange.video import join_videos
 
     if arguments.audio is None:
         _print_warnings(("no --audio given: the joined video is silent.",))
@@ -291,7 +291,7 @@ def run_chunk(arguments: argparse.Namespace) -> None:
     import bpy
 
     from turkish_lipsync.blender import farm, heads, pipeline
-    from turkish_lipsync.core.errors import LipSyncError
+    from turkish_lipsync.core.base.errors import LipSyncError
 
     if arguments.head is not None:
         bpy.ops.wm.open_mainfile(filepath=str(arguments.head.resolve()))
@@ -333,7 +333,7 @@ def write_exports(arguments: argparse.Namespace, result, source: str) -> None:
         if result.wav_path:
             sound = os.path.relpath(result.wav_path, path.resolve().parent)
         contents, warnings = export_text(
-            export_format, result.timeline, result.fps, tracks=result.tracks, sound_file=sound, text=source
+            export_format, result.timeline, result.tracks, sound_file=sound, text=source
         )
         _print_warnings(warnings)
         print(f"Exported {export_format} to {write_export(path, contents)}", flush=True)
@@ -343,7 +343,7 @@ def run(arguments: argparse.Namespace) -> None:
     import bpy
 
     from turkish_lipsync.blender import heads, pipeline, sequencer
-    from turkish_lipsync.core.errors import TextError
+    from turkish_lipsync.core.base.errors import TextError
 
     started = time.perf_counter()
     new_scene = arguments.head is None or arguments.head.suffix.lower() != ".blend"

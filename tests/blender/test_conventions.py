@@ -8,9 +8,9 @@ bpy = pytest.importorskip("bpy")
 from tests.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import heads, mesh, shapekeys  # noqa: E402
-from turkish_lipsync.core.errors import HeadError  # noqa: E402
+from turkish_lipsync.core.base.errors import HeadError  # noqa: E402
+from turkish_lipsync.core.base.model import emotion_key_name, viseme_key_name  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
-from turkish_lipsync.core.model import emotion_key_name, viseme_key_name  # noqa: E402
 
 VITRUVIAN = HEADS / "vitruvian" / "vitruvian_head_facs.glb"
 GODETTE = HEADS / "godette" / "Godette_vrm_v4_named.glb"

@@ -11,7 +11,8 @@ bpy = pytest.importorskip("bpy")
 
 from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import compat, keyframes  # noqa: E402
-from turkish_lipsync.core.interchange import EXPORT_FORMATS, read_cue_source  # noqa: E402
+from turkish_lipsync.core.interchange import export_formats  # noqa: E402
+from turkish_lipsync.core.speech.cues import read_cue_file  # noqa: E402
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 TEXT = "Merhaba, benim adım Erdem."
@@ -56,7 +57,8 @@ def _curve_value(name: str, frame: float) -> float:
 
 def test_every_format_is_exported_and_the_cues_match_the_keys(saved, tmp_path):
     settings = _open(saved)
-    for export_format, suffix in EXPORT_FORMATS.items():
+    for export_format, chosen in export_formats().items():
+        suffix = chosen.suffix
         settings.export_format = export_format
         settings.export_path = str(tmp_path / "speech.txt")
         assert bpy.ops.turkish_lipsync.export_animation() == {"FINISHED"}
@@ -64,7 +66,7 @@ def test_every_format_is_exported_and_the_cues_match_the_keys(saved, tmp_path):
     document = json.loads((tmp_path / "speech.json").read_text(encoding="utf-8"))
     assert (tmp_path / document["metadata"]["soundFile"]).resolve().is_file()
     # "benim" opens with closed lips: the A cue there is where the head's b key is at its closure
-    cues = read_cue_source(tmp_path / "speech.json").cues
+    cues = read_cue_file(tmp_path / "speech.json").cues
     pause = next(cue for cue in cues if cue.shape == "X" and cue.start > 0)  # the comma after "Merhaba"
     closure = next(cue for cue in cues if cue.shape == "A" and cue.start >= pause.end)
     start = bpy.context.scene.frame_start

@@ -12,7 +12,7 @@ bpy = pytest.importorskip("bpy")
 from tests.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import gltf_export, heads, pipeline, shapekeys  # noqa: E402
-from turkish_lipsync.core.errors import LipSyncError  # noqa: E402
+from turkish_lipsync.core.base.errors import LipSyncError  # noqa: E402
 from turkish_lipsync.core.pipeline import LipSyncOptions  # noqa: E402
 
 SCRIPT = Path(__file__).resolve().parents[2] / "scripts" / "render.py"

@@ -8,7 +8,7 @@ import numpy as np  # noqa: E402
 
 from tests.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync.blender import heads, shapekeys  # noqa: E402
-from turkish_lipsync.core.errors import HeadError  # noqa: E402
+from turkish_lipsync.core.base.errors import HeadError  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
 
 

@@ -6,7 +6,7 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from turkish_lipsync.blender import compat, keyframes  # noqa: E402
-from turkish_lipsync.core.model import Track, WeightTracks  # noqa: E402
+from turkish_lipsync.core.base.model import Track, WeightTracks  # noqa: E402
 
 
 def _mesh_with_keys(name: str, key_names: tuple[str, ...]) -> bpy.types.Object:

@@ -13,7 +13,7 @@ from turkish_lipsync.blender.landmarks import (  # noqa: E402
     show_landmark_markers,
 )
 from turkish_lipsync.blender.shapekeys import build_shape_keys, head_landmarks  # noqa: E402
-from turkish_lipsync.core.errors import HeadError  # noqa: E402
+from turkish_lipsync.core.base.errors import HeadError  # noqa: E402
 from turkish_lipsync.core.faces.landmarks import LANDMARK_NAMES, find_landmarks, triangulate_loops  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
 from turkish_lipsync.core.faces.transfer import find_parts, transfer_units  # noqa: E402

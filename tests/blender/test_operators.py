@@ -14,9 +14,9 @@ from mathutils import Matrix  # noqa: E402
 from tests.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import compat, heads, landmarks, pipeline, sequencer  # noqa: E402
+from turkish_lipsync.core.base.model import EMOTIONS, emotion_key_name, viseme_key_name  # noqa: E402
 from turkish_lipsync.core.faces.landmarks import LANDMARK_NAMES, LID_LANDMARK_NAMES  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
-from turkish_lipsync.core.model import EMOTIONS, emotion_key_name, viseme_key_name  # noqa: E402
 from turkish_lipsync.core.speech import synthesize_timeline  # noqa: E402
 from turkish_lipsync.core.text.utterance import build_utterance  # noqa: E402
 

@@ -10,8 +10,8 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from turkish_lipsync.blender import compat, keyframes  # noqa: E402
-from turkish_lipsync.core.interchange import read_cue_source  # noqa: E402
 from turkish_lipsync.core.interchange.arkit_csv import read_arkit_csv  # noqa: E402
+from turkish_lipsync.core.speech.cues import read_cue_file  # noqa: E402
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 SCRIPT = REPOSITORY / "scripts" / "render.py"
@@ -41,7 +41,7 @@ def test_exports_are_written_and_name_the_speech(exported):
     document = json.loads((exported / "cues" / "speech.json").read_text(encoding="utf-8"))
     wav = (exported / "cues" / document["metadata"]["soundFile"]).resolve()
     assert wav.is_file() and wav.parent.name == "lipsync_audio"
-    cues = read_cue_source(exported / "cues" / "speech.json").cues
+    cues = read_cue_file(exported / "cues" / "speech.json").cues
     assert cues[0].start == 0 and abs(cues[-1].end - document["metadata"]["duration"]) < 1e-6
     bpy.ops.wm.open_mainfile(filepath=str(exported / "scene.blend"))
     scene = bpy.context.scene

@@ -7,7 +7,7 @@ bpy = pytest.importorskip("bpy")
 soundfile = pytest.importorskip("soundfile")
 
 from turkish_lipsync.blender import compat, sequencer  # noqa: E402
-from turkish_lipsync.core.errors import AudioError  # noqa: E402
+from turkish_lipsync.core.base.errors import AudioError  # noqa: E402
 
 needs_audio = pytest.mark.skipif(
     not compat.HAS_AUDIO, reason="this bpy build has no Audaspace: sound strips cannot exist (PyPI bpy 4.2)"

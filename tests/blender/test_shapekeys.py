@@ -7,14 +7,14 @@ bpy = pytest.importorskip("bpy")
 
 from tests.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync.blender import heads, shapekeys  # noqa: E402
-from turkish_lipsync.core.errors import HeadError  # noqa: E402
-from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
-from turkish_lipsync.core.model import (  # noqa: E402
+from turkish_lipsync.core.base.errors import HeadError  # noqa: E402
+from turkish_lipsync.core.base.model import (  # noqa: E402
     EMOTIONS,
     emotion_key_name,
     emotion_release_key_name,
     viseme_key_name,
 )
+from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
 
 
 @pytest.fixture(scope="module")

@@ -7,8 +7,9 @@ from pathlib import Path
 
 import pytest
 
-from turkish_lipsync.core.interchange import EXPORT_FORMATS, read_cue_source
+from turkish_lipsync.core.interchange import export_formats
 from turkish_lipsync.core.interchange.arkit_csv import read_arkit_csv
+from turkish_lipsync.core.speech.cues import read_cue_file
 
 ROOT = Path(__file__).resolve().parents[2]
 TEXT = "Merhaba, benim adım Erdem."
@@ -30,13 +31,13 @@ def _timeline(*args):
     return json.loads(result.stdout)
 
 
-@pytest.mark.parametrize("export_format", [f for f in EXPORT_FORMATS if f != "arkit-csv"])
+@pytest.mark.parametrize("export_format", [f for f in export_formats() if f != "arkit-csv"])
 def test_each_cue_format_times_the_text_as_the_timeline_does(tmp_path, export_format):
-    out = tmp_path / f"speech{EXPORT_FORMATS[export_format]}"
+    out = tmp_path / f"speech{export_formats()[export_format].suffix}"
     result = run("export", "--text", TEXT, "--timing", "table", "--format", export_format, "--out", str(out))
     assert result.returncode == 0, result.stderr
     timeline = _timeline("--text", TEXT, "--timing", "table")
-    cues = read_cue_source(out, fps=25).cues
+    cues = read_cue_file(out, fps=25).cues
     # every word starts, within a frame, where a cue starts
     for word in timeline["words"]:
         assert min(abs(cue.start - word["start"]) for cue in cues) <= 1 / 25, word

@@ -7,7 +7,13 @@ import numpy as np
 import pytest
 
 from tests.heads_on_disk import HEADS
-from turkish_lipsync.core.errors import DataError
+from turkish_lipsync.core.base.errors import DataError
+from turkish_lipsync.core.base.model import (
+    EMOTIONS,
+    emotion_key_name,
+    emotion_release_key_name,
+    viseme_key_name,
+)
 from turkish_lipsync.core.faces.conventions import (
     canonical_name,
     convention_key_deltas,
@@ -19,7 +25,6 @@ from turkish_lipsync.core.faces.conventions import (
     recognise_convention,
 )
 from turkish_lipsync.core.faces.recipes import VISEME_NAMES, load_recipes
-from turkish_lipsync.core.model import EMOTIONS, emotion_key_name, emotion_release_key_name, viseme_key_name
 
 OCULUS = ("sil", "PP", "FF", "TH", "DD", "kk", "CH", "SS", "nn", "RR", "aa", "E", "ih", "oh", "ou")
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from tests.heads_on_disk import HEADS, read_obj
-from turkish_lipsync.core.errors import HeadError
+from turkish_lipsync.core.base.errors import HeadError
 from turkish_lipsync.core.faces.landmarks import (
     FACINGS,
     LANDMARK_NAMES,

@@ -3,11 +3,11 @@
 import numpy as np
 import pytest
 
-from turkish_lipsync.core.errors import DataError
+from turkish_lipsync.core.base.errors import DataError
+from turkish_lipsync.core.base.model import BLINK_KEYS, BROW_RAISE_KEY, EMOTIONS, emotion_key_name
 from turkish_lipsync.core.faces.arkit_names import is_mouth_unit
 from turkish_lipsync.core.faces.recipes import VISEME_NAMES, combine_units, key_deltas, load_recipes
 from turkish_lipsync.core.faces.reference import load_reference_head
-from turkish_lipsync.core.model import BLINK_KEYS, BROW_RAISE_KEY, EMOTIONS, emotion_key_name
 
 
 def test_every_key_has_a_recipe():

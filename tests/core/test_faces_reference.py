@@ -5,7 +5,7 @@ import importlib.metadata
 import numpy as np
 import pytest
 
-from turkish_lipsync.core.errors import DataError
+from turkish_lipsync.core.base.errors import DataError
 from turkish_lipsync.core.faces import reference
 from turkish_lipsync.core.faces.arkit_names import ARKIT_UNITS
 from turkish_lipsync.core.faces.landmarks import find_landmarks, triangulate

@@ -5,7 +5,7 @@ import pytest
 
 from scripts.bench_transfer import subdivide_quads
 from tests.heads_on_disk import HEADS, read_obj
-from turkish_lipsync.core.errors import HeadError
+from turkish_lipsync.core.base.errors import HeadError
 from turkish_lipsync.core.faces.arkit_names import ARKIT_UNITS
 from turkish_lipsync.core.faces.closest import closest_points
 from turkish_lipsync.core.faces.landmarks import axis_rotation, find_landmarks, triangulate

@@ -45,7 +45,7 @@ def test_timecodes_count_frames(fps):
 def test_csv_reads_back_frame_by_frame(animation, tmp_path):
     timeline, tracks = animation
     path = tmp_path / "speech.csv"
-    path.write_text(export_text("arkit-csv", timeline, FPS, tracks=tracks)[0], encoding="utf-8")
+    path.write_text(export_text("arkit-csv", timeline, tracks)[0], encoding="utf-8")
     frames, weights = read_arkit_csv(path, FPS)
     expected, _ = arkit_weights(tracks)
     np.testing.assert_array_equal(frames, np.arange(tracks.frame_count))
@@ -74,7 +74,7 @@ def test_weights_show_what_the_keys_do(animation):
 
 def test_clipped_units_are_reported(animation):
     timeline, tracks = animation
-    _, warnings = export_text("arkit-csv", timeline, FPS, tracks=tracks)
+    _, warnings = export_text("arkit-csv", timeline, tracks)
     _, clipped = arkit_weights(tracks)
     if clipped:
         assert len(warnings) == 1 and all(unit in warnings[0] for unit in clipped)

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from turkish_lipsync.core.errors import MarkupError
-from turkish_lipsync.core.model import Pause, Style, TextRun
+from turkish_lipsync.core.base.errors import MarkupError
+from turkish_lipsync.core.base.model import Pause, Style, TextRun
 from turkish_lipsync.core.text.jsml import parse_jsml, pause_seconds
 
 THESIS_SAMPLE = (

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from turkish_lipsync.core.model import (
+from turkish_lipsync.core.base.model import (
     BLINK_KEYS,
     BROW_RAISE_KEY,
     EMOTIONS,
@@ -215,7 +215,7 @@ def test_real_engine_timelines_keep_every_closure(rate):
                 # The same engine timing under an emotion at full weight over the whole utterance.
                 from dataclasses import replace
 
-                from turkish_lipsync.core.model import EmotionSpan
+                from turkish_lipsync.core.base.model import EmotionSpan
 
                 span = EmotionSpan(timeline.phones[0].start, timeline.phones[-1].end, emotion, 1.0)
                 tracks = natural_weight_tracks(replace(timeline, emotions=(span,)), fps)
@@ -228,7 +228,7 @@ def test_real_engine_timelines_keep_every_closure(rate):
 
 
 def test_a_timeline_without_phones_rests():
-    from turkish_lipsync.core.model import Timeline
+    from turkish_lipsync.core.base.model import Timeline
 
     tracks = natural_weight_tracks(Timeline((), (), (), (), 1.0, "table"), 24, blinks=False)
     assert [t.name for t in tracks.tracks] == [viseme_key_name("neutral")]

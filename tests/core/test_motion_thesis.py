@@ -1,7 +1,8 @@
 import numpy as np
 import pytest
 
-from turkish_lipsync.core.model import emotion_key_name, viseme_key_name
+from turkish_lipsync.core.base.errors import LipSyncError
+from turkish_lipsync.core.base.model import emotion_key_name, viseme_key_name
 from turkish_lipsync.core.motion import weight_tracks
 from turkish_lipsync.core.motion.frames import sparse_track
 from turkish_lipsync.core.motion.thesis import thesis_weight_tracks
@@ -81,7 +82,7 @@ def test_sparse_track_keeps_the_curve_and_drops_flat_interiors():
 
 def test_unknown_mode_and_bad_fps_are_refused():
     timeline = table_timeline(build_utterance("ev"))
-    with pytest.raises(ValueError, match="unknown motion mode"):
+    with pytest.raises(LipSyncError, match="unknown motion model 'wobbly'; choose one of: natural, thesis"):
         weight_tracks(timeline, 25, mode="wobbly")
     with pytest.raises(ValueError, match="frame rate"):
         weight_tracks(timeline, 0)

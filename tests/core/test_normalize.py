@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from turkish_lipsync.core.errors import TextError
-from turkish_lipsync.core.model import Pause, SpokenWord
+from turkish_lipsync.core.base.errors import TextError
+from turkish_lipsync.core.base.model import Pause, SpokenWord
 from turkish_lipsync.core.text.jsml import parse_jsml, pause_seconds
 from turkish_lipsync.core.text.normalize import TURKISH_LETTERS, normalize, turkish_lower, turkish_upper
 

@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pytest
 
-from turkish_lipsync.core.model import Phone, Timeline, Track, WeightTracks
+from turkish_lipsync.core.base.model import Phone, Timeline, Track, WeightTracks
 from turkish_lipsync.core.motion.frames import shape_runs, shown_shapes
 from turkish_lipsync.core.motion.quality import (
     REPORT_KEYS,

@@ -9,8 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from turkish_lipsync.core.errors import LipSyncError, SpeechEngineError, TextError
-from turkish_lipsync.core.model import Style
+from turkish_lipsync.core.base.errors import LipSyncError, SpeechEngineError, TextError
+from turkish_lipsync.core.base.model import Style
 from turkish_lipsync.core.speech import (
     Synthesis,
     engine_names,
@@ -78,7 +78,7 @@ def test_a_wrong_library_path_fails_clearly_and_a_corrected_one_works_without_a_
     # A fresh process: the engine must not have started yet when the wrong path is chosen.
     program = (
         "import sys\n"
-        "from turkish_lipsync.core.errors import SpeechEngineError\n"
+        "from turkish_lipsync.core.base.errors import SpeechEngineError\n"
         "from turkish_lipsync.core.speech import espeak, get_engine\n"
         "from turkish_lipsync.core.text.utterance import build_utterance\n"
         "engine = get_engine('espeak')\n"

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import soundfile
 
-from turkish_lipsync.core.errors import AudioError, TextError
+from turkish_lipsync.core.base.errors import AudioError, TextError
 from turkish_lipsync.core.speech import align_recording, espeak, get_engine, read_audio, synthesize_timeline
 from turkish_lipsync.core.speech import recording as recording_module
 from turkish_lipsync.core.speech import timeline as timeline_module

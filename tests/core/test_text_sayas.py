@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from turkish_lipsync.core.errors import MarkupError
-from turkish_lipsync.core.model import SpokenWord
+from turkish_lipsync.core.base.errors import MarkupError
+from turkish_lipsync.core.base.model import SpokenWord
 from turkish_lipsync.core.text.jsml import parse_jsml
 from turkish_lipsync.core.text.normalize import normalize
 

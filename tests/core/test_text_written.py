@@ -7,8 +7,8 @@ import random
 
 import pytest
 
-from turkish_lipsync.core.errors import TextError
-from turkish_lipsync.core.model import SpokenWord
+from turkish_lipsync.core.base.errors import TextError
+from turkish_lipsync.core.base.model import SpokenWord
 from turkish_lipsync.core.text.jsml import parse_jsml
 from turkish_lipsync.core.text.normalize import normalize, spoken_text, spoken_words
 from turkish_lipsync.core.text.tables import TURKISH_LETTERS

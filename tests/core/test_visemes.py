@@ -1,6 +1,6 @@
 import pytest
 
-from turkish_lipsync.core.errors import DataError
+from turkish_lipsync.core.base.errors import DataError
 from turkish_lipsync.core.text.utterance import build_utterance
 from turkish_lipsync.core.text.visemes import viseme_for_letter, viseme_names
 

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import bpy
 
-from ..core.errors import LipSyncError
-from ..core.interchange import EXPORT_FORMATS, export_text, write_export
+from ..core.base.errors import LipSyncError
+from ..core.interchange import export_format_named, export_text, write_export
 from ..core.pipeline import LipSyncOptions, lip_sync
 from . import pipeline, sequencer
 
@@ -24,7 +24,7 @@ class ExportResult:
 
 def export_path_for(chosen: str, export_format: str) -> Path:
     """The chosen path with the format's own extension (a .json path exported as CSV becomes .csv)."""
-    return Path(bpy.path.abspath(chosen)).with_suffix(EXPORT_FORMATS[export_format])
+    return Path(bpy.path.abspath(chosen)).with_suffix(export_format_named(export_format).suffix)
 
 
 def export_animation(
@@ -62,6 +62,6 @@ def export_animation(
         except ValueError:  # another drive on Windows
             sound = str(wav)
     contents, warnings = export_text(
-        export_format, spoken.timeline, fps, tracks=spoken.tracks, sound_file=sound, text=source
+        export_format, spoken.timeline, spoken.tracks, sound_file=sound, text=source
     )
     return ExportResult(write_export(path, contents), export_format, spoken.warnings + warnings)

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import bpy
 
-from ..core.errors import LipSyncError
+from ..core.base.errors import LipSyncError
 from . import compat, sequencer
 from .heads import find_head_parts
 

@@ -7,7 +7,7 @@ from pathlib import Path
 import bpy
 import numpy as np
 
-from ..core.errors import HeadError
+from ..core.base.errors import HeadError
 from ..core.faces.arkit_names import has_arkit_basis, match_arkit_keys
 from ..core.faces.conventions import recognise_convention
 from ..core.faces.reference import ReferenceHead, load_reference_head

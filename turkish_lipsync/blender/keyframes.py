@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import bpy
 import numpy as np
 
-from ..core.model import EMOTION_KEY_PREFIX, OWNED_PREFIX, VISEME_KEY_PREFIX, WeightTracks
+from ..core.base.model import EMOTION_KEY_PREFIX, OWNED_PREFIX, VISEME_KEY_PREFIX, WeightTracks
 from . import compat
 
 ACTION_TAG = "turkish_lipsync_utterance"  # custom property on the actions we create

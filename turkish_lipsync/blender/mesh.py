@@ -9,7 +9,7 @@ from __future__ import annotations
 import bpy
 import numpy as np
 
-from ..core.errors import HeadError
+from ..core.base.errors import HeadError
 
 
 def rest_coordinates(obj: bpy.types.Object) -> np.ndarray:

@@ -10,7 +10,7 @@ from pathlib import Path
 import bpy
 import numpy as np
 
-from ..core.errors import HeadError, LipSyncError
+from ..core.base.errors import HeadError, LipSyncError
 from ..core.faces.landmarks import landmark_layout_in_box
 from ..core.faces.reference import load_reference_head
 from ..core.pipeline import LipSyncOptions

@@ -15,8 +15,8 @@ from pathlib import Path
 
 import bpy
 
-from ..core.errors import HeadError, TextError
-from ..core.model import OWNED_PREFIX, Timeline, Utterance, WeightTracks
+from ..core.base.errors import HeadError, TextError
+from ..core.base.model import OWNED_PREFIX, Timeline, Utterance, WeightTracks
 from ..core.pipeline import LipSyncOptions, lip_sync
 from . import compat, heads, keyframes, render, sequencer, shapekeys
 from .shapekeys import BuildReport

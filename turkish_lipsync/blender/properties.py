@@ -5,13 +5,13 @@ from __future__ import annotations
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
-from ..core.interchange import EXPORT_CHOICES
+from ..core.base.choices import Choice
+from ..core.interchange import export_choices
 from ..core.pipeline import (
     INTERPOLATION_CHOICES,
     MOTION_CHOICES,
     RATE_RANGE,
     TIMING_CHOICES,
-    Choice,
     LipSyncOptions,
 )
 
@@ -178,7 +178,7 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
     )
     export_format: EnumProperty(
         name="Format",
-        items=enum_items(EXPORT_CHOICES),
+        items=enum_items(export_choices()),
         default="rhubarb-json",
         description="What Export Animation writes, and for which tools",
     )

@@ -13,9 +13,9 @@ import bpy
 import numpy as np
 from mathutils import Vector
 
-from ..core.errors import LipSyncError
-from ..core.model import EMOTION_KEY_PREFIX, VISEME_KEY_PREFIX
-from ..core.video import join_videos
+from ..core.base.errors import LipSyncError
+from ..core.base.model import EMOTION_KEY_PREFIX, VISEME_KEY_PREFIX
+from ..core.interchange.video import join_videos
 from . import compat, mesh
 
 ENGINES = ("EEVEE", "CYCLES", "WORKBENCH")

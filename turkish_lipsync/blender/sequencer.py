@@ -9,7 +9,7 @@ from pathlib import Path
 
 import bpy
 
-from ..core.errors import AudioError
+from ..core.base.errors import AudioError
 from . import compat
 
 SPEECH_STRIP_NAME = "TR_speech"

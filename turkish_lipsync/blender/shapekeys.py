@@ -13,8 +13,9 @@ from pathlib import Path
 import bpy
 import numpy as np
 
-from ..core.data import load_table
-from ..core.errors import HeadError, LipSyncError
+from ..core.base.data import load_table
+from ..core.base.errors import HeadError, LipSyncError
+from ..core.base.model import EMOTIONS, OWNED_PREFIX, emotion_key_name, viseme_key_name
 from ..core.faces import transfer
 from ..core.faces.arkit_names import ARKIT_UNITS, has_arkit_basis, match_arkit_keys
 from ..core.faces.conventions import (
@@ -29,7 +30,6 @@ from ..core.faces.conventions import (
 from ..core.faces.landmarks import connected_pieces, find_landmarks, hidden_face_share, landmarks_from_motion
 from ..core.faces.recipes import VISEME_NAMES, key_deltas, load_recipes
 from ..core.faces.reference import ReferenceHead, load_reference_head
-from ..core.model import EMOTIONS, OWNED_PREFIX, emotion_key_name, viseme_key_name
 from . import mesh
 from .heads import find_head_parts, reference_part_of
 from .landmarks import read_landmark_markers

@@ -7,12 +7,12 @@ import json
 import sys
 from pathlib import Path
 
-from .errors import LipSyncError
-from .model import Timeline, WeightTracks
-from .motion import MOTION_MODES
+from .base.errors import LipSyncError
+from .base.model import Timeline, WeightTracks
 from .pipeline import (
     FPS_RANGE,
     INTERPOLATION_CHOICES,
+    MOTION_CHOICES,
     TIMING_CHOICES,
     LipSyncOptions,
     LipSyncResult,
@@ -58,13 +58,13 @@ def _parser() -> argparse.ArgumentParser:
     quality.add_argument("--format", choices=("text", "json"), default="text")
     quality.set_defaults(run=_run_quality)
 
-    from .interchange import EXPORT_FORMATS
+    from .interchange import export_formats
 
     export = commands.add_parser(
         "export", help="write the animation for other tools: Rhubarb cues, Moho .dat, Papagayo, ARKit CSV"
     )
     _add_source_arguments(export)
-    export.add_argument("--format", required=True, choices=tuple(EXPORT_FORMATS), dest="export_format")
+    export.add_argument("--format", required=True, choices=tuple(export_formats()), dest="export_format")
     export.add_argument("--out", type=Path, metavar="PATH", help="the file to write (default: print it)")
     export.add_argument("--wav", type=Path, metavar="OUT.wav", help="also write the speech audio")
     export.set_defaults(run=_run_export)
@@ -84,7 +84,7 @@ def _add_source_arguments(parser: argparse.ArgumentParser) -> None:
     )
     defaults = LipSyncOptions()
     parser.add_argument("--timing", choices=identifiers(TIMING_CHOICES), default=defaults.timing)
-    parser.add_argument("--motion", choices=MOTION_MODES, default=defaults.motion)
+    parser.add_argument("--motion", choices=identifiers(MOTION_CHOICES), default=defaults.motion)
     parser.add_argument(
         "--interpolation", choices=identifiers(INTERPOLATION_CHOICES), default=defaults.interpolation
     )
@@ -173,8 +173,7 @@ def _run_export(args: argparse.Namespace) -> int:
     contents, warnings = export_text(
         args.export_format,
         result.timeline,
-        args.fps,
-        tracks=result.tracks,
+        result.tracks,
         sound_file=sound_file,
         text=read_source(args.file, args.text, args.cues) if args.export_format == "papagayo-pgo" else "",
     )

@@ -11,28 +11,18 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-from .errors import LipSyncError, TextError
-from .model import Timeline, Utterance, WeightTracks
-
-
-@dataclass(frozen=True)
-class Choice:
-    """One choice of an option: its identifier, a label and a one-line description for the UI and --help."""
-
-    identifier: str
-    label: str
-    description: str
-
+from .base.choices import Choice, identifiers
+from .base.errors import LipSyncError
+from .base.model import Timeline, Utterance, WeightTracks
+from .motion import motion_choices, weight_tracks
+from .speech.sources import SpeechRequest, speak
 
 TIMING_CHOICES = (
     Choice("phone", "Phone", "Key every phone where the speech engine speaks it (most accurate)"),
     Choice("word", "Word", "The thesis's method: word starts from the engine, letters by mean durations"),
     Choice("table", "Table", "Mean letter durations only (thesis Table 5.4), no speech engine, no audio"),
 )
-MOTION_CHOICES = (
-    Choice("natural", "Natural", "Co-articulation, blinks and brow movement"),
-    Choice("thesis", "Thesis", "The thesis's weighted morphing from letter to letter (eq. 5.3, 5.4)"),
-)
+MOTION_CHOICES = motion_choices()
 INTERPOLATION_CHOICES = (
     Choice("AUTO", "Automatic", "What the motion model asks for"),
     Choice("LINEAR", "Linear", "Straight lines between keys"),
@@ -41,10 +31,6 @@ INTERPOLATION_CHOICES = (
 )
 RATE_RANGE = (0.25, 4.0)
 FPS_RANGE = (1.0, 240.0)
-
-
-def identifiers(choices: tuple[Choice, ...]) -> tuple[str, ...]:
-    return tuple(choice.identifier for choice in choices)
 
 
 @dataclass(frozen=True)
@@ -116,22 +102,17 @@ class LipSyncResult:
 
 def lip_sync(source: str, options: LipSyncOptions | None = None) -> LipSyncResult:
     """Read the source as a Turkish speaker would, speak it (or align the recording), time it, move it."""
-    from .motion import weight_tracks
-    from .speech import synthesize_timeline
-    from .text.utterance import build_utterance
-
     options = options or LipSyncOptions()
-    if options.cues is not None:
-        from .interchange.cue_timing import speech_from_cues
-
-        utterance, speech = speech_from_cues(source, options.cues, options.recording, options.fps)
-    else:
-        if not source.strip():
-            raise TextError("The text is empty: write some Turkish text (plain or JSML) to speak.")
-        utterance = with_rate(build_utterance(source), options.rate)
-        speech = synthesize_timeline(
-            utterance, options.timing, recording=options.recording, engine=options.engine
-        )
+    request = SpeechRequest(
+        text=source,
+        timing=options.timing,
+        rate=options.rate,
+        recording=options.recording,
+        cues=options.cues,
+        engine=options.engine,
+        fps=options.fps,
+    )
+    utterance, speech = speak(request)
     tracks = weight_tracks(
         speech.timeline, options.fps, mode=options.motion, emotion_strength=options.emotion_strength
     )
@@ -145,14 +126,3 @@ def lip_sync(source: str, options: LipSyncOptions | None = None) -> LipSyncResul
         tracks=tracks,
         warnings=speech.warnings,
     )
-
-
-def with_rate(utterance: Utterance, rate: float) -> Utterance:
-    """The utterance with every word spoken rate times faster (markup rates multiply with it)."""
-    if abs(rate - 1.0) < 1e-9:
-        return utterance
-    words = tuple(
-        dataclasses.replace(word, style=dataclasses.replace(word.style, rate=word.style.rate * rate))
-        for word in utterance.words
-    )
-    return dataclasses.replace(utterance, words=words)

@@ -16,9 +16,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..data import DATA_DIR, read_toml_file
-from ..errors import DataError
-from ..model import EMOTIONS, emotion_key_name, emotion_release_key_name, viseme_key_name
+from ..base.data import DATA_DIR, read_toml_file
+from ..base.errors import DataError
+from ..base.model import EMOTIONS, emotion_key_name, emotion_release_key_name, viseme_key_name
 from .recipes import EXTRA_KEYS, VISEME_NAMES, Recipes, combine_units, expand_units
 
 CONVENTIONS_DIR = DATA_DIR / "conventions"

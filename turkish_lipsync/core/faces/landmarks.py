@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import HeadError
+from ..base.errors import HeadError
 
 # Slices (of 200, from the top) where find_head_region looks for no neck yet.
 CROWN_SLICES = 10

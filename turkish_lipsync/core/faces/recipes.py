@@ -13,9 +13,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..data import DATA_DIR, read_toml_file
-from ..errors import DataError
-from ..model import (
+from ..base.data import DATA_DIR, read_toml_file
+from ..base.errors import DataError
+from ..base.model import (
     BLINK_KEYS,
     BROW_RAISE_KEY,
     EMOTIONS,

@@ -27,8 +27,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..data import DATA_DIR, load_table
-from ..errors import DataError
+from ..base.data import DATA_DIR, load_table
+from ..base.errors import DataError
 from .arkit_names import ARKIT_UNITS
 from .landmarks import triangulate
 from .parts import edge_graph, smooth_over_edges

@@ -15,7 +15,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from ..errors import HeadError
+from ..base.errors import HeadError
 from .closest import closest_points, triangles_around
 from .landmarks import connected_pieces, face_frame, find_landmarks, largest_piece, triangulate
 from .parts import (

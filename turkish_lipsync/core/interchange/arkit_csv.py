@@ -14,9 +14,11 @@ from pathlib import Path
 
 import numpy as np
 
+from ..base.model import Timeline, WeightTracks
 from ..faces.recipes import Recipes, load_recipes
-from ..model import WeightTracks
-from .cues import CueFileError, read_text
+from ..speech.cues import CueFileError
+from ..speech.cues.common import read_text
+from .formats import ExportFormat, register_export
 
 # The order of ARKit's ARFaceAnchor blend shapes in Live Link Face's CSV and network packets.
 LIVE_LINK_UNITS: tuple[str, ...] = (
@@ -112,3 +114,23 @@ def read_arkit_csv(path: Path, fps: float) -> tuple[np.ndarray, np.ndarray]:
                 f"{path}: line {number}: expected a timecode and {len(header) - 1} numbers"
             ) from None
     return frames - (frames[0] if len(frames) else 0.0), weights
+
+
+@register_export
+class ArkitCsv(ExportFormat):
+    name = "arkit-csv"
+    order = 10  # place in the panel's list
+    suffix = ".csv"
+    label = "ARKit CSV"
+    description = "52 ARKit weights per frame, Live Link Face layout (Unreal, MetaHuman)"
+
+    def write(self, timeline: Timeline, tracks: WeightTracks, *, sound_file: str = "", text: str = ""):
+        weights, clipped = arkit_weights(tracks)
+        warnings = ()
+        if clipped:
+            units = ", ".join(f"{unit} ({count})" for unit, count in sorted(clipped.items()))
+            warnings = (
+                "ARKit weights lie in 0..1, so the CSV clips the frames where our keys drive a unit outside "
+                f"that range (negative for lip corners drawn in, above 1 in strong emotions): {units}.",
+            )
+        return live_link_csv(weights, tracks.fps), warnings

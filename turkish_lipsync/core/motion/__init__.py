@@ -1,26 +1,27 @@
 """Motion: the 37 viseme and 6 emotion shape-key weights over time, at a frame rate.
 
-Two models over one timeline: the thesis's linear morphing (thesis.py) and the default co-articulated model
-(natural.py), with their frame helpers below them (frames.py) and the quality report above them (quality.py).
+Two models over one timeline, each a `MotionModel` in MOTION_MODELS: the default co-articulated model
+(natural.py) and the thesis's linear morphing (thesis.py), with their frame helpers below them (frames.py)
+and the quality report above them (quality.py).
 """
 
 from __future__ import annotations
 
-from ..model import Timeline, WeightTracks
-from .natural import natural_weight_tracks
-from .thesis import thesis_weight_tracks
+from ..base.model import Timeline, WeightTracks
+from .base import MOTION_MODELS, MotionModel
 
-MOTION_MODES = ("natural", "thesis")
+
+def motion_choices():
+    return MOTION_MODELS.choices()
 
 
 def weight_tracks(
-    timeline: Timeline, fps: float, mode: str = "natural", emotion_strength: float = 1.0, **options
+    timeline: Timeline, fps: float, mode: str = "natural", emotion_strength: float = 1.0
 ) -> WeightTracks:
     """The weight tracks of a timeline in the chosen motion model ("natural" is the default)."""
     if fps <= 0:
         raise ValueError(f"frame rate must be positive, got {fps}")
-    if mode == "thesis":
-        return thesis_weight_tracks(timeline, fps, emotion_strength)
-    if mode == "natural":
-        return natural_weight_tracks(timeline, fps, emotion_strength, **options)
-    raise ValueError(f"unknown motion mode {mode!r}; choose one of {', '.join(MOTION_MODES)}")
+    return MOTION_MODELS.get(mode).weight_tracks(timeline, fps, emotion_strength)
+
+
+__all__ = ["MOTION_MODELS", "MotionModel", "motion_choices", "weight_tracks"]

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model import Track, WeightTracks
+from ..base.model import Track, WeightTracks
 
 
 def sparse_track(name: str, frames: np.ndarray, values: np.ndarray) -> Track:

@@ -27,9 +27,9 @@ from functools import cache
 
 import numpy as np
 
-from ..data import DATA_DIR, load_table, require
-from ..errors import DataError
-from ..model import (
+from ..base.data import DATA_DIR, load_table, require
+from ..base.errors import DataError
+from ..base.model import (
     BLINK_KEYS,
     BROW_RAISE_KEY,
     EMOTIONS,
@@ -40,6 +40,7 @@ from ..model import (
     viseme_key_name,
 )
 from ..text.visemes import BILABIAL_VISEMES, LABIODENTAL_VISEMES, NEUTRAL, viseme_names
+from .base import MOTION_MODELS, MotionModel
 from .frames import shape_runs, shown_shapes, sparse_track
 
 HARD_TARGETS = BILABIAL_VISEMES | LABIODENTAL_VISEMES
@@ -466,3 +467,13 @@ def _brow_curve(emphases: tuple[tuple[float, float], ...], times: np.ndarray, pa
         falling = 1.0 - _smoothstep((times - end) / max(brow["fall"], 1e-6))
         curve = np.maximum(curve, brow["weight"] * np.minimum(rising, falling))
     return np.clip(curve, 0.0, 1.0)
+
+
+@MOTION_MODELS.register
+class NaturalMotion(MotionModel):
+    name = "natural"
+    label = "Natural"
+    description = "Co-articulation, blinks and brow movement"
+
+    def weight_tracks(self, timeline: Timeline, fps: float, emotion_strength: float = 1.0) -> WeightTracks:
+        return natural_weight_tracks(timeline, fps, emotion_strength)

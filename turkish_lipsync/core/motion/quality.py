@@ -24,7 +24,14 @@ import math
 
 import numpy as np
 
-from ..model import BLINK_KEYS, BROW_RAISE_KEY, EMOTION_KEY_PREFIX, VISEME_KEY_PREFIX, Timeline, WeightTracks
+from ..base.model import (
+    BLINK_KEYS,
+    BROW_RAISE_KEY,
+    EMOTION_KEY_PREFIX,
+    VISEME_KEY_PREFIX,
+    Timeline,
+    WeightTracks,
+)
 from ..text.syllables import VOWELS
 from ..text.visemes import BILABIAL_VISEMES, LABIODENTAL_VISEMES
 from . import weight_tracks

@@ -6,10 +6,11 @@ import math
 
 import numpy as np
 
-from ..data import DATA_DIR, load_table, require
-from ..errors import DataError
-from ..model import Timeline, WeightTracks, emotion_key_name, viseme_key_name
+from ..base.data import DATA_DIR, load_table, require
+from ..base.errors import DataError
+from ..base.model import Timeline, WeightTracks, emotion_key_name, viseme_key_name
 from ..text.visemes import NEUTRAL
+from .base import MOTION_MODELS, MotionModel
 from .frames import sparse_track
 
 
@@ -67,3 +68,13 @@ def _word_emotion_weights(timeline: Timeline, emotion_strength: float) -> dict[i
             if span.start <= word.start and word.end <= span.end:
                 result[word.index] = (span.emotion, min(1.0, max(0.0, span.weight * emotion_strength)))
     return result
+
+
+@MOTION_MODELS.register
+class ThesisMotion(MotionModel):
+    name = "thesis"
+    label = "Thesis"
+    description = "The thesis's weighted morphing from letter to letter (eq. 5.3, 5.4)"
+
+    def weight_tracks(self, timeline: Timeline, fps: float, emotion_strength: float = 1.0) -> WeightTracks:
+        return thesis_weight_tracks(timeline, fps, emotion_strength)

@@ -14,9 +14,9 @@ from functools import cache
 
 import numpy as np
 
-from ..data import DATA_DIR, load_table
-from ..errors import DataError
-from ..model import Utterance
+from ..base.data import DATA_DIR, load_table
+from ..base.errors import DataError
+from ..base.model import Utterance
 from ..text.syllables import VOWELS
 from .base import PhoneEvent, SpeechEngine, Synthesis
 from .timing import letter_durations

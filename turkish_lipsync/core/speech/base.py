@@ -14,8 +14,8 @@ from typing import ClassVar
 
 import numpy as np
 
-from ..errors import SpeechEngineError
-from ..model import Utterance
+from ..base.errors import SpeechEngineError
+from ..base.model import Utterance
 
 
 @dataclass(frozen=True)

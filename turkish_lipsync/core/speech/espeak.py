@@ -21,9 +21,9 @@ from functools import cache
 
 import numpy as np
 
-from ..data import DATA_DIR, load_table
-from ..errors import DataError, SpeechEngineError
-from ..model import Style, Utterance
+from ..base.data import DATA_DIR, load_table
+from ..base.errors import DataError, SpeechEngineError
+from ..base.model import Style, Utterance
 from .base import PhoneEvent, SpeechEngine, Synthesis, WordEvent, register_engine
 
 INSTALL_HINT = (

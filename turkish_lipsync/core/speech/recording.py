@@ -23,8 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import AudioError
-from ..model import Utterance
+from ..base.errors import AudioError
+from ..base.model import Utterance
 from .base import PhoneEvent, SpeechEngine, Synthesis, WordEvent
 from .dtw import dtw_path
 from .features import (

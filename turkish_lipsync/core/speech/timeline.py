@@ -5,8 +5,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..errors import LipSyncError, TextError
-from ..model import Timeline, Utterance
+from ..base.errors import LipSyncError, TextError
+from ..base.model import Timeline, Utterance
 from .align import phone_letter_spans, word_letter_spans
 from .base import Synthesis, get_engine
 from .recording import align_recording

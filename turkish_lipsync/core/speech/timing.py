@@ -7,9 +7,9 @@ from functools import cache
 
 import numpy as np
 
-from ..data import DATA_DIR, load_table, require
-from ..errors import DataError
-from ..model import EmotionSpan, Phone, Timeline, Utterance, WordSpan
+from ..base.data import DATA_DIR, load_table, require
+from ..base.errors import DataError
+from ..base.model import EmotionSpan, Phone, Timeline, Utterance, WordSpan
 from ..text.syllables import VOWELS
 
 SOFT_G = "ğ"

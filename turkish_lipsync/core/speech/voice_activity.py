@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import AudioError
+from ..base.errors import AudioError
 from .features import ANALYSIS_RATE, HOP
 
 # The loud frames are brought to this level (dB full scale) for the detector, which has absolute thresholds:

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import AudioError
+from ..base.errors import AudioError
 from .base import Synthesis
 
 

@@ -11,9 +11,9 @@ import re
 from dataclasses import replace
 from functools import cache
 
-from ..data import DATA_DIR, load_table
-from ..errors import DataError, MarkupError
-from ..model import EMOTIONS, Pause, Style, TextRun
+from ..base.data import DATA_DIR, load_table
+from ..base.errors import DataError, MarkupError
+from ..base.model import EMOTIONS, Pause, Style, TextRun
 
 # Table 5.3's tags, the variant spellings the thesis's own text uses (ANGER, FEAR, ...) and a few more.
 EMOTION_TAGS: dict[str, str] = {

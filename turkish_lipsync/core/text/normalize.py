@@ -16,8 +16,8 @@ from collections.abc import Iterable
 from functools import cache, cached_property
 from typing import NamedTuple
 
-from ..errors import TextError
-from ..model import Pause, SpokenWord, Style, TextRun
+from ..base.errors import TextError
+from ..base.model import Pause, SpokenWord, Style, TextRun
 from .jsml import parse_jsml, pause_seconds
 from .numbers import Words, number_words, ordinal_words
 from .suffixes import Letters, proper_noun_suffix, spoken_suffix

@@ -10,8 +10,8 @@ import unicodedata
 from dataclasses import dataclass
 from functools import cache, lru_cache
 
-from ..data import DATA_DIR, load_table
-from ..errors import DataError
+from ..base.data import DATA_DIR, load_table
+from ..base.errors import DataError
 
 TURKISH_LETTERS: frozenset[str] = frozenset("abcçdefgğhıijklmnoöprsştuüvyz")
 VOWELS: frozenset[str] = frozenset("aeıioöuü")

@@ -5,8 +5,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import cache
 
-from ..data import DATA_DIR, load_table, require
-from ..errors import DataError
+from ..base.data import DATA_DIR, load_table, require
+from ..base.errors import DataError
 
 NEUTRAL = "neutral"
 BILABIAL_VISEMES = frozenset({"bpa", "bpe", "bpo", "ma", "me", "mo"})

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from .errors import DataError
 
-DATA_DIR = Path(__file__).resolve().parents[2] / "shapekeys"
+DATA_DIR = Path(__file__).resolve().parents[3] / "shapekeys"
 
 
 @cache

@@ -5,9 +5,9 @@ import json
 import numpy as np
 import pytest
 
-from turkish_lipsync.core.interchange import export_text, read_cue_source, timeline_from_cues
-from turkish_lipsync.core.interchange.cues import CueFileError
 from turkish_lipsync.core.speech import synthesize_timeline
+from turkish_lipsync.core.speech.cue_timing import timeline_from_cues
+from turkish_lipsync.core.speech.cues import CueFileError, cue_formats, read_cue_file
 from turkish_lipsync.core.text.utterance import build_utterance
 
 FPS = 25.0
@@ -21,7 +21,7 @@ def timeline():
 
 def _write(tmp_path, timeline, export_format, suffix):
     path = tmp_path / f"cues{suffix}"
-    path.write_text(export_text(export_format, timeline, FPS)[0], encoding="utf-8")
+    path.write_text(cue_formats()[export_format].write(timeline, FPS)[0], encoding="utf-8")
     return path
 
 
@@ -30,7 +30,7 @@ def _write(tmp_path, timeline, export_format, suffix):
     [("rhubarb-tsv", ".tsv"), ("rhubarb-json", ".json"), ("papagayo-pgo", ".pgo"), ("moho-dat", ".dat")],
 )
 def test_cues_of_a_timeline_give_its_timing_back(tmp_path, timeline, export_format, suffix):
-    source = read_cue_source(_write(tmp_path, timeline, export_format, suffix), fps=FPS)
+    source = read_cue_file(_write(tmp_path, timeline, export_format, suffix), fps=FPS)
     imported, warnings = timeline_from_cues(build_utterance(source.text or TEXT), source)
     assert warnings == () and imported.timing == "cues"
     original = np.array([phone.start for phone in timeline.phones])
@@ -43,7 +43,7 @@ def test_cues_of_a_timeline_give_its_timing_back(tmp_path, timeline, export_form
 
 
 def test_pgo_text_is_the_source(tmp_path, timeline):
-    source = read_cue_source(_write(tmp_path, timeline, "papagayo-pgo", ".pgo"))
+    source = read_cue_file(_write(tmp_path, timeline, "papagayo-pgo", ".pgo"))
     assert source.text.split() == [word.text for word in timeline.words]
     assert source.word_cues and len(source.word_cues) == len(timeline.words)
 
@@ -57,7 +57,7 @@ def test_a_stretched_recording_keeps_the_letters_in_place(tmp_path, timeline):
     document["mouthCues"].insert(0, {"start": 0.0, "end": 0.3, "value": "X"})
     document["mouthCues"][1]["start"] = 0.3
     path.write_text(json.dumps(document), encoding="utf-8")
-    imported, _ = timeline_from_cues(build_utterance(TEXT), read_cue_source(path))
+    imported, _ = timeline_from_cues(build_utterance(TEXT), read_cue_file(path))
     for original, word in zip(timeline.words, imported.words, strict=True):
         assert abs(word.start - (0.3 + 1.4 * original.start)) <= 1.4 / FPS
 
@@ -73,7 +73,7 @@ def test_a_pause_the_text_does_not_have_is_bridged(tmp_path, timeline):
     index = max(i for i, start in enumerate(starts) if start < vapura.start - 0.05)
     lines.insert(index + 1, f"{vapura.start - 0.03:.3f}\tX")
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
-    imported, _ = timeline_from_cues(build_utterance(TEXT), read_cue_source(path))
+    imported, _ = timeline_from_cues(build_utterance(TEXT), read_cue_file(path))
     for original, word in zip(timeline.words, imported.words, strict=True):
         assert abs(word.start - original.start) <= 1 / FPS, word
 
@@ -82,12 +82,12 @@ def test_a_file_without_speech_is_refused(tmp_path):
     path = tmp_path / "silence.tsv"
     path.write_text("0.00\tX\n1.50\tX\n", encoding="utf-8")
     with pytest.raises(CueFileError, match="no speech"):
-        timeline_from_cues(build_utterance("merhaba"), read_cue_source(path))
+        timeline_from_cues(build_utterance("merhaba"), read_cue_file(path))
 
 
 def test_an_unknown_file_type_is_named(tmp_path):
     with pytest.raises(CueFileError, match=r"\.srt"):
-        read_cue_source(tmp_path / "speech.srt")
+        read_cue_file(tmp_path / "speech.srt")
 
 
 def test_a_stretch_too_long_to_align_asks_for_punctuation(tmp_path):
@@ -95,4 +95,4 @@ def test_a_stretch_too_long_to_align_asks_for_punctuation(tmp_path):
     path = tmp_path / "long.tsv"
     path.write_text("".join(f"{i * 0.05:.2f}\t{'ABCD'[i % 4]}\n" for i in range(2000)) + "100.00\tX\n")
     with pytest.raises(CueFileError, match="put punctuation where the speaker pauses"):
-        timeline_from_cues(build_utterance(text), read_cue_source(path))
+        timeline_from_cues(build_utterance(text), read_cue_file(path))

@@ -17,79 +17,25 @@ The method, per stretch of speech:
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import TextError
-from ..model import Timeline, Utterance
-from ..speech.base import Synthesis
-from ..speech.recording import read_audio
-from ..speech.timeline import Speech
-from ..speech.timing import build_timeline, letter_durations
+from ..base.errors import TextError
+from ..base.model import Timeline, Utterance
 from ..text.utterance import build_utterance
-from .cues import CueFileError, MouthCue, read_rhubarb_json, read_rhubarb_tsv, read_rhubarb_xml
-from .papagayo import read_moho_dat, read_pgo, rest_between
-from .shapes import REST, shape_for_viseme
+from .base import Synthesis
+from .cues import CueFileError, CueSource, MouthCue, read_cue_file
+from .cues.shapes import REST, shape_for_viseme
+from .recording import read_audio
+from .timeline import Speech
+from .timing import build_timeline, letter_durations
 
 CUE_TIMING = "cues"
 _MISMATCH = 1.0
 _REST_MISMATCH = 2.0
 _PLACE_WEIGHT = 2.0  # cost of a whole stretch's distance from the expected place
 _MAX_CELLS = 4_000_000  # letters x cues of one stretch (about 50 MB of alignment tables)
-CUE_SUFFIXES = (".tsv", ".txt", ".json", ".xml", ".pgo", ".dat")
-
-
-@dataclass(frozen=True)
-class CueSource:
-    """What a timing file holds: cues, its length, its own text where it has one, and word spans."""
-
-    path: Path
-    cues: tuple[MouthCue, ...]
-    duration: float
-    text: str = ""
-    sound_file: str = ""
-    word_cues: tuple[tuple[str, tuple[MouthCue, ...]], ...] = ()  # per word (Papagayo): text, its cues
-    warnings: tuple[str, ...] = ()
-
-
-def read_cue_source(path: Path | str, fps: float = 24.0) -> CueSource:
-    """Read a Rhubarb TSV/JSON/XML, a Papagayo .pgo or a Moho .dat (at fps, which the file does not hold)."""
-    path = Path(path)
-    suffix = path.suffix.lower()
-    if suffix in (".tsv", ".txt"):
-        cues, duration = read_rhubarb_tsv(path)
-        return CueSource(path, cues, duration)
-    if suffix == ".json":
-        cues, duration, sound = read_rhubarb_json(path)
-        return CueSource(path, cues, duration, sound_file=sound)
-    if suffix == ".xml":
-        cues, duration, sound = read_rhubarb_xml(path)
-        return CueSource(path, cues, duration, sound_file=sound)
-    if suffix == ".dat":
-        cues = read_moho_dat(path, fps)
-        return CueSource(path, cues, cues[-1].end)
-    if suffix == ".pgo":
-        document = read_pgo(path)
-        warnings = ()
-        if document.voice_count > 1:
-            warnings = (f"{path} has {document.voice_count} voices; only the first one's timing is used.",)
-        words = tuple((word.text, document.word_cues(word)) for word in document.words)
-        cues = rest_between(document)
-        return CueSource(
-            path,
-            cues,
-            max(document.duration_frames / document.fps, cues[-1].end),
-            text=document.text,
-            sound_file=document.sound_path,
-            word_cues=words,
-            warnings=warnings,
-        )
-    raise CueFileError(
-        f"{path}: unknown timing file type {suffix or '(none)'}; give a Rhubarb .tsv, .json or .xml, a "
-        "Papagayo .pgo or a Moho .dat"
-    )
 
 
 def timeline_from_cues(utterance: Utterance, source: CueSource) -> tuple[Timeline, tuple[str, ...]]:
@@ -132,7 +78,7 @@ def speech_from_cues(
 ) -> tuple[Utterance, Speech]:
     """The utterance and its speech timed by a cue file: the text is the source, else the file's own text;
     the audio is the recording, else the sound file the cue file names (beside it), else none."""
-    cue_source = read_cue_source(cue_path, fps)
+    cue_source = read_cue_file(cue_path, fps)
     text = source if source.strip() else cue_source.text
     if not text.strip():
         raise TextError(

@@ -5,15 +5,9 @@ import json
 import pytest
 
 from turkish_lipsync.core.faces.recipes import VISEME_NAMES
-from turkish_lipsync.core.interchange import export_text, mouth_cues
-from turkish_lipsync.core.interchange.cues import (
-    CueFileError,
-    read_rhubarb_json,
-    read_rhubarb_tsv,
-    read_rhubarb_xml,
-)
-from turkish_lipsync.core.interchange.shapes import SHAPES, shape_for_phoneme, shape_for_viseme
 from turkish_lipsync.core.speech import synthesize_timeline
+from turkish_lipsync.core.speech.cues import CueFileError, cue_formats, mouth_cues, read_cue_file
+from turkish_lipsync.core.speech.cues.shapes import SHAPES, shape_for_phoneme, shape_for_viseme
 from turkish_lipsync.core.text.utterance import build_utterance
 
 FPS = 25.0
@@ -53,13 +47,16 @@ def test_written_cues_parse_back_within_a_frame_of_the_timeline(timeline, tmp_pa
     expected = mouth_cues(timeline)
     suffix = export_format.split("-")[1]
     path = tmp_path / f"speech.{suffix}"
-    path.write_text(export_text(export_format, timeline, FPS, sound_file="speech.wav")[0], encoding="utf-8")
+    path.write_text(
+        cue_formats()[export_format].write(timeline, FPS, sound_file="speech.wav")[0], encoding="utf-8"
+    )
+    source = read_cue_file(path, FPS)
+    cues = source.cues
     if suffix == "tsv":
-        cues, duration = read_rhubarb_tsv(path)
-        assert duration == pytest.approx(expected[-1].start, abs=1e-3)
+        assert source.duration == pytest.approx(expected[-1].start, abs=1e-3)
     else:
-        cues, duration, sound = (read_rhubarb_json if suffix == "json" else read_rhubarb_xml)(path)
-        assert sound == "speech.wav" and duration == pytest.approx(timeline.duration, abs=1e-3)
+        assert source.sound_file == "speech.wav"
+        assert source.duration == pytest.approx(timeline.duration, abs=1e-3)
     compared = expected if suffix != "tsv" else expected[:-1]  # TSV: the final rest has no end
     assert [c.shape for c in cues[: len(compared)]] == [c.shape for c in compared]
     for cue, original in zip(cues, compared, strict=False):
@@ -72,7 +69,7 @@ def test_written_cues_parse_back_within_a_frame_of_the_timeline(timeline, tmp_pa
 
 
 def test_json_is_rhubarbs_layout(timeline):
-    document = json.loads(export_text("rhubarb-json", timeline, FPS)[0])
+    document = json.loads(cue_formats()["rhubarb-json"].write(timeline, FPS)[0])
     assert set(document) == {"metadata", "mouthCues"}
     assert set(document["mouthCues"][0]) == {"start", "end", "value"}
 
@@ -83,11 +80,11 @@ def test_xml_with_entities_is_refused(tmp_path):
         '<?xml version="1.0"?><!DOCTYPE r [<!ENTITY a "aaaa">]><rhubarbResult/>', encoding="utf-8"
     )
     with pytest.raises(CueFileError, match="DTD"):
-        read_rhubarb_xml(path)
+        read_cue_file(path)
 
 
 def test_a_bad_tsv_line_is_named(tmp_path):
     path = tmp_path / "cues.tsv"
     path.write_text("0.00\tX\n0.10\tQ\n", encoding="utf-8")
     with pytest.raises(CueFileError, match="line 2.*'Q'"):
-        read_rhubarb_tsv(path)
+        read_cue_file(path)

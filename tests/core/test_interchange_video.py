@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from turkish_lipsync.core.video import VideoError, join_videos
+from turkish_lipsync.core.interchange.video import VideoError, join_videos
 
 av = pytest.importorskip("av")
 soundfile = pytest.importorskip("soundfile")

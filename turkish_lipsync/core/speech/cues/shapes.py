@@ -5,9 +5,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import cache
 
-from ..data import DATA_DIR, load_table, require
-from ..errors import DataError
-from ..faces.recipes import VISEME_NAMES
+from ...base.data import DATA_DIR, load_table, require
+from ...base.errors import DataError
+from ...text.visemes import viseme_names
 
 TABLE = "rhubarb_shapes"
 SHAPES: tuple[str, ...] = ("A", "B", "C", "D", "E", "F", "G", "H", "X")
@@ -32,8 +32,8 @@ def shape_table() -> ShapeTable:
     if sorted(described) != sorted(SHAPES):
         raise DataError(f"{_where('shapes', '')}must describe exactly the shapes {', '.join(SHAPES)}")
     visemes = require(table, "visemes", dict, TABLE)
-    missing = sorted(set(VISEME_NAMES) - set(visemes))
-    unknown = sorted(set(visemes) - set(VISEME_NAMES))
+    missing = sorted(set(viseme_names()) - set(visemes))
+    unknown = sorted(set(visemes) - set(viseme_names()))
     if missing or unknown:
         raise DataError(f"{_where('visemes', '')}missing {missing or 'none'}, unknown {unknown or 'none'}")
     for viseme, shape in visemes.items():

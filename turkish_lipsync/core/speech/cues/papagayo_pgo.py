@@ -1,8 +1,7 @@
-"""Papagayo and Moho: switch data (.dat) for Moho and OpenToonz, and Papagayo's project file (.pgo).
+"""Papagayo's project file (.pgo): refine the timing by hand in Papagayo-NG, then read it back.
 
-Both count in frames. A .dat holds one line per mouth change ("FRAME PHONEME", frames from 1); a .pgo holds
-the spoken text, its words with their frame spans, and each word's phonemes at the frame they start
-(frames from 0), in Papagayo's Preston Blair phoneme set (AI, E, etc, FV, L, MBP, O, rest, U, WQ).
+It counts in frames: the spoken text, its words with their frame spans, and each word's phonemes at the frame
+they start (frames from 0), in Papagayo's Preston Blair phoneme set (AI, E, etc, FV, L, MBP, O, rest, U, WQ).
 """
 
 from __future__ import annotations
@@ -11,56 +10,11 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..model import Timeline
-from .cues import CueFileError, MouthCue, read_text
+from ...base.model import Timeline
+from .common import CueFileError, CueFormat, CueSource, MouthCue, frame_of, read_text, register
 from .shapes import REST, shape_for_phoneme, shape_for_viseme, shape_table, uses_preston_blair
 
-MOHO_HEADER = "MohoSwitch1"
 PAPAGAYO_HEADER = "lipsync version 1"
-
-
-def frame_of(seconds: float, fps: float) -> int:
-    """The frame showing the instant `seconds` (frame 0 starts at 0 s), robust to float noise."""
-    return math.floor(seconds * fps + 1e-6)
-
-
-def moho_switch_dat(cues: tuple[MouthCue, ...], fps: float, *, preston_blair: bool = True) -> str:
-    """Moho switch data: each mouth change on the frame it shows (frame 1 is the first); Preston Blair names
-    by default (the switch layers of Moho's mouth rigs), or Rhubarb's letters."""
-    names = shape_table().preston_blair
-    changes: dict[int, str] = {}
-    for cue in cues:
-        changes[frame_of(cue.start, fps) + 1] = names[cue.shape] if preston_blair else cue.shape
-    lines = [MOHO_HEADER]
-    previous = None
-    for frame in sorted(changes):
-        if changes[frame] != previous:
-            lines.append(f"{frame} {changes[frame]}")
-            previous = changes[frame]
-    return "\n".join(lines) + "\n"
-
-
-def read_moho_dat(path: Path, fps: float) -> tuple[MouthCue, ...]:
-    """The cues of a Moho switch file; the last change lasts one frame."""
-    lines = [line.strip() for line in read_text(path).splitlines() if line.strip()]
-    if not lines or lines[0] != MOHO_HEADER:
-        raise CueFileError(f"{path}: line 1 must be '{MOHO_HEADER}': is this Moho switch data?")
-    preston_blair = uses_preston_blair(line.split()[-1] for line in lines[1:])
-    changes = []
-    for number, line in enumerate(lines[1:], start=2):
-        fields = line.split()
-        valid = len(fields) == 2 and fields[0].isdigit()
-        shape = shape_for_phoneme(fields[1], preston_blair) if valid else None
-        if shape is None:
-            raise CueFileError(
-                f"{path}: line {number}: expected 'FRAME SHAPE' with a known shape, got {line!r}"
-            )
-        changes.append(((int(fields[0]) - 1) / fps, shape))
-    ends = [start for start, _ in changes[1:]] + [changes[-1][0] + 1 / fps] if changes else []
-    return tuple(MouthCue(start, end, shape) for (start, shape), end in zip(changes, ends, strict=True))
-
-
-# ---------------------------------------------------------------- Papagayo projects
 
 
 @dataclass(frozen=True)
@@ -226,3 +180,39 @@ def rest_between(document: PapagayoDocument) -> tuple[MouthCue, ...]:
         cues += word_cues
         time = max(time, word_cues[-1].end) if word_cues else time
     return tuple(cues)
+
+
+@register
+class PapagayoPgo(CueFormat):
+    name = "papagayo-pgo"
+    order = 5  # place in the panel's list
+    suffixes = (".pgo",)
+    label = "Papagayo Project"
+    description = "Words and mouths per frame for Papagayo-NG (.pgo)"
+
+    def read(self, path: Path, fps: float) -> CueSource:
+        """The first voice's words and phonemes at the project's own frame rate (fps is not used)."""
+        document = read_pgo(path)
+        warnings = ()
+        if document.voice_count > 1:
+            warnings = (f"{path} has {document.voice_count} voices; only the first one's timing is used.",)
+        words = tuple((word.text, document.word_cues(word)) for word in document.words)
+        cues = rest_between(document)
+        return CueSource(
+            path,
+            cues,
+            max(document.duration_frames / document.fps, cues[-1].end),
+            text=document.text,
+            sound_file=document.sound_path,
+            word_cues=words,
+            warnings=warnings,
+        )
+
+    def write(self, timeline: Timeline, fps: float, *, sound_file: str = "", text: str = ""):
+        warnings = ()
+        if abs(fps - round(fps)) > 1e-6:
+            warnings = (
+                f"Papagayo counts whole frame rates: the project says {round(fps)} fps for the scene's "
+                f"{fps:g}, so it plays {abs(round(fps) / fps - 1):.1%} off in Papagayo itself.",
+            )
+        return timeline_as_pgo(timeline, fps, sound_file, text), warnings

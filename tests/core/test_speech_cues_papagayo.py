@@ -2,11 +2,11 @@
 
 import pytest
 
-from turkish_lipsync.core.interchange import export_text, mouth_cues
-from turkish_lipsync.core.interchange.cues import CueFileError
-from turkish_lipsync.core.interchange.papagayo import frame_of, read_moho_dat, read_pgo
-from turkish_lipsync.core.interchange.shapes import shape_table
 from turkish_lipsync.core.speech import synthesize_timeline
+from turkish_lipsync.core.speech.cues import CueFileError, cue_formats, mouth_cues, read_cue_file
+from turkish_lipsync.core.speech.cues.common import frame_of
+from turkish_lipsync.core.speech.cues.papagayo_pgo import read_pgo
+from turkish_lipsync.core.speech.cues.shapes import shape_table
 from turkish_lipsync.core.text.utterance import build_utterance
 
 FPS = 24.0
@@ -19,14 +19,14 @@ def timeline():
 
 
 def test_moho_dat_has_each_mouth_change_on_its_frame(timeline, tmp_path):
-    text = export_text("moho-dat", timeline, FPS)[0]
+    text = cue_formats()["moho-dat"].write(timeline, FPS)[0]
     lines = text.splitlines()
     assert lines[0] == "MohoSwitch1" and lines[1].startswith("1 ")
     names = set(shape_table().preston_blair.values())
     assert all(line.split()[1] in names for line in lines[1:])
     path = tmp_path / "speech.dat"
     path.write_text(text, encoding="utf-8")
-    changes = read_moho_dat(path, FPS)
+    changes = read_cue_file(path, FPS).cues
     frames = [round(cue.start * FPS) for cue in changes]
     assert frames == sorted(set(frames))
     # Every cue at least a frame long shows on the frame it starts on (shorter ones may lose their frame).
@@ -41,7 +41,9 @@ def test_moho_dat_has_each_mouth_change_on_its_frame(timeline, tmp_path):
 
 def test_pgo_round_trip_keeps_words_text_and_frames(timeline, tmp_path):
     path = tmp_path / "speech.pgo"
-    path.write_text(export_text("papagayo-pgo", timeline, FPS, sound_file="speech.wav")[0], encoding="utf-8")
+    path.write_text(
+        cue_formats()["papagayo-pgo"].write(timeline, FPS, sound_file="speech.wav")[0], encoding="utf-8"
+    )
     document = read_pgo(path)
     assert document.fps == FPS and document.sound_path == "speech.wav" and document.voice_count == 1
     assert [word.text for word in document.words] == [word.text for word in timeline.words]
@@ -67,7 +69,7 @@ def test_pgo_errors_name_the_line(tmp_path):
 
 
 def test_pgo_at_a_fractional_rate_says_papagayo_plays_it_off(timeline):
-    text, warnings = export_text("papagayo-pgo", timeline, 29.97)
+    text, warnings = cue_formats()["papagayo-pgo"].write(timeline, 29.97)
     assert text.splitlines()[2] == "30"
     assert len(warnings) == 1 and "0.1%" in warnings[0]
-    assert export_text("papagayo-pgo", timeline, 25.0)[1] == ()
+    assert cue_formats()["papagayo-pgo"].write(timeline, 25.0)[1] == ()

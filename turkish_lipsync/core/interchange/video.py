@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import AudioError, LipSyncError
+from ..base.errors import AudioError, LipSyncError
 
 AUDIO_RATE = 48000
 

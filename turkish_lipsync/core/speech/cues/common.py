@@ -1,0 +1,150 @@
+"""What every cue file holds: mouth shapes A-H and X over time; the format class and the readers' checks.
+
+A cue format is one class (`CueFormat`): its name, the file suffixes it is read from, a label for the UI,
+`read` (a file to a `CueSource`) and `write` (a timeline to the file's text). Each lives in a module of its
+own in this package and registers itself with `@register` in `CUE_FORMATS`; the exports (interchange/) and
+the cue timing source (speech/sources/cue_file.py) find them by name or by suffix.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+from ...base.errors import LipSyncError
+from ...base.files import read_user_text
+from ...base.model import Timeline
+from ...base.registry import Registry
+from .shapes import REST, SHAPES, shape_for_viseme
+
+SHORTEST = 1e-6  # seconds: cues shorter than this carry nothing and are dropped
+
+
+class CueFileError(LipSyncError):
+    """A cue or timing file that cannot be read."""
+
+
+@dataclass(frozen=True)
+class MouthCue:
+    start: float  # seconds
+    end: float
+    shape: str  # one of SHAPES
+
+
+@dataclass(frozen=True)
+class CueSource:
+    """What a timing file holds: cues, its length, its own text where it has one, and word spans."""
+
+    path: Path
+    cues: tuple[MouthCue, ...]
+    duration: float
+    text: str = ""
+    sound_file: str = ""
+    word_cues: tuple[tuple[str, tuple[MouthCue, ...]], ...] = ()  # per word (Papagayo): text, its cues
+    warnings: tuple[str, ...] = ()
+
+
+class CueFormat:
+    """One cue file format: read into cues, written from a timeline."""
+
+    name: str = ""  # the identifier of the format in the CLI, the panel and render.py --export
+    suffixes: tuple[str, ...] = ()  # the first is the one written
+    label: str = ""
+    description: str = ""  # what it is and who reads it
+    order: int = 0  # place among the formats (the panel's list)
+
+    def read(self, path: Path, fps: float) -> CueSource:
+        raise NotImplementedError
+
+    def write(
+        self, timeline: Timeline, fps: float, *, sound_file: str = "", text: str = ""
+    ) -> tuple[str, tuple[str, ...]]:
+        """The file's contents and warnings for what the format could not hold."""
+        raise NotImplementedError
+
+
+CUE_FORMATS: Registry[CueFormat] = Registry("cue format", __package__, Path(__file__).parent)
+register = CUE_FORMATS.register
+
+
+def mouth_cues(timeline: Timeline) -> tuple[MouthCue, ...]:
+    """The timeline's phones as Rhubarb shapes: rest (X) in the silences, equal neighbours merged."""
+    raw: list[MouthCue] = []
+    time = 0.0
+    phones = sorted(timeline.phones, key=lambda phone: phone.start)
+    for index, phone in enumerate(phones):
+        end = phone.end if index + 1 == len(phones) else min(phone.end, phones[index + 1].start)
+        start = max(phone.start, time)
+        if start - time > SHORTEST:
+            raw.append(MouthCue(time, start, REST))
+        if end - start > SHORTEST:
+            raw.append(MouthCue(start, end, shape_for_viseme(phone.viseme)))
+            time = end
+        else:
+            time = max(time, start)
+    if timeline.duration - time > SHORTEST or not raw:
+        raw.append(MouthCue(time, max(time, timeline.duration), REST))
+    return merge_cues(raw)
+
+
+def merge_cues(cues: list[MouthCue] | tuple[MouthCue, ...]) -> tuple[MouthCue, ...]:
+    merged: list[MouthCue] = []
+    for cue in cues:
+        if merged and merged[-1].shape == cue.shape and abs(merged[-1].end - cue.start) < SHORTEST:
+            merged[-1] = MouthCue(merged[-1].start, cue.end, cue.shape)
+        else:
+            merged.append(cue)
+    return tuple(merged)
+
+
+def frame_of(seconds: float, fps: float) -> int:
+    """The frame showing the instant `seconds` (frame 0 starts at 0 s), robust to float noise."""
+    return math.floor(seconds * fps + 1e-6)
+
+
+# ---------------------------------------------------------------- what the readers share
+
+
+def read_text(path: Path) -> str:
+    return read_user_text(path, "cue file", CueFileError)
+
+
+def checked_shape(path: Path, where: str, value: object) -> str:
+    shape = str(value).strip()
+    if shape not in SHAPES:
+        raise CueFileError(f"{path}: {where}: mouth shape {shape!r} is not one of {', '.join(SHAPES)}")
+    return shape
+
+
+def checked_time(path: Path, where: str, value: object) -> float:
+    try:
+        seconds = float(value)
+    except (TypeError, ValueError):
+        raise CueFileError(f"{path}: {where}: time {value!r} is not a number of seconds") from None
+    if not 0 <= seconds < 1e6:
+        raise CueFileError(f"{path}: {where}: time {seconds} is out of range")
+    return seconds
+
+
+def ordered(path: Path, cues: list[MouthCue]) -> tuple[MouthCue, ...]:
+    if not cues:
+        raise CueFileError(f"{path}: holds no mouth cues")
+    for previous, cue in zip(cues, cues[1:], strict=False):
+        if cue.start < previous.start - SHORTEST:
+            raise CueFileError(
+                f"{path}: the cue at {cue.start:.3f} s comes before the one at {previous.start:.3f} s"
+            )
+    return tuple(cues)
+
+
+def cues_from_records(path: Path, records: list[tuple[str, object, object, object]]) -> list[MouthCue]:
+    """Cues from (where, start, end, shape) records, each checked (an end before its start is refused)."""
+    cues = []
+    for where, start, end, shape in records:
+        begin = checked_time(path, where, start)
+        finish = checked_time(path, where, end)
+        if finish < begin:
+            raise CueFileError(f"{path}: {where}: ends ({finish}) before it starts ({begin})")
+        cues.append(MouthCue(begin, finish, checked_shape(path, where, shape)))
+    return cues

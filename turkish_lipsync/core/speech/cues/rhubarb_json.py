@@ -1,0 +1,59 @@
+"""Rhubarb Lip Sync's JSON: metadata (sound file, duration) and mouthCues (start, end, value).
+
+Read by the Rhubarb importers of game engines (Godot, Unity) and web players (three.js, Pixi).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from ...base.model import Timeline
+from .common import (
+    CueFileError,
+    CueFormat,
+    CueSource,
+    checked_time,
+    cues_from_records,
+    mouth_cues,
+    ordered,
+    read_text,
+    register,
+)
+
+
+@register
+class RhubarbJson(CueFormat):
+    name = "rhubarb-json"
+    order = 2  # place in the panel's list
+    suffixes = (".json",)
+    label = "Rhubarb JSON"
+    description = "Mouth cues A-H and X as JSON (Godot, Unity, Spine, web players)"
+
+    def read(self, path: Path, fps: float) -> CueSource:
+        try:
+            document = json.loads(read_text(path))
+        except json.JSONDecodeError as error:
+            raise CueFileError(f"{path}: line {error.lineno}: not valid JSON ({error.msg})") from None
+        entries = document.get("mouthCues") if isinstance(document, dict) else None
+        if not isinstance(entries, list):
+            raise CueFileError(f"{path}: no 'mouthCues' list: is this a Rhubarb JSON file?")
+        records = []
+        for index, entry in enumerate(entries):
+            if not isinstance(entry, dict):
+                raise CueFileError(f"{path}: mouthCues[{index}] must be an object with start, end and value")
+            records.append((f"mouthCues[{index}]", entry.get("start"), entry.get("end"), entry.get("value")))
+        cues = ordered(path, cues_from_records(path, records))
+        metadata = document.get("metadata") if isinstance(document.get("metadata"), dict) else {}
+        duration = checked_time(path, "metadata.duration", metadata.get("duration", cues[-1].end))
+        return CueSource(path, cues, duration, sound_file=str(metadata.get("soundFile", "")))
+
+    def write(self, timeline: Timeline, fps: float, *, sound_file: str = "", text: str = ""):
+        document = {
+            "metadata": {"soundFile": sound_file, "duration": round(timeline.duration, 3)},
+            "mouthCues": [
+                {"start": round(cue.start, 3), "end": round(cue.end, 3), "value": cue.shape}
+                for cue in mouth_cues(timeline)
+            ],
+        }
+        return json.dumps(document, indent=2) + "\n", ()

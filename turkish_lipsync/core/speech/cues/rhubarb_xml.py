@@ -1,0 +1,65 @@
+"""Rhubarb Lip Sync's XML: <rhubarbResult> with metadata and <mouthCue start end>SHAPE</mouthCue>."""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ElementTree
+from pathlib import Path
+from xml.sax.saxutils import escape, quoteattr
+
+from ...base.model import Timeline
+from .common import (
+    CueFileError,
+    CueFormat,
+    CueSource,
+    checked_time,
+    cues_from_records,
+    mouth_cues,
+    ordered,
+    read_text,
+    register,
+)
+
+
+@register
+class RhubarbXml(CueFormat):
+    name = "rhubarb-xml"
+    order = 3  # place in the panel's list
+    suffixes = (".xml",)
+    label = "Rhubarb XML"
+    description = "Mouth cues A-H and X as XML (Rhubarb Lip Sync's XML output)"
+
+    def read(self, path: Path, fps: float) -> CueSource:
+        """Documents with a DTD or entities are refused (Rhubarb never writes them)."""
+        text = read_text(path)
+        if "<!DOCTYPE" in text or "<!ENTITY" in text:
+            raise CueFileError(f"{path}: XML with a DTD or entities is not read; Rhubarb never writes them")
+        try:
+            root = ElementTree.fromstring(text)
+        except ElementTree.ParseError as error:
+            line, column = error.position
+            raise CueFileError(f"{path}: line {line}, column {column}: not valid XML") from None
+        records = [
+            (f"mouthCue {index + 1}", element.get("start"), element.get("end"), (element.text or "").strip())
+            for index, element in enumerate(root.iter("mouthCue"))
+        ]
+        cues = ordered(path, cues_from_records(path, records))
+        duration = checked_time(path, "duration", root.findtext("metadata/duration") or cues[-1].end)
+        return CueSource(path, cues, duration, sound_file=root.findtext("metadata/soundFile") or "")
+
+    def write(self, timeline: Timeline, fps: float, *, sound_file: str = "", text: str = ""):
+        lines = [
+            '<?xml version="1.0" encoding="utf-8"?>',
+            "<rhubarbResult>",
+            "  <metadata>",
+            f"    <soundFile>{escape(sound_file)}</soundFile>",
+            f"    <duration>{timeline.duration:.3f}</duration>",
+            "  </metadata>",
+            "  <mouthCues>",
+        ]
+        lines += [
+            f"    <mouthCue start={quoteattr(f'{cue.start:.3f}')} end={quoteattr(f'{cue.end:.3f}')}>"
+            f"{cue.shape}</mouthCue>"
+            for cue in mouth_cues(timeline)
+        ]
+        lines += ["  </mouthCues>", "</rhubarbResult>"]
+        return "\n".join(lines) + "\n", ()
