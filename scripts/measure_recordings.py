@@ -39,7 +39,7 @@ sys.path.insert(0, str(REPOSITORY))
 
 from turkish_lipsync.core.base.errors import AudioError, LipSyncError  # noqa: E402
 from turkish_lipsync.core.speech import espeak, synthesize_timeline  # noqa: E402
-from turkish_lipsync.core.speech.recording import resample  # noqa: E402
+from turkish_lipsync.core.speech.audio import resample  # noqa: E402
 from turkish_lipsync.core.text.utterance import build_utterance  # noqa: E402
 
 CORPUS = REPOSITORY / "examples" / "corpus_tr.txt"

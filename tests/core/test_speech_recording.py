@@ -17,9 +17,9 @@ from turkish_lipsync.core.base.errors import AudioError, TextError
 from turkish_lipsync.core.speech import align_recording, espeak, get_engine, read_audio, synthesize_timeline
 from turkish_lipsync.core.speech import recording as recording_module
 from turkish_lipsync.core.speech import timeline as timeline_module
+from turkish_lipsync.core.speech.audio import resample
 from turkish_lipsync.core.speech.dtw import dtw_path
 from turkish_lipsync.core.speech.features import frame_count
-from turkish_lipsync.core.speech.recording import resample
 from turkish_lipsync.core.speech.voice_activity import speech_frames
 from turkish_lipsync.core.text.utterance import build_utterance
 

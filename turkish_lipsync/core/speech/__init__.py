@@ -5,8 +5,9 @@ write_wav(path, synthesis).
 """
 
 from . import espeak as _espeak  # noqa: F401  (registers the eSpeak NG engine)
+from .audio import read_audio
 from .base import PhoneEvent, SpeechEngine, Synthesis, WordEvent, engine_names, get_engine, register_engine
-from .recording import align_recording, read_audio
+from .recording import align_recording
 from .timeline import TIMINGS, Speech, synthesize_timeline
 from .wav import write_wav
 

@@ -24,10 +24,10 @@ import numpy as np
 from ..base.errors import TextError
 from ..base.model import Timeline, Utterance
 from ..text.utterance import build_utterance
+from .audio import read_audio
 from .base import Synthesis
 from .cues import CueFileError, CueSource, MouthCue, read_cue_file
 from .cues.shapes import REST, shape_for_viseme
-from .recording import read_audio
 from .timeline import Speech
 from .timing import build_timeline, letter_durations
 

@@ -32,6 +32,11 @@ def frame_count(sample_count: int) -> int:
     return max(1, 1 + (sample_count - 1) // HOP)
 
 
+def frame_seconds(frames: np.ndarray | float, lead: int = 0) -> np.ndarray:
+    """Centre time (seconds) of analysis frames, `lead` padding frames before time zero."""
+    return ((np.asarray(frames, dtype=np.float64) - lead) * HOP + WINDOW / 2) / ANALYSIS_RATE
+
+
 def mel_energies(samples: np.ndarray, warp: float = 1.0, top_hertz: float = TOP_HERTZ) -> np.ndarray:
     """Mel band energies (frames x MEL_BANDS, float32) of 16 kHz samples; warp > 1 lowers the formants.
 
