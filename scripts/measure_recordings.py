@@ -1,34 +1,54 @@
-"""How well a recording in another voice is aligned to its text: word and phone onset error per condition.
+"""How well a recording in another voice is aligned to its text: word and letter onset error per condition.
 
     python scripts/measure_recordings.py [--set held-out|tuning] [--voices NAME ...] [--conditions NAME ...]
-                                         [--mismatch]
-    python scripts/measure_recordings.py --long MINUTES   # one long take: time, peak memory, onset error
+                                         [--mismatch] [--aeneas]
+    python scripts/measure_recordings.py --long MINUTES [--aeneas]   # one long take: time, memory, error
 
 Stand-ins for other speakers are eSpeak NG's Turkish voice with other variants (timbre), pitches and
-rates; each is spoken, then degraded (room noise at an SNR, noise or a breath and a click before the
-first word, leading silence, MP3/AAC coding, a synthetic room's reverberation), written as a 44.1 kHz
-WAV and aligned to the text like a user's recording. The truth is the variant's own phone events. The
-sentences come from examples/corpus_tr.txt: the tuning set is lines 1-30, the held-out set lines 31-50.
+rates; each is spoken, then turned into a take (scripts/takes.py): room noise at an SNR, noise or a
+breath and a click before the first word, leading silence, MP3/AAC coding, a synthetic room, and what
+a person does: tempo changing inside the sentence, hesitations where no comma is, another vocal tract,
+a talker in the background; each alone and all together ("a person"). The take is written as a
+44.1 kHz WAV and aligned to the text like a user's recording. The truth is the variant's own phone
+events, moved with the take. The sentences come from examples/corpus_tr.txt: the tuning set is lines
+1-30, the held-out set lines 31-50; the voices tuned on are DEFAULT_VOICES, the others are held out.
+
 Prints median, p90 and max onset error (ms) of words and of letters per condition, the sentences in
-which a word was keyed more than 50 ms early or inside the next word's span, the sentences that drew a
-warning, and with --mismatch how many takes were refused, or accepted with a warning, when aligned to
-the next sentence instead. With --long, a take of that many minutes (the held-out sentences over and
-over, voice f3-high, 30 dB SNR) is made by a child process, then aligned here: the time, the peak
-resident memory of this process and the word onset error are printed.
+which a word was keyed more than 50 ms early or inside the next word's span, the takes refused (an
+error, though they read the text) and warned, and with --mismatch how many takes were refused, or
+accepted with a warning, when aligned to the next sentence instead (another text): the rest are missed
+mismatches. With --long, a take of that many minutes (the held-out sentences over and over, voice
+f3-high, 30 dB SNR) is made by a child process, then aligned here: the time, the peak resident memory
+of this process and the word onset error are printed.
+
+With --aeneas, the same takes are also aligned by aeneas (TTS + MFCC DTW, eSpeak NG's Turkish voice,
+its default settings, one word a fragment) and its word onset error and time are printed beside ours.
+aeneas is never a dependency of the project: it is looked for in a venv of its own, AENEAS_PYTHON
+(default /work/venvs/aeneas/bin/python), and run as a subprocess. To make that venv (Debian: apt-get
+install espeak-ng libespeak-ng-dev ffmpeg), build aeneas-ng 1.7.4 without its Festival extension (its
+setup.py builds it on every non-Windows system, with no switch, and Festival's libraries are not here):
+
+    python3 -m venv /work/venvs/aeneas && /work/venvs/aeneas/bin/pip install numpy setuptools wheel
+    /work/venvs/aeneas/bin/pip download --no-deps --no-binary aeneas-ng -d /tmp aeneas-ng
+    tar xzf /tmp/aeneas_ng-1.7.4.0.tar.gz -C /tmp && cd /tmp/aeneas_ng-1.7.4.0
+    sed -i 's/^    EXTENSIONS.append(EXTENSION_CFW)/    pass/' setup.py
+    AENEAS_WITH_CEW=True AENEAS_USE_ESPEAKNG=True /work/venvs/aeneas/bin/pip install .
+    /work/venvs/aeneas/bin/python -m aeneas.diagnostics   # cdtw, cmfcc and cew AVAILABLE
+
 Not a test: the figures go into the README.
 """
 
 from __future__ import annotations
 
 import argparse
-import io
+import json
+import os
 import resource
 import subprocess
 import sys
 import tempfile
 import time
 import wave
-from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -36,6 +56,10 @@ import numpy as np
 
 REPOSITORY = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPOSITORY))
+sys.path.insert(0, str(REPOSITORY / "scripts"))
+
+import takes  # noqa: E402
+from takes import RATE, Take  # noqa: E402
 
 from turkish_lipsync.core.base.errors import AudioError, LipSyncError  # noqa: E402
 from turkish_lipsync.core.speech import espeak, synthesize_timeline  # noqa: E402
@@ -44,8 +68,7 @@ from turkish_lipsync.core.text.utterance import build_utterance  # noqa: E402
 
 CORPUS = REPOSITORY / "examples" / "corpus_tr.txt"
 TUNING_LINES = 30
-RECORDED_RATE = 44100
-LEAD_SECONDS = 1.0
+AENEAS_PYTHON = Path(os.environ.get("AENEAS_PYTHON", "/work/venvs/aeneas/bin/python"))
 
 
 @dataclass(frozen=True)
@@ -64,12 +87,16 @@ VOICES = {
     "f5-fast": Voice("tr+f5", -10, 25),
     "croak": Voice("tr+croak", 10, 0),
     "m3-slow": Voice("tr+m3", -15, -20),
+    "m7-low": Voice("tr+m7", -20, 5),
+    "f2-high-slow": Voice("tr+f2", 15, -15),
 }
 DEFAULT_VOICES = ("f3-high", "m5-low-fast", "klatt-slow", "f5-fast")
+HELD_OUT_VOICES = ("croak", "m3-slow", "m7-low", "f2-high-slow")
+TALKER = Voice("tr+m2", -5, 5)  # the voice in the background, reading a sentence of the other set
 
 
-def speak(text: str, voice: Voice) -> tuple[np.ndarray, int, np.ndarray, np.ndarray]:
-    """The voice's audio (float) and rate, and its word and letter onsets (the truth)."""
+def speak(text: str, voice: Voice) -> Take:
+    """The voice's reading of the text at RATE, with its word and letter onsets (the truth)."""
     library = espeak._library()  # the measuring stand-ins need another variant of the engine's one voice
     utterance = build_utterance(f'<PROS PITCH="{voice.pitch:+d}%" RATE="{voice.rate:+d}%">{text}</PROS>')
     with library.lock:
@@ -80,114 +107,55 @@ def speak(text: str, voice: Voice) -> tuple[np.ndarray, int, np.ndarray, np.ndar
     finally:
         with library.lock:
             library.handle.espeak_SetVoiceByName(b"tr")
-    samples = resample(synthesis.samples.astype(np.float32) / 32768, synthesis.sample_rate, RECORDED_RATE)
-    words = np.array([word.start for word in timeline.words])
-    letters = np.array([phone.start for phone in timeline.phones])
-    return samples, RECORDED_RATE, words, letters
-
-
-def noise(count: int, colour: str, rng: np.random.Generator) -> np.ndarray:
-    """Unit-power white, pink (1/f) or brown (1/f^2, a room's rumble) noise."""
-    white = rng.normal(size=count)
-    if colour != "white":
-        spectrum = np.fft.rfft(white)
-        frequency = np.maximum(np.fft.rfftfreq(count), 1 / count)
-        spectrum /= frequency ** (0.5 if colour == "pink" else 1.0)
-        white = np.fft.irfft(spectrum, count)
-    return white / np.sqrt(np.mean(white**2))
-
-
-def speech_power(samples: np.ndarray) -> float:
-    """Mean power of the voiced part (the loud half of the 20 ms frames), the reference of an SNR."""
-    frames = samples[: samples.size // 882 * 882].reshape(-1, 882)
-    power = np.mean(frames**2, axis=1)
-    return float(np.mean(power[power >= np.median(power)]))
-
-
-def add_noise(samples: np.ndarray, snr: float, colour: str, rng: np.random.Generator) -> np.ndarray:
-    return samples + noise(samples.size, colour, rng) * np.sqrt(speech_power(samples) / 10 ** (snr / 10))
-
-
-def breath_and_click(samples: np.ndarray, lead: int, rng: np.random.Generator) -> np.ndarray:
-    """A breath (band-limited noise swelling over 0.35 s) and a click (a 2 ms tick) in the lead-in."""
-    out = samples.copy()
-    level = np.sqrt(speech_power(samples))
-    breath = int(0.35 * RECORDED_RATE)
-    spectrum = np.fft.rfft(rng.normal(size=breath))
-    frequency = np.fft.rfftfreq(breath, 1 / RECORDED_RATE)
-    spectrum[(frequency < 500) | (frequency > 4000)] = 0
-    shaped = np.fft.irfft(spectrum, breath) * np.hanning(breath)
-    shaped *= 0.12 * level / np.sqrt(np.mean(shaped**2))
-    start = lead - int(0.5 * RECORDED_RATE)
-    out[start : start + breath] += shaped
-    tick = int(0.002 * RECORDED_RATE)
-    click = int(0.15 * RECORDED_RATE)
-    out[click : click + tick] += 1.5 * level * np.hanning(tick) * np.sign(rng.normal(size=tick))
-    return out
-
-
-def reverberate(samples: np.ndarray, seconds: float, rng: np.random.Generator) -> np.ndarray:
-    """Convolution with a synthetic room response: direct sound, then exponentially decaying noise (RT60)."""
-    length = int(seconds * RECORDED_RATE)
-    decay = np.exp(-6.9 * np.arange(length) / length)  # -60 dB at the end
-    response = 0.4 * rng.normal(size=length) * decay * np.sqrt(3 / length * 100)
-    response[0] = 1.0
-    size = 1 << int(np.ceil(np.log2(samples.size + length)))
-    wet = np.fft.irfft(np.fft.rfft(samples, size) * np.fft.rfft(response, size), size)[: samples.size]
-    return wet * np.sqrt(speech_power(samples) / speech_power(wet))
-
-
-def coded(samples: np.ndarray, codec: str) -> np.ndarray:
-    """The samples after a round trip through MP3 or AAC at 64 kbit/s (PyAV, the dev dependency)."""
-    import av
-
-    buffer = io.BytesIO()
-    container_format, codec_name = {"mp3": ("mp3", "libmp3lame"), "aac": ("adts", "aac")}[codec]
-    with av.open(buffer, "w", format=container_format) as output:
-        stream = output.add_stream(codec_name, rate=RECORDED_RATE, layout="mono")
-        stream.bit_rate = 64000
-        pcm = np.clip(samples, -1, 1).astype(np.float32)[None, :]
-        frame = av.AudioFrame.from_ndarray(pcm, format="flt", layout="mono")
-        frame.sample_rate = RECORDED_RATE
-        for packet in stream.encode(frame):
-            output.mux(packet)
-        for packet in stream.encode(None):
-            output.mux(packet)
-    buffer.seek(0)
-    decoded = []
-    with av.open(buffer, "r") as source:
-        for frame in source.decode(audio=0):
-            decoded.append(frame.to_ndarray().astype(np.float32).mean(axis=0))
-    out = np.concatenate(decoded)
-    # The encoder's priming delay is the codec's: find it by correlation and take it out.
-    window = min(out.size, samples.size, RECORDED_RATE * 4)
-    correlation = np.fft.irfft(
-        np.fft.rfft(out[:window], 2 * window) * np.conj(np.fft.rfft(samples[:window], 2 * window))
+    samples = resample(synthesis.samples.astype(np.float32) / 32768, synthesis.sample_rate, RATE)
+    return Take(
+        samples.astype(np.float64),
+        words=np.array([word.start for word in timeline.words]),
+        letters=np.array([phone.start for phone in timeline.phones]),
+        commas=np.array([word.pause_before > 0 for word in utterance.words]),
     )
-    delay = int(np.argmax(correlation[: RECORDED_RATE // 10]))
-    out = out[delay : delay + samples.size]
-    return np.pad(out, (0, samples.size - out.size))
 
 
-# name -> (lead-in seconds, degradation of the padded signal)
-Condition = Callable[[np.ndarray, int, np.random.Generator], np.ndarray]
-CONDITIONS: dict[str, tuple[float, Condition]] = {
-    "clean 60 dB": (0.3, lambda s, lead, rng: add_noise(s, 60, "white", rng)),
-    "40 dB": (0.3, lambda s, lead, rng: add_noise(s, 40, "white", rng)),
-    "30 dB, leading noise": (LEAD_SECONDS, lambda s, lead, rng: add_noise(s, 30, "white", rng)),
-    "30 dB pink, leading noise": (LEAD_SECONDS, lambda s, lead, rng: add_noise(s, 30, "pink", rng)),
-    "30 dB brown, breath + click": (
-        LEAD_SECONDS,
-        lambda s, lead, rng: add_noise(breath_and_click(s, lead, rng), 30, "brown", rng),
+def _talker(take: Take, rng: np.random.Generator, context: dict) -> Take:
+    return takes.background_talker(take, context["talker"], 18.0, rng)
+
+
+def _person(take: Take, rng: np.random.Generator, context: dict) -> Take:
+    """Everything a person's take has at once: another tract, changing tempo, hesitations, a live room."""
+    take = takes.hesitate(takes.change_tempo(takes.shift_vocal_tract(take, rng), rng), rng)
+    take = takes.reverberate(takes.padded(take, 0.5), takes.room_response(0.3, 0.0, rng))
+    return takes.add_noise(_talker(take, rng, context), 25, "pink", rng)
+
+
+def _clean(lead: float, snr: float = 60):
+    return lambda take, rng, context: takes.add_noise(takes.padded(take, lead), snr, "white", rng)
+
+
+CONDITIONS = {
+    "clean 60 dB": _clean(0.3),
+    "40 dB": _clean(0.3, 40),
+    "30 dB, leading noise": _clean(1.0, 30),
+    "30 dB pink, leading noise": lambda t, rng, c: takes.add_noise(takes.padded(t, 1.0), 30, "pink", rng),
+    "30 dB brown, breath + click": lambda t, rng, c: takes.add_noise(
+        takes.breath_and_click(takes.padded(t, 1.0), 1.0, rng), 30, "brown", rng
     ),
-    "leading silence 2 s": (2.0, lambda s, lead, rng: s),
-    "MP3 64k, 40 dB": (0.3, lambda s, lead, rng: coded(add_noise(s, 40, "white", rng), "mp3")),
-    "AAC 64k, 40 dB": (0.3, lambda s, lead, rng: coded(add_noise(s, 40, "white", rng), "aac")),
-    "reverb RT60 0.4 s, 40 dB": (
-        0.3,
-        lambda s, lead, rng: add_noise(reverberate(s, 0.4, rng), 40, "white", rng),
+    "leading silence 2 s": lambda t, rng, c: takes.padded(t, 2.0),
+    "MP3 64k, 40 dB": lambda t, rng, c: takes.coded(_clean(0.3, 40)(t, rng, c), "mp3"),
+    "AAC 64k, 40 dB": lambda t, rng, c: takes.coded(_clean(0.3, 40)(t, rng, c), "aac"),
+    "reverb RT60 0.4 s, 40 dB": lambda t, rng, c: takes.add_noise(
+        takes.reverberate(takes.padded(t, 0.3), takes.plain_room_response(0.4, rng)), 40, "white", rng
     ),
+    "tempo 0.75-1.35x": lambda t, rng, c: _clean(0.3)(takes.change_tempo(t, rng), rng, c),
+    "hesitations 0.35-0.8 s": lambda t, rng, c: _clean(0.3)(takes.hesitate(t, rng), rng, c),
+    "vocal tract +-3 semitones": lambda t, rng, c: _clean(0.3)(takes.shift_vocal_tract(t, rng), rng, c),
+    "live room RT60 0.3 s, DRR 0 dB": lambda t, rng, c: takes.add_noise(
+        takes.reverberate(takes.padded(t, 0.3), takes.room_response(0.3, 0.0, rng)), 60, "white", rng
+    ),
+    "background talker -18 dB": lambda t, rng, c: _clean(0.3)(_talker(t, rng, c), rng, c),
+    "25 dB SNR pink": lambda t, rng, c: takes.add_noise(takes.padded(t, 0.5), 25, "pink", rng),
+    "a person (all of these)": _person,
 }
+PERSON_CONDITIONS = list(CONDITIONS)[9:]
 
 
 def write_wav(path: Path, samples: np.ndarray, rate: int) -> Path:
@@ -206,69 +174,110 @@ def sentences(which: str) -> list[str]:
     return lines[:TUNING_LINES] if which == "tuning" else lines[TUNING_LINES:]
 
 
-def measure(texts: list[str], voices: list[str], conditions: list[str], folder: Path, mismatch: bool) -> None:
+# Run inside aeneas' own venv: aligns a WAV to one word a line, prints the onsets and the seconds it took.
+AENEAS_RUNNER = """
+import json, sys, time
+from aeneas.executetask import ExecuteTask
+from aeneas.task import Task
+audio, text = sys.argv[1:3]
+began = time.perf_counter()
+task = Task(config_string="task_language=tur|is_text_type=plain|os_task_file_format=json")
+task.audio_file_path_absolute, task.text_file_path_absolute = audio, text
+ExecuteTask(task).execute()
+onsets = [float(fragment.begin) for fragment in task.sync_map_leaves() if fragment.is_regular]
+print(json.dumps({"onsets": onsets, "seconds": time.perf_counter() - began}))
+"""
+
+
+def aeneas_onsets(audio: Path, words: list[str]) -> tuple[np.ndarray, float]:
+    """aeneas' word onsets for the take and the seconds its alignment took (its start-up not counted)."""
+    text = audio.with_suffix(".words.txt")
+    text.write_text("\n".join(words) + "\n", encoding="utf-8")
+    done = subprocess.run(
+        [str(AENEAS_PYTHON), "-c", AENEAS_RUNNER, str(audio), str(text)],
+        capture_output=True,
+        text=True,
+        check=True,
+        env={**os.environ, "PYTHONIOENCODING": "UTF-8"},
+    )
+    answer = json.loads(done.stdout.strip().splitlines()[-1])
+    return np.array(answer["onsets"]), float(answer["seconds"])
+
+
+def _spread(errors: list[np.ndarray]) -> str:
+    ms = 1000 * np.concatenate(errors)
+    return f"{np.median(ms):>10.0f}{np.percentile(ms, 90):>7.0f}{ms.max():>7.0f}"
+
+
+def measure(texts, voices, conditions, folder: Path, mismatch: bool, aeneas: bool) -> None:
     print(f"{len(texts)} sentences x {len(voices)} voices ({', '.join(voices)}); onset error in ms")
     print(
-        f"{'condition':<30}{'words':>24}{'letters':>24}  misplaced  warned"
+        f"{'condition':<32}{'words':>24}{'letters':>24}  misplaced refused warned"
         + ("  another text: refused / warned" if mismatch else "")
+        + (f"{'aeneas words':>26}" if aeneas else "")
     )
-    print(f"{'':<30}{'median    p90    max':>24}{'median    p90    max':>24}")
+    print(f"{'':<32}{'median    p90    max':>24}{'median    p90    max':>24}")
     spoken = {(text, name): speak(text, VOICES[name]) for text in texts for name in voices}
+    other_set = sentences("tuning" if texts[0] in sentences("held-out") else "held-out")
+    context = {"talker": speak(" ".join(other_set[:3]), TALKER).samples}
     for condition in conditions:
-        lead, degrade = CONDITIONS[condition]
-        word_errors, letter_errors, misplaced, failures = [], [], 0, 0
-        warned, refused, doubted = 0, 0, 0
+        word_errors, letter_errors, aeneas_errors = [], [], []
+        misplaced = refused = warned = other_refused = other_warned = 0
+        ours_seconds = aeneas_seconds = 0.0
         rng = np.random.default_rng(11)
-        for (text, _), (samples, rate, words, letters) in spoken.items():
-            other = texts[(texts.index(text) + 1) % len(texts)]
-            pad = int(lead * rate)
-            padded = np.concatenate((np.zeros(pad), samples, np.zeros(int(0.4 * rate))))
-            path = write_wav(folder / "take.wav", degrade(padded, pad, rng), rate)
+        for (text, _), clean in spoken.items():
+            take = CONDITIONS[condition](clean, rng, context)
+            path = write_wav(folder / "take.wav", take.samples, RATE)
             if mismatch:
+                other = texts[(texts.index(text) + 1) % len(texts)]
                 try:
-                    doubted += bool(synthesize_timeline(build_utterance(other), recording=path).warnings)
+                    other_warned += bool(synthesize_timeline(build_utterance(other), recording=path).warnings)
                 except AudioError:
-                    refused += 1
+                    other_refused += 1
+            began = time.perf_counter()
             try:
                 speech = synthesize_timeline(build_utterance(text), recording=path)
             except LipSyncError as error:
-                failures += 1
-                print(f"  failed: {text[:40]!r}: {error}")
+                refused += 1
+                print(f"  refused: {text[:40]!r}: {error}")
                 continue
+            ours_seconds += time.perf_counter() - began
             timeline = speech.timeline
-            warned += bool(speech.warnings)
+            if speech.warnings:
+                warned += 1
+                print(f"  warned: {text[:40]!r}: {' / '.join(speech.warnings)}")
             found = np.array([word.start for word in timeline.words])
-            word_errors.append(np.abs(found - words - lead))
-            letter_errors.append(np.abs(np.array([p.start for p in timeline.phones]) - letters - lead))
-            bounds = np.append(words + lead, np.inf)
+            word_errors.append(np.abs(found - take.words))
+            letter_errors.append(np.abs(np.array([p.start for p in timeline.phones]) - take.letters))
+            bounds = np.append(take.words, np.inf)
             misplaced += int(np.any((found < bounds[:-1] - 0.05) | (found >= bounds[1:])))
+            if aeneas:
+                onsets, seconds = aeneas_onsets(path, [word.text for word in timeline.words])
+                aeneas_errors.append(np.abs(onsets - take.words))
+                aeneas_seconds += seconds
         if not word_errors:
-            print(f"{condition:<30} every alignment failed")
+            print(f"{condition:<32} every take refused")
             continue
-        row = f"{condition:<30}"
-        for errors in (np.concatenate(word_errors), np.concatenate(letter_errors)):
-            ms = 1000 * errors
-            row += f"{np.median(ms):>10.0f}{np.percentile(ms, 90):>7.0f}{ms.max():>7.0f}"
-        row += f"{misplaced:>11}{warned:>8}"
-        row += f"{refused:>10} / {doubted} of {len(spoken)}" if mismatch else ""
-        print(row + (f"  ({failures} refused)" if failures else ""), flush=True)
+        row = f"{condition:<32}{_spread(word_errors)}{_spread(letter_errors)}"
+        row += f"{misplaced:>11}{refused:>8}{warned:>7}"
+        row += f"{other_refused:>10} / {other_warned} of {len(spoken)}" if mismatch else ""
+        row += f"    {_spread(aeneas_errors)}" if aeneas else ""
+        timing = f"  (ours {ours_seconds:.1f} s" + (f", aeneas {aeneas_seconds:.1f} s)" if aeneas else ")")
+        print(row + timing, flush=True)
 
 
 def write_long_take(path: Path, minutes: float) -> None:
     """The held-out sentences repeated for `minutes` in voice f3-high at 30 dB SNR; the truth beside it."""
     texts = sentences("held-out")
-    one_pass = speak(" ".join(texts), VOICES["f3-high"])[0].size / RECORDED_RATE
+    one_pass = speak(" ".join(texts), VOICES["f3-high"]).samples.size / RATE
     text = " ".join(texts * max(1, round(minutes * 60 / one_pass)))
-    samples, rate, words, _ = speak(text, VOICES["f3-high"])
-    lead = int(LEAD_SECONDS * rate)
-    padded = np.concatenate((np.zeros(lead), samples, np.zeros(rate)))
-    del samples
-    write_wav(path, add_noise(padded, 30, "white", np.random.default_rng(3)), rate)
-    np.save(path.with_suffix(".npy"), words + LEAD_SECONDS)
+    take = takes.padded(speak(text, VOICES["f3-high"]), 1.0, 1.0)
+    write_wav(path, takes.add_noise(take, 30, "white", np.random.default_rng(3)).samples, RATE)
+    np.save(path.with_suffix(".npy"), take.words)
     path.with_suffix(".txt").write_text(text, encoding="utf-8")
 
 
-def measure_long_take(minutes: float, folder: Path) -> None:
+def measure_long_take(minutes: float, folder: Path, aeneas: bool) -> None:
     path = folder / "long.wav"
     subprocess.run([sys.executable, __file__, "--write-long", str(path), str(minutes)], check=True)
     text = path.with_suffix(".txt").read_text(encoding="utf-8")
@@ -284,27 +293,43 @@ def measure_long_take(minutes: float, folder: Path) -> None:
         f"{np.median(ms):.0f} ms, p90 {np.percentile(ms, 90):.0f} ms, max {ms.max():.0f} ms; "
         f"{len(speech.warnings)} warnings"
     )
+    if aeneas:
+        onsets, seconds = aeneas_onsets(path, [word.text for word in speech.timeline.words])
+        ms = 1000 * np.abs(onsets - truth)
+        print(
+            f"aeneas: aligned in {seconds:.1f} s; word onsets median {np.median(ms):.0f} ms, "
+            f"p90 {np.percentile(ms, 90):.0f} ms, max {ms.max():.0f} ms"
+        )
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--set", choices=("held-out", "tuning"), default="held-out")
     parser.add_argument("--voices", nargs="+", choices=sorted(VOICES), default=list(DEFAULT_VOICES))
+    parser.add_argument("--held-out-voices", action="store_true", help="the voices not tuned on")
     parser.add_argument("--conditions", nargs="+", choices=list(CONDITIONS), default=list(CONDITIONS))
+    parser.add_argument(
+        "--person", action="store_true", help="only a person's conditions, alone and together"
+    )
     parser.add_argument("--sentences", type=int, default=0, help="use only the first N sentences")
     parser.add_argument("--mismatch", action="store_true", help="also align each take to the next sentence")
+    parser.add_argument("--aeneas", action="store_true", help=f"also align with aeneas ({AENEAS_PYTHON})")
     parser.add_argument("--long", type=float, metavar="MINUTES", help="measure one take this long instead")
     parser.add_argument("--write-long", nargs=2, metavar=("PATH", "MINUTES"), help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.write_long:
         write_long_take(Path(args.write_long[0]), float(args.write_long[1]))
         return 0
+    if args.aeneas and not AENEAS_PYTHON.exists():
+        parser.error(f"aeneas is not installed at {AENEAS_PYTHON}; see this script's docstring")
     texts = sentences(args.set)[: args.sentences or None]
+    voices = list(HELD_OUT_VOICES) if args.held_out_voices else args.voices
+    conditions = PERSON_CONDITIONS if args.person else args.conditions
     with tempfile.TemporaryDirectory() as folder:
         if args.long:
-            measure_long_take(args.long, Path(folder))
+            measure_long_take(args.long, Path(folder), args.aeneas)
         else:
-            measure(texts, args.voices, args.conditions, Path(folder), args.mismatch)
+            measure(texts, voices, conditions, Path(folder), args.mismatch, args.aeneas)
     return 0
 
 
