@@ -7,24 +7,56 @@ around it. No DTW library is used: the ones that install cleanly either hold the
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 DTW_RADIUS = 12  # frames of slack around the coarse path at each resolution
 DTW_FULL_CELLS = 250_000  # below this many cells the DTW is solved without a band
 
 
+@dataclass(frozen=True, eq=False)
+class Pauses:
+    """Where one signal may pause while the other does not, at pause_cost per frame and no step penalty.
+
+    x_free: frames of x that may be held while y pauses (x's word boundaries and its own silences);
+    y_silent: frames of y that are pauses. x_silent: x's own pauses, which may be held against any frame
+    of y (a pause in x that y does not make).
+    """
+
+    x_free: np.ndarray
+    x_silent: np.ndarray
+    y_silent: np.ndarray
+    pause_cost: float
+
+    def halved(self) -> Pauses:
+        return Pauses(
+            _halve_mask(self.x_free, np.logical_or),
+            _halve_mask(self.x_silent, np.logical_and),
+            _halve_mask(self.y_silent, np.logical_and),
+            self.pause_cost,
+        )
+
+
 def dtw_path(
-    x: np.ndarray, y: np.ndarray, radius: int = DTW_RADIUS, step_penalty: float = 0.0
+    x: np.ndarray,
+    y: np.ndarray,
+    radius: int = DTW_RADIUS,
+    step_penalty: float = 0.0,
+    pauses: Pauses | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The cheapest monotone path from (0, 0) to (len(x)-1, len(y)-1) through the frame distances.
 
     step_penalty: added to every horizontal or vertical step, so the path keeps near the diagonal where
     the distances alone do not decide (two voices never match as closely as one voice with itself).
+    pauses: where a pause of one signal may be held against the other at a fixed cost (see Pauses).
     """
     n, m = len(x), len(y)
     if n * m <= DTW_FULL_CELLS or min(n, m) <= 4 * radius:
-        return _band_dtw(x, y, np.zeros(n, np.int64), np.full(n, m, np.int64), step_penalty)
-    coarse_i, coarse_j = dtw_path(_halve(x), _halve(y), radius, step_penalty)
+        return _band_dtw(x, y, np.zeros(n, np.int64), np.full(n, m, np.int64), step_penalty, pauses)
+    coarse_i, coarse_j = dtw_path(
+        _halve(x), _halve(y), radius, step_penalty, pauses.halved() if pauses is not None else None
+    )
     low = np.full(n, m, np.int64)
     high = np.zeros(n, np.int64)
     for row_offset in (0, 1):
@@ -40,7 +72,7 @@ def dtw_path(
     grown_low = np.clip(grown_low - radius, 0, m)
     grown_high = np.clip(grown_high + radius, 0, m)
     grown_low[0], grown_high[-1] = 0, m
-    return _band_dtw(x, y, grown_low, grown_high, step_penalty)
+    return _band_dtw(x, y, grown_low, grown_high, step_penalty, pauses)
 
 
 def _halve(features: np.ndarray) -> np.ndarray:
@@ -49,16 +81,33 @@ def _halve(features: np.ndarray) -> np.ndarray:
     return 0.5 * (features[0::2] + features[1::2])
 
 
+def _halve_mask(mask: np.ndarray, combine) -> np.ndarray:
+    if len(mask) % 2:
+        mask = np.concatenate((mask, mask[-1:]))
+    return combine(mask[0::2], mask[1::2])
+
+
 def _band_dtw(
-    x: np.ndarray, y: np.ndarray, low: np.ndarray, high: np.ndarray, step_penalty: float = 0.0
+    x: np.ndarray,
+    y: np.ndarray,
+    low: np.ndarray,
+    high: np.ndarray,
+    step_penalty: float = 0.0,
+    pauses: Pauses | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """DTW (symmetric steps, diagonal weighted twice) with row i restricted to columns low[i]:high[i].
 
     low and high never decrease. Each row is solved at once: vertical and diagonal steps come from the
     row before (kept in one array over all columns, infinite outside its band), and the horizontal steps
     are a running minimum of (cost so far - cumulative distance), so no Python loop runs over cells. The
-    distances are computed for blocks of rows at a time.
+    distances are computed for blocks of rows at a time. Where pauses allow it, a free row's horizontal
+    steps onto a pause of y cost at most the pause cost, no penalty, and a pause of x steps down any
+    column for at most the pause cost: only the step that holds one signal is made cheap.
     """
+    if pauses is not None:
+        pause_cost = np.float32(pauses.pause_cost)
+        y_pause_cap = np.where(pauses.y_silent, pause_cost, np.inf).astype(np.float32)
+        y_penalty = np.where(pauses.y_silent, 0.0, step_penalty).astype(np.float32)
     moves: list[np.ndarray] = []  # per row: 0 diagonal, 1 from above, 2 from the left
     last = np.full(len(y) + 1, np.inf)  # last[1 + j]: the previous row's cost at column j
     previous_low = 0
@@ -67,11 +116,16 @@ def _band_dtw(
             i = block_begin + offset
             begin, end = int(low[i]), int(high[i])
             distance = row[: end - begin]
-            steps = np.cumsum(distance + step_penalty)
+            across = down = distance + step_penalty  # costs of a horizontal and a vertical step into a cell
+            if pauses is not None and pauses.x_silent[i]:
+                down = np.minimum(distance, pause_cost)
+            if pauses is not None and pauses.x_free[i]:
+                across = np.minimum(distance + y_penalty[begin:end], y_pause_cap[begin:end])
+            steps = np.cumsum(across)
             if i == 0:
                 cost, move = steps, np.full(end - begin, 2, np.int8)
             else:
-                from_above = last[1 + begin : 1 + end] + distance + step_penalty
+                from_above = last[1 + begin : 1 + end] + down
                 from_diagonal = last[begin:end] + 2 * distance
                 arrive = np.minimum(from_diagonal, from_above)
                 move = np.where(from_diagonal <= from_above, 0, 1).astype(np.int8)

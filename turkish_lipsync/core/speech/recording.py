@@ -25,7 +25,7 @@ from ..base.errors import AudioError
 from ..base.model import Utterance
 from .audio import MAX_OUTPUT_RATE, read_audio, resample, resampled_pcm
 from .base import PhoneEvent, SpeechEngine, Synthesis, WordEvent
-from .dtw import dtw_path
+from .dtw import Pauses, dtw_path
 from .features import (
     ANALYSIS_RATE,
     HOP,
@@ -49,6 +49,8 @@ WARP_SEARCH_FRAMES = 6_000  # the warp is chosen on the first minute of a long t
 # Cost of a DTW step that stretches one signal (in units of the feature distance, 1-3 per frame between
 # two voices saying the same thing): keeps the path near the diagonal where the distances do not decide.
 STEP_PENALTY = 2.0
+PAUSE_COST = 1.0  # per frame of a pause one signal makes and the other does not
+BOUNDARY_SLACK = 1  # frames either side of a synthetic word onset where a recorded pause may be held
 
 
 @dataclass(frozen=True, eq=False)
@@ -148,9 +150,13 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
         synthetic_energies, synthetic_speech, recorded, recorded_speech, top_hertz
     )
     del recorded
-    path_x, path_y = dtw_path(x, y, step_penalty=STEP_PENALTY)
+    word_onsets = _word_onsets(reference)
+    pauses = _pauses(word_onsets, lead, synthetic_speech, recorded_speech)
+    path_x, path_y = dtw_path(x, y, step_penalty=STEP_PENALTY, pauses=pauses)
     distances = np.sqrt(((x[path_x] - y[path_y]) ** 2).sum(axis=1))
-    warp = warp_from_path(path_x, path_y, synthetic_speech, recorded_speech, lead, output.size / output_rate)
+    warp = warp_from_path(
+        path_x, path_y, synthetic_speech, recorded_speech, lead, output.size / output_rate, word_onsets
+    )
     synthesis = warp_synthesis(
         Synthesis(output, output_rate, reference.phone_events, reference.word_events, "recording"),
         warp,
@@ -167,6 +173,30 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
     )
     phrases, warnings = judge(utterance, reference.phone_events, warp, fit, path)
     return RecordingAlignment(warp, synthesis, phrases, warnings)
+
+
+def _word_onsets(reference: _Reference) -> np.ndarray:
+    """Synthetic start (seconds) of each word's first phone, in order."""
+    firsts: dict[int, float] = {}
+    for event in reference.phone_events:
+        firsts[event.word_index] = min(event.start, firsts.get(event.word_index, np.inf))
+    return np.array(sorted(firsts.values()))
+
+
+def _pauses(
+    word_onsets: np.ndarray, lead: int, synthetic_speech: np.ndarray, recorded_speech: np.ndarray
+) -> Pauses:
+    """Where the recording may pause though the synthetic speech does not: at any word boundary.
+
+    A person hesitates between words where the text has no comma, and leaves out pauses it has: the
+    DTW may hold a synthetic word boundary through a recorded pause, and a synthetic pause against
+    any recorded frame, at PAUSE_COST a frame.
+    """
+    free = ~synthetic_speech
+    boundaries = lead + np.round(word_onsets[1:] * ANALYSIS_RATE / HOP).astype(np.int64)
+    for offset in range(-BOUNDARY_SLACK, BOUNDARY_SLACK + 1):
+        free[np.clip(boundaries + offset, 0, free.size - 1)] = True
+    return Pauses(free, ~synthetic_speech, ~recorded_speech, PAUSE_COST)
 
 
 def _check_lengths(path: Path, recorded_speech: np.ndarray, synthetic_speech: np.ndarray) -> None:

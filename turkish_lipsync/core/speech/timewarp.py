@@ -7,7 +7,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .base import Synthesis
-from .features import frame_seconds
+from .features import ANALYSIS_RATE, HOP, frame_seconds
+from .voice_activity import runs
 
 
 @dataclass(frozen=True, eq=False)
@@ -36,11 +37,13 @@ def warp_from_path(
     recorded_speech: np.ndarray,
     lead: int,
     recording_duration: float,
+    word_onsets: np.ndarray,
 ) -> TimeWarp:
     """Knots where speech meets speech, each synthetic frame at the mean recording frame matched to it.
 
-    Silence matches silence at no cost, so the path through a pause is arbitrary: pauses are crossed
-    linearly between the last and first words around them.
+    Silence matches silence at no cost, so the path through a pause is arbitrary: pauses both make are
+    crossed linearly between the words around them. A pause only the recording makes (a hesitation)
+    is put before the word whose onset the path holds through it (held_pauses).
     """
     both = synthetic_speech[path_x] & recorded_speech[path_y]
     if both.sum() < 2:
@@ -52,18 +55,75 @@ def warp_from_path(
     knots = np.concatenate(([path_x[0]], knots, [path_x[-1]]))
     matched = np.maximum.accumulate(np.concatenate(([path_y[0]], matched, [path_y[-1]])))
     unique = np.concatenate(([True], np.diff(knots) > 0))
-    return TimeWarp(
-        synthetic=frame_seconds(knots[unique], lead),
-        recorded=frame_seconds(matched[unique]),
-        recording_duration=recording_duration,
+    synthetic, recorded = frame_seconds(knots[unique], lead), frame_seconds(matched[unique])
+    for onset, pause_start, pause_end in held_pauses(
+        path_x, path_y, synthetic_speech, recorded_speech, lead, word_onsets
+    ):
+        synthetic, recorded = _jump(synthetic, recorded, onset, pause_start, pause_end)
+    return TimeWarp(synthetic=synthetic, recorded=recorded, recording_duration=recording_duration)
+
+
+HELD_PAUSE_FRAMES = 10  # a recorded pause this long (100 ms) held by synthetic speech is a hesitation
+ONSET_REACH = 0.06  # seconds from the held synthetic frame to the word onset the pause is put before
+HALF_HOP = HOP / ANALYSIS_RATE / 2
+JUMP = 1e-6  # seconds between the two knots of a jump (ends of events are warped this much before them)
+
+
+def held_pauses(
+    path_x: np.ndarray,
+    path_y: np.ndarray,
+    synthetic_speech: np.ndarray,
+    recorded_speech: np.ndarray,
+    lead: int,
+    word_onsets: np.ndarray,
+) -> list[tuple[float, float, float]]:
+    """(synthetic word onset, recorded pause start, end) of each pause the recording alone makes."""
+    found = []
+    for start, stop in runs(~recorded_speech):
+        if stop - start < HELD_PAUSE_FRAMES or start == 0 or stop == len(recorded_speech):
+            continue
+        held = path_x[(path_y >= start) & (path_y < stop)]
+        if held.size == 0 or synthetic_speech[held].mean() < 0.5:
+            continue  # the synthetic speech pauses here too
+        at = float(frame_seconds(np.median(held), lead))
+        nearest = int(np.argmin(np.abs(word_onsets - at))) if word_onsets.size else -1
+        if nearest >= 0 and abs(word_onsets[nearest] - at) <= ONSET_REACH:
+            # Knots sit at frame centres: the pause lies between the centres of its first and last frames.
+            pause_start = float(frame_seconds(start)) - HALF_HOP
+            pause_end = float(frame_seconds(stop)) - HALF_HOP
+            found.append((float(word_onsets[nearest]), pause_start, pause_end))
+    return found
+
+
+def _jump(
+    synthetic: np.ndarray, recorded: np.ndarray, onset: float, pause_start: float, pause_end: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """The knots with the recording's pause put just before the synthetic onset.
+
+    Knots inside the pause or on the wrong side of it (a frame matched to speech on both sides has the
+    mean of the two) are dropped; the word before keeps its synthetic pace up to
+    the onset, the word after from it, and neither crosses into the pause beyond what the knots allow.
+    """
+    keep = ((synthetic < onset) & (recorded <= pause_start)) | (
+        (synthetic >= onset) & (recorded >= pause_end)
     )
+    synthetic, recorded = synthetic[keep], recorded[keep]
+    split = int(np.searchsorted(synthetic, onset))
+    if split == 0 or split == synthetic.size:
+        return synthetic, recorded
+    s0, r0, s1, r1 = synthetic[split - 1], recorded[split - 1], synthetic[split], recorded[split]
+    after = float(np.clip(r1 - (s1 - onset), pause_start, r1))
+    before = float(np.clip(r0 + (onset - s0), r0, min(pause_start, after)))
+    synthetic = np.concatenate((synthetic[:split], [onset - JUMP, onset], synthetic[split:]))
+    recorded = np.concatenate((recorded[:split], [before, after], recorded[split:]))
+    return synthetic, recorded
 
 
 def warp_synthesis(synthesis: Synthesis, warp: TimeWarp, samples: np.ndarray) -> Synthesis:
     """The synthesis's events moved onto the recording's time, holding the recording's samples."""
     phones = synthesis.phone_events
     starts = warp(np.array([event.start for event in phones]))
-    ends = warp(np.array([event.end for event in phones]))
+    ends = warp(np.array([event.end for event in phones]) - JUMP)  # a pause after a phone follows its end
     words = synthesis.word_events
     word_starts = warp(np.array([event.start for event in words]))
     return Synthesis(
