@@ -17,24 +17,24 @@ DTW_FULL_CELLS = 250_000  # below this many cells the DTW is solved without a ba
 
 @dataclass(frozen=True, eq=False)
 class Pauses:
-    """Where one signal may pause while the other does not, at pause_cost per frame and no step penalty.
+    """Where one signal may pause while the other does not, and what holding the other through it costs.
 
-    x_free: frames of x that may be held while y pauses (x's word boundaries and its own silences);
-    y_silent: frames of y that are pauses. x_silent: x's own pauses, which may be held against any frame
-    of y (a pause in x that y does not make).
+    x_free: frames of x that may be held while y pauses (x's word boundaries and its own silences), each
+    step along y then costing at most y_hold_cost[j] (no step penalty). x_silent: x's own pauses, held
+    against any frame of y at x_hold_cost a step (a pause in x that y does not make).
     """
 
     x_free: np.ndarray
     x_silent: np.ndarray
-    y_silent: np.ndarray
-    pause_cost: float
+    y_hold_cost: np.ndarray
+    x_hold_cost: float
 
     def halved(self) -> Pauses:
         return Pauses(
             _halve_mask(self.x_free, np.logical_or),
             _halve_mask(self.x_silent, np.logical_and),
-            _halve_mask(self.y_silent, np.logical_and),
-            self.pause_cost,
+            _halve_mask(self.y_hold_cost, np.maximum),
+            self.x_hold_cost,
         )
 
 
@@ -81,10 +81,10 @@ def _halve(features: np.ndarray) -> np.ndarray:
     return 0.5 * (features[0::2] + features[1::2])
 
 
-def _halve_mask(mask: np.ndarray, combine) -> np.ndarray:
-    if len(mask) % 2:
-        mask = np.concatenate((mask, mask[-1:]))
-    return combine(mask[0::2], mask[1::2])
+def _halve_mask(values: np.ndarray, combine) -> np.ndarray:
+    if len(values) % 2:
+        values = np.concatenate((values, values[-1:]))
+    return combine(values[0::2], values[1::2])
 
 
 def _band_dtw(
@@ -101,13 +101,12 @@ def _band_dtw(
     row before (kept in one array over all columns, infinite outside its band), and the horizontal steps
     are a running minimum of (cost so far - cumulative distance), so no Python loop runs over cells. The
     distances are computed for blocks of rows at a time. Where pauses allow it, a free row's horizontal
-    steps onto a pause of y cost at most the pause cost, no penalty, and a pause of x steps down any
-    column for at most the pause cost: only the step that holds one signal is made cheap.
+    steps cost at most y's hold cost there, and a pause of x steps down any column for at most x's hold
+    cost: only the step that holds one signal is made cheap.
     """
     if pauses is not None:
-        pause_cost = np.float32(pauses.pause_cost)
-        y_pause_cap = np.where(pauses.y_silent, pause_cost, np.inf).astype(np.float32)
-        y_penalty = np.where(pauses.y_silent, 0.0, step_penalty).astype(np.float32)
+        x_hold_cost = np.float32(pauses.x_hold_cost)
+        y_hold_cost = pauses.y_hold_cost.astype(np.float32)
     moves: list[np.ndarray] = []  # per row: 0 diagonal, 1 from above, 2 from the left
     last = np.full(len(y) + 1, np.inf)  # last[1 + j]: the previous row's cost at column j
     previous_low = 0
@@ -118,9 +117,9 @@ def _band_dtw(
             distance = row[: end - begin]
             across = down = distance + step_penalty  # costs of a horizontal and a vertical step into a cell
             if pauses is not None and pauses.x_silent[i]:
-                down = np.minimum(distance, pause_cost)
+                down = np.minimum(down, x_hold_cost)
             if pauses is not None and pauses.x_free[i]:
-                across = np.minimum(distance + y_penalty[begin:end], y_pause_cap[begin:end])
+                across = np.minimum(across, y_hold_cost[begin:end])
             steps = np.cumsum(across)
             if i == 0:
                 cost, move = steps, np.full(end - begin, 2, np.int8)

@@ -37,8 +37,9 @@ from .features import (
     mel_energies,
 )
 from .judgement import Fit, PhraseMatch, judge
+from .reverberation import dereverberate, estimate_rt60
 from .timewarp import TimeWarp, warp_from_path, warp_synthesis
-from .voice_activity import speech_frames
+from .voice_activity import quietness, speech_frames
 
 MAX_LENGTH_RATIO = 3.0  # recordings this many times longer or shorter than the synthetic speech are refused
 CHUNK_LETTERS = 3_000  # about 5 minutes of speech synthesised at a time (split at sentences)
@@ -51,6 +52,8 @@ WARP_SEARCH_FRAMES = 6_000  # the warp is chosen on the first minute of a long t
 STEP_PENALTY = 2.0
 PAUSE_COST = 1.0  # per frame of a pause one signal makes and the other does not
 BOUNDARY_SLACK = 1  # frames either side of a synthetic word onset where a recorded pause may be held
+QUIET_DB = 25.0  # a frame of recorded speech this far under the loudest around it is held at PAUSE_COST
+HOLD_COST_PER_DB = 0.3  # ... and for each dB louder, this much more
 
 
 @dataclass(frozen=True, eq=False)
@@ -136,6 +139,7 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
     # A telephone-quality recording has nothing above its Nyquist frequency: describe both up to there.
     top_hertz = min(TOP_HERTZ, 0.45 * native_rate)
     recorded_speech = speech_frames(recorded, frame_count(recorded.size))
+    recorded_quietness = quietness(recorded, len(recorded_speech))
     reference, analysis = synthesize_reference(utterance, engine)
     synthetic_energies = mel_energies(analysis, top_hertz=top_hertz)
     synthetic_speech = speech_frames(analysis, len(synthetic_energies))
@@ -151,7 +155,7 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
     )
     del recorded
     word_onsets = _word_onsets(reference)
-    pauses = _pauses(word_onsets, lead, synthetic_speech, recorded_speech)
+    pauses = _pauses(word_onsets, lead, synthetic_speech, recorded_speech, recorded_quietness)
     path_x, path_y = dtw_path(x, y, step_penalty=STEP_PENALTY, pauses=pauses)
     distances = np.sqrt(((x[path_x] - y[path_y]) ** 2).sum(axis=1))
     warp = warp_from_path(
@@ -184,19 +188,27 @@ def _word_onsets(reference: _Reference) -> np.ndarray:
 
 
 def _pauses(
-    word_onsets: np.ndarray, lead: int, synthetic_speech: np.ndarray, recorded_speech: np.ndarray
+    word_onsets: np.ndarray,
+    lead: int,
+    synthetic_speech: np.ndarray,
+    recorded_speech: np.ndarray,
+    recorded_quietness: np.ndarray,
 ) -> Pauses:
     """Where the recording may pause though the synthetic speech does not: at any word boundary.
 
     A person hesitates between words where the text has no comma, and leaves out pauses it has: the
     DTW may hold a synthetic word boundary through a recorded pause, and a synthetic pause against
-    any recorded frame, at PAUSE_COST a frame.
+    any recorded frame, at PAUSE_COST a frame. In a live room or with a voice in the background a
+    pause is not silent: a frame the voice activity detector calls speech costs more to hold the
+    louder it is than QUIET_DB under the loudest speech around it.
     """
     free = ~synthetic_speech
     boundaries = lead + np.round(word_onsets[1:] * ANALYSIS_RATE / HOP).astype(np.int64)
     for offset in range(-BOUNDARY_SLACK, BOUNDARY_SLACK + 1):
         free[np.clip(boundaries + offset, 0, free.size - 1)] = True
-    return Pauses(free, ~synthetic_speech, ~recorded_speech, PAUSE_COST)
+    loudness = np.maximum(QUIET_DB - recorded_quietness, 0.0)
+    hold = np.where(recorded_speech, PAUSE_COST + HOLD_COST_PER_DB * loudness, PAUSE_COST)
+    return Pauses(free, ~synthetic_speech, hold, PAUSE_COST)
 
 
 def _check_lengths(path: Path, recorded_speech: np.ndarray, synthetic_speech: np.ndarray) -> None:
@@ -234,8 +246,9 @@ def _best_warped_features(
     """
     synthetic_levels = band_levels(synthetic, synthetic_speech)
     best = None
+    rt60 = estimate_rt60(recorded)
     for warp in VOCAL_TRACT_WARPS:
-        energies = mel_energies(recorded, warp, top_hertz)
+        energies = dereverberate(mel_energies(recorded, warp, top_hertz), rt60)
         recorded_levels = band_levels(energies, recorded_speech)
         floor = common_floor(synthetic_levels, recorded_levels)
         x = cepstra(synthetic, synthetic_levels[0], floor, synthetic_speech)

@@ -8,7 +8,6 @@ import numpy as np
 
 from .base import Synthesis
 from .features import ANALYSIS_RATE, HOP, frame_seconds
-from .voice_activity import runs
 
 
 @dataclass(frozen=True, eq=False)
@@ -56,43 +55,61 @@ def warp_from_path(
     matched = np.maximum.accumulate(np.concatenate(([path_y[0]], matched, [path_y[-1]])))
     unique = np.concatenate(([True], np.diff(knots) > 0))
     synthetic, recorded = frame_seconds(knots[unique], lead), frame_seconds(matched[unique])
-    for onset, pause_start, pause_end in held_pauses(
-        path_x, path_y, synthetic_speech, recorded_speech, lead, word_onsets
-    ):
+    for onset, pause_start, pause_end in held_pauses(path_x, path_y, synthetic_speech, lead, word_onsets):
         synthetic, recorded = _jump(synthetic, recorded, onset, pause_start, pause_end)
     return TimeWarp(synthetic=synthetic, recorded=recorded, recording_duration=recording_duration)
 
 
-HELD_PAUSE_FRAMES = 10  # a recorded pause this long (100 ms) held by synthetic speech is a hesitation
+HELD_PAUSE_FRAMES = 10  # a recorded stretch this long (100 ms) held by synthetic speech is a hesitation
+HELD_REACH = 2  # frames of synthetic speech a hold may move through
 ONSET_REACH = 0.06  # seconds from the held synthetic frame to the word onset the pause is put before
 HALF_HOP = HOP / ANALYSIS_RATE / 2
 JUMP = 1e-6  # seconds between the two knots of a jump (ends of events are warped this much before them)
 
 
 def held_pauses(
-    path_x: np.ndarray,
-    path_y: np.ndarray,
-    synthetic_speech: np.ndarray,
-    recorded_speech: np.ndarray,
-    lead: int,
-    word_onsets: np.ndarray,
+    path_x: np.ndarray, path_y: np.ndarray, synthetic_speech: np.ndarray, lead: int, word_onsets: np.ndarray
 ) -> list[tuple[float, float, float]]:
-    """(synthetic word onset, recorded pause start, end) of each pause the recording alone makes."""
+    """(synthetic word onset, recorded pause start, end) of each pause the recording alone makes.
+
+    Such a pause is where the path holds synthetic speech (within HELD_REACH frames) while the
+    recording goes on for HELD_PAUSE_FRAMES or more, next to a word onset: what the recording says
+    there is quiet enough for the DTW to hold a word boundary through it (its own silence, or a room or a
+    voice in the background), and no synthetic frame matches it better.
+    """
+    change = np.flatnonzero(np.diff(path_x)) + 1
+    starts = np.concatenate(([0], change))
+    stops = np.concatenate((change, [path_x.size]))
     found = []
-    for start, stop in runs(~recorded_speech):
-        if stop - start < HELD_PAUSE_FRAMES or start == 0 or stop == len(recorded_speech):
+    group = None  # [first path index, last path index] of the hold being followed
+    for first, stop in zip(starts, stops, strict=True):
+        if group is not None and path_x[first] - path_x[group[1]] <= HELD_REACH and stop - first > 1:
+            group[1] = stop - 1
             continue
-        held = path_x[(path_y >= start) & (path_y < stop)]
-        if held.size == 0 or synthetic_speech[held].mean() < 0.5:
-            continue  # the synthetic speech pauses here too
-        at = float(frame_seconds(np.median(held), lead))
-        nearest = int(np.argmin(np.abs(word_onsets - at))) if word_onsets.size else -1
-        if nearest >= 0 and abs(word_onsets[nearest] - at) <= ONSET_REACH:
-            # Knots sit at frame centres: the pause lies between the centres of its first and last frames.
-            pause_start = float(frame_seconds(start)) - HALF_HOP
-            pause_end = float(frame_seconds(stop)) - HALF_HOP
-            found.append((float(word_onsets[nearest]), pause_start, pause_end))
+        if group is not None:
+            found.extend(_held(group, path_x, path_y, synthetic_speech, lead, word_onsets))
+        group = [first, stop - 1] if stop - first > 1 else None
+    if group is not None:
+        found.extend(_held(group, path_x, path_y, synthetic_speech, lead, word_onsets))
     return found
+
+
+def _held(group, path_x, path_y, synthetic_speech, lead, word_onsets) -> list[tuple[float, float, float]]:
+    first, last = group
+    begin, end = int(path_y[first]), int(path_y[last])
+    held = path_x[first : last + 1]
+    if end - begin + 1 < HELD_PAUSE_FRAMES or begin == 0 or end == int(path_y[-1]):
+        return []
+    if synthetic_speech[held].mean() < 0.5 or word_onsets.size == 0:
+        return []  # the synthetic speech pauses here too
+    at = float(frame_seconds(np.median(held), lead))
+    nearest = int(np.argmin(np.abs(word_onsets - at)))
+    if abs(word_onsets[nearest] - at) > ONSET_REACH:
+        return []
+    # Knots sit at frame centres: the pause lies between the centres of its first and last frames.
+    pause_start = float(frame_seconds(begin)) - HALF_HOP
+    pause_end = float(frame_seconds(end + 1)) - HALF_HOP
+    return [(float(word_onsets[nearest]), pause_start, pause_end)]
 
 
 def _jump(

@@ -54,6 +54,25 @@ def speech_frames(samples: np.ndarray, frames: int) -> np.ndarray:
     return np.pad(speech, (0, max(0, frames - speech.size)))[:frames]
 
 
+LOUDEST_AROUND_BLOCK = 50  # hops: the loudest speech around a frame is the loudest of its 0.5 s block
+LOUDEST_AROUND_BLOCKS = 2  # ... and of this many blocks either side (about 2.5 s each way)
+
+
+def quietness(samples: np.ndarray, frames: int) -> np.ndarray:
+    """dB by which each hop lies under the loudest hop around it (a few seconds either way)."""
+    levels = np.convolve(frame_levels(samples), np.ones(3) / 3, "same")
+    if levels.size == 0:
+        return np.zeros(frames)
+    blocks = -(-levels.size // LOUDEST_AROUND_BLOCK)
+    padded = np.pad(levels, (0, blocks * LOUDEST_AROUND_BLOCK - levels.size), constant_values=-np.inf)
+    loudest = padded.reshape(blocks, LOUDEST_AROUND_BLOCK).max(axis=1)
+    reach = LOUDEST_AROUND_BLOCKS
+    around = np.pad(loudest, reach, constant_values=-np.inf)
+    loudest = np.max([around[shift : shift + blocks] for shift in range(2 * reach + 1)], axis=0)
+    below = np.repeat(loudest, LOUDEST_AROUND_BLOCK)[: levels.size] - levels
+    return np.pad(below, (0, max(0, frames - below.size)), mode="edge")[:frames]
+
+
 def voiced_frames(samples: np.ndarray, candidates: np.ndarray) -> np.ndarray:
     """True where a candidate 10 ms hop is periodic at a voice's pitch (60-400 Hz): vowels, not breaths.
 
