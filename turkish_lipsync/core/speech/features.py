@@ -42,18 +42,25 @@ def mel_energies(samples: np.ndarray, warp: float = 1.0, top_hertz: float = TOP_
 
     top_hertz: highest frequency described (both signals of an alignment must use the same one).
     """
-    filters = _mel_filters(warp, top_hertz)
-    taper = np.hanning(WINDOW).astype(np.float32)
+    filters = mel_filters(warp, top_hertz).T
     count = frame_count(samples.size)
     energies = np.empty((count, MEL_BANDS), np.float32)
+    for begin, power in power_spectra(samples):
+        energies[begin : begin + len(power)] = power @ filters
+    return energies
+
+
+def power_spectra(samples: np.ndarray):
+    """(first frame, power spectra of a block of frames (frames x FFT_SIZE // 2 + 1, float32)), in order."""
+    taper = np.hanning(WINDOW).astype(np.float32)
+    count = frame_count(samples.size)
     for begin in range(0, count, _BLOCK):
         frames = np.arange(begin, min(begin + _BLOCK, count))
         piece = samples[begin * HOP : frames[-1] * HOP + WINDOW].astype(np.float32)
         piece = np.pad(piece, (0, (frames.size - 1) * HOP + WINDOW - piece.size))
         rows = piece[(frames - begin)[:, None] * HOP + np.arange(WINDOW)[None, :]] * taper
-        power = np.abs(np.fft.rfft(rows, FFT_SIZE, axis=1)) ** 2
-        energies[frames] = power @ filters.T
-    return energies
+        spectrum = np.fft.rfft(rows, FFT_SIZE, axis=1)
+        yield begin, (spectrum.real**2 + spectrum.imag**2).astype(np.float32)
 
 
 def band_levels(energies: np.ndarray, speech: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -99,7 +106,9 @@ def cepstra(energies: np.ndarray, level: np.ndarray, floor: np.ndarray, speech: 
     return features.astype(np.float32)
 
 
-def _mel_filters(warp: float, top_hertz: float) -> np.ndarray:
+def mel_filters(warp: float, top_hertz: float) -> np.ndarray:
+    """Triangular mel filters (MEL_BANDS x FFT_SIZE // 2 + 1), LOW_HERTZ to top_hertz, stretched by warp."""
+
     def to_mel(hertz):
         return 2595 * np.log10(1 + np.asarray(hertz) / 700)
 

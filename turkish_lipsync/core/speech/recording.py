@@ -30,16 +30,19 @@ from .features import (
     ANALYSIS_RATE,
     HOP,
     TOP_HERTZ,
+    WINDOW,
     band_levels,
     cepstra,
     common_floor,
     frame_count,
     mel_energies,
+    mel_filters,
+    power_spectra,
 )
-from .judgement import Fit, PhraseMatch, judge
+from .judgement import Fit, PhraseMatch, judge, match_ranks
 from .reverberation import dereverberate, estimate_rt60
 from .timewarp import TimeWarp, warp_from_path, warp_synthesis
-from .voice_activity import quietness, speech_frames
+from .voice_activity import above_floor, clean_speech_frames, runs, speech_frames
 
 MAX_LENGTH_RATIO = 3.0  # recordings this many times longer or shorter than the synthetic speech are refused
 CHUNK_LETTERS = 3_000  # about 5 minutes of speech synthesised at a time (split at sentences)
@@ -52,8 +55,10 @@ WARP_SEARCH_FRAMES = 6_000  # the warp is chosen on the first minute of a long t
 STEP_PENALTY = 2.0
 PAUSE_COST = 1.0  # per frame of a pause one signal makes and the other does not
 BOUNDARY_SLACK = 1  # frames either side of a synthetic word onset where a recorded pause may be held
-QUIET_DB = 25.0  # a frame of recorded speech this far under the loudest around it is held at PAUSE_COST
-HOLD_COST_PER_DB = 0.3  # ... and for each dB louder, this much more
+# A stretch this long of recorded "speech" this close to the noise floor is a pause (a voice in the
+# background fills it; the voice activity detector takes that for speech).
+FLOOR_PAUSE_DB = 8.0
+FLOOR_PAUSE_FRAMES = 15
 
 
 @dataclass(frozen=True, eq=False)
@@ -139,10 +144,10 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
     # A telephone-quality recording has nothing above its Nyquist frequency: describe both up to there.
     top_hertz = min(TOP_HERTZ, 0.45 * native_rate)
     recorded_speech = speech_frames(recorded, frame_count(recorded.size))
-    recorded_quietness = quietness(recorded, len(recorded_speech))
+    recorded_loudness = above_floor(recorded, len(recorded_speech))
     reference, analysis = synthesize_reference(utterance, engine)
     synthetic_energies = mel_energies(analysis, top_hertz=top_hertz)
-    synthetic_speech = speech_frames(analysis, len(synthetic_energies))
+    synthetic_speech = clean_speech_frames(analysis, len(synthetic_energies))
     del analysis
     _check_lengths(path, recorded_speech, synthetic_speech)
     spoken = np.flatnonzero(recorded_speech)
@@ -155,9 +160,8 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
     )
     del recorded
     word_onsets = _word_onsets(reference)
-    pauses = _pauses(word_onsets, lead, synthetic_speech, recorded_speech, recorded_quietness)
+    pauses = _pauses(word_onsets, lead, synthetic_speech, recorded_speech, recorded_loudness)
     path_x, path_y = dtw_path(x, y, step_penalty=STEP_PENALTY, pauses=pauses)
-    distances = np.sqrt(((x[path_x] - y[path_y]) ** 2).sum(axis=1))
     warp = warp_from_path(
         path_x, path_y, synthetic_speech, recorded_speech, lead, output.size / output_rate, word_onsets
     )
@@ -166,15 +170,8 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
         warp,
         output,
     )
-    fit = Fit(
-        path_x,
-        path_y,
-        distances,
-        synthetic_speech,
-        recorded_speech,
-        lead,
-        order_ratio,
-    )
+    ranks = match_ranks(x, y, path_x, path_y, synthetic_speech, recorded_speech)
+    fit = Fit(path_x, path_y, ranks, synthetic_speech, recorded_speech, recorded_loudness, lead, order_ratio)
     phrases, warnings = judge(utterance, reference.phone_events, warp, fit, path)
     return RecordingAlignment(warp, synthesis, phrases, warnings)
 
@@ -192,22 +189,24 @@ def _pauses(
     lead: int,
     synthetic_speech: np.ndarray,
     recorded_speech: np.ndarray,
-    recorded_quietness: np.ndarray,
+    recorded_loudness: np.ndarray,
 ) -> Pauses:
     """Where the recording may pause though the synthetic speech does not: at any word boundary.
 
     A person hesitates between words where the text has no comma, and leaves out pauses it has: the
     DTW may hold a synthetic word boundary through a recorded pause, and a synthetic pause against
-    any recorded frame, at PAUSE_COST a frame. In a live room or with a voice in the background a
-    pause is not silent: a frame the voice activity detector calls speech costs more to hold the
-    louder it is than QUIET_DB under the loudest speech around it.
+    any recorded frame, at PAUSE_COST a frame. With a voice in the background a pause is not silent:
+    a long enough stretch close to the recording's noise floor (which the background voice is part
+    of) is a pause too.
     """
     free = ~synthetic_speech
     boundaries = lead + np.round(word_onsets[1:] * ANALYSIS_RATE / HOP).astype(np.int64)
     for offset in range(-BOUNDARY_SLACK, BOUNDARY_SLACK + 1):
         free[np.clip(boundaries + offset, 0, free.size - 1)] = True
-    loudness = np.maximum(QUIET_DB - recorded_quietness, 0.0)
-    hold = np.where(recorded_speech, PAUSE_COST + HOLD_COST_PER_DB * loudness, PAUSE_COST)
+    near_floor = recorded_loudness < FLOOR_PAUSE_DB
+    for start, stop in runs(near_floor):
+        near_floor[start:stop] = stop - start >= FLOOR_PAUSE_FRAMES
+    hold = np.where(recorded_speech & ~near_floor, np.inf, PAUSE_COST)
     return Pauses(free, ~synthetic_speech, hold, PAUSE_COST)
 
 
@@ -239,26 +238,46 @@ def _best_warped_features(
 ) -> tuple[np.ndarray, np.ndarray, float]:
     """Cepstra of both with a common noise floor, the recording's at the vocal-tract warp that fits best.
 
-    Each warp is tried on the first minute at a quarter of the frame rate; the one whose DTW path is
-    cheapest per step wins (another speaker's formants sit higher or lower than eSpeak's). Also returns
-    that cost over the cost of the text's sounds in reverse order: near 1 when the recording says
-    something else, whatever the voice.
+    The warps are tried on the first minute at a quarter of the frame rate (its spectra computed once),
+    from none outwards while the DTW path gets cheaper per step (another speaker's formants sit higher
+    or lower than eSpeak's). Also returns that cost over the cost of the text's sounds in reverse order:
+    near 1 when the recording says something else, whatever the voice.
     """
     synthetic_levels = band_levels(synthetic, synthetic_speech)
-    best = None
     rt60 = estimate_rt60(recorded)
-    for warp in VOCAL_TRACT_WARPS:
-        energies = dereverberate(mel_energies(recorded, warp, top_hertz), rt60)
-        recorded_levels = band_levels(energies, recorded_speech)
+    excerpt = slice(0, WARP_SEARCH_FRAMES)
+    power = np.concatenate(
+        [block for _, block in power_spectra(recorded[: WARP_SEARCH_FRAMES * HOP + WINDOW])]
+    )
+    power = power[:WARP_SEARCH_FRAMES]
+
+    def features(energies: np.ndarray, speech: np.ndarray, synthetic_part: np.ndarray, synthetic_part_speech):
+        recorded_levels = band_levels(energies, speech)
         floor = common_floor(synthetic_levels, recorded_levels)
-        x = cepstra(synthetic, synthetic_levels[0], floor, synthetic_speech)
-        y = cepstra(energies, recorded_levels[0], floor, recorded_speech)
-        cost = _coarse_cost(x, y)
-        if best is None or cost < best[0]:
-            best = (cost, x, y)
-    cost, x, y = best
+        x = cepstra(synthetic_part, synthetic_levels[0], floor, synthetic_part_speech)
+        return x, cepstra(energies, recorded_levels[0], floor, speech)
+
+    def cost(index: int) -> float:
+        if index not in costs:
+            energies = dereverberate(power @ mel_filters(VOCAL_TRACT_WARPS[index], top_hertz).T, rt60)
+            x, y = features(
+                energies,
+                recorded_speech[excerpt][: len(energies)],
+                synthetic[excerpt],
+                synthetic_speech[excerpt],
+            )
+            costs[index] = _coarse_cost(x, y)
+        return costs[index]
+
+    costs: dict[int, float] = {}
+    best = VOCAL_TRACT_WARPS.index(1.0)
+    for step in (-1, 1):
+        while 0 <= best + step < len(VOCAL_TRACT_WARPS) and cost(best + step) < cost(best):
+            best += step
+    energies = dereverberate(mel_energies(recorded, VOCAL_TRACT_WARPS[best], top_hertz), rt60)
+    x, y = features(energies, recorded_speech, synthetic, synthetic_speech)
     # The same sounds in the wrong order: what the cost would be if the recording said something else.
-    return x, y, cost / _coarse_cost(_reversed_speech(x, synthetic_speech), y)
+    return x, y, _coarse_cost(x, y) / _coarse_cost(_reversed_speech(x, synthetic_speech), y)
 
 
 def _coarse_cost(x: np.ndarray, y: np.ndarray) -> float:

@@ -54,23 +54,27 @@ def speech_frames(samples: np.ndarray, frames: int) -> np.ndarray:
     return np.pad(speech, (0, max(0, frames - speech.size)))[:frames]
 
 
-LOUDEST_AROUND_BLOCK = 50  # hops: the loudest speech around a frame is the loudest of its 0.5 s block
-LOUDEST_AROUND_BLOCKS = 2  # ... and of this many blocks either side (about 2.5 s each way)
-
-
-def quietness(samples: np.ndarray, frames: int) -> np.ndarray:
-    """dB by which each hop lies under the loudest hop around it (a few seconds either way)."""
+def above_floor(samples: np.ndarray, frames: int) -> np.ndarray:
+    """dB by which each hop rises above the recording's noise floor (its quietest tenth of hops)."""
     levels = np.convolve(frame_levels(samples), np.ones(3) / 3, "same")
     if levels.size == 0:
         return np.zeros(frames)
-    blocks = -(-levels.size // LOUDEST_AROUND_BLOCK)
-    padded = np.pad(levels, (0, blocks * LOUDEST_AROUND_BLOCK - levels.size), constant_values=-np.inf)
-    loudest = padded.reshape(blocks, LOUDEST_AROUND_BLOCK).max(axis=1)
-    reach = LOUDEST_AROUND_BLOCKS
-    around = np.pad(loudest, reach, constant_values=-np.inf)
-    loudest = np.max([around[shift : shift + blocks] for shift in range(2 * reach + 1)], axis=0)
-    below = np.repeat(loudest, LOUDEST_AROUND_BLOCK)[: levels.size] - levels
-    return np.pad(below, (0, max(0, frames - below.size)), mode="edge")[:frames]
+    above = levels - np.percentile(levels, 10)
+    return np.pad(above, (0, max(0, frames - above.size)), mode="edge")[:frames]
+
+
+def clean_speech_frames(samples: np.ndarray, frames: int) -> np.ndarray:
+    """speech_frames for a signal with no noise (the synthetic rendition), by its levels alone.
+
+    Without noise, speech is where the level comes within BELOW_SPEECH_DB of the loud frames; the
+    gaps are bridged and the clicks dropped as for a recording. On the tuning sentences this differs
+    from speech_frames in 0-2 frames of 330-500, at a small part of its cost.
+    """
+    levels = frame_levels(samples)
+    if levels.size == 0:
+        return np.zeros(frames, bool)
+    speech = _drop_short_runs(_bridge_gaps(levels > np.percentile(levels, 95) - BELOW_SPEECH_DB))
+    return np.pad(speech, (0, max(0, frames - speech.size)))[:frames]
 
 
 def voiced_frames(samples: np.ndarray, candidates: np.ndarray) -> np.ndarray:
