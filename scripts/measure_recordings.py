@@ -17,7 +17,9 @@ Prints median, p90 and max onset error (ms) of words and of letters per conditio
 which a word was keyed more than 50 ms early or inside the next word's span, the takes refused (an
 error, though they read the text) and warned, and with --mismatch how many takes were refused, or
 accepted with a warning, when aligned to the next sentence instead (another text): the rest are missed
-mismatches. With --long, a take of that many minutes (the held-out sentences over and over, voice
+mismatches. With --edits, each take is also made leaving out one word and adding one (EXTRA_WORDS),
+and the script counts those whose warnings name the word left out, or a neighbour of the word added.
+With --long, a take of that many minutes (the held-out sentences over and over, voice
 f3-high, 30 dB SNR) is made by a child process, then aligned here: the time, the peak resident memory
 of this process and the word onset error are printed.
 
@@ -209,7 +211,34 @@ def _spread(errors: list[np.ndarray]) -> str:
     return f"{np.median(ms):>10.0f}{np.percentile(ms, 90):>7.0f}{ms.max():>7.0f}"
 
 
-def measure(texts, voices, conditions, folder: Path, mismatch: bool, aeneas: bool) -> None:
+EXTRA_WORDS = ("büyük", "gerçekten", "sonra", "belki")  # said in a take though the text lacks them
+
+
+def edited_takes(text: str, voice: str, condition: str, rng, context, folder: Path) -> tuple[int, int]:
+    """Whether a take leaving out one word, and one adding a word, are each warned about by name.
+
+    Returns (1 if the left-out word is named, 1 if a warning names a neighbour of the added word).
+    """
+    words = text.split()
+    index = int(rng.integers(1, len(words) - 1))
+    named = []
+    for spoken, names in (
+        (words[:index] + words[index + 1 :], {index}),
+        (words[:index] + [EXTRA_WORDS[index % len(EXTRA_WORDS)]] + words[index:], {index - 1, index}),
+    ):
+        take = CONDITIONS[condition](speak(" ".join(spoken), VOICES[voice]), rng, context)
+        path = write_wav(folder / "edited.wav", take.samples, RATE)
+        utterance = build_utterance(text)
+        texts = {repr(utterance.words[n].text) for n in names}
+        try:
+            warnings = synthesize_timeline(utterance, recording=path).warnings
+        except AudioError:
+            warnings = ()
+        named.append(int(any(name in warning for warning in warnings for name in texts)))
+    return named[0], named[1]
+
+
+def measure(texts, voices, conditions, folder: Path, mismatch: bool, aeneas: bool, edits: bool) -> None:
     print(f"{len(texts)} sentences x {len(voices)} voices ({', '.join(voices)}); onset error in ms")
     print(
         f"{'condition':<32}{'words':>24}{'letters':>24}  misplaced refused warned"
@@ -222,10 +251,13 @@ def measure(texts, voices, conditions, folder: Path, mismatch: bool, aeneas: boo
     context = {"talker": speak(" ".join(other_set[:3]), TALKER).samples}
     for condition in conditions:
         word_errors, letter_errors, aeneas_errors = [], [], []
-        misplaced = refused = warned = other_refused = other_warned = 0
+        misplaced = refused = warned = other_refused = other_warned = left_named = extra_named = 0
         ours_seconds = aeneas_seconds = 0.0
         rng = np.random.default_rng(11)
-        for (text, _), clean in spoken.items():
+        for (text, voice), clean in spoken.items():
+            if edits:
+                left, extra = edited_takes(text, voice, condition, rng, context, folder)
+                left_named, extra_named = left_named + left, extra_named + extra
             take = CONDITIONS[condition](clean, rng, context)
             path = write_wav(folder / "take.wav", take.samples, RATE)
             if mismatch:
@@ -264,6 +296,10 @@ def measure(texts, voices, conditions, folder: Path, mismatch: bool, aeneas: boo
         row += f"    {_spread(aeneas_errors)}" if aeneas else ""
         timing = f"  (ours {ours_seconds:.1f} s" + (f", aeneas {aeneas_seconds:.1f} s)" if aeneas else ")")
         print(row + timing, flush=True)
+        if edits:
+            print(
+                f"{'':<32}a word left out named in {left_named}, one added in {extra_named} of {len(spoken)}"
+            )
 
 
 def write_long_take(path: Path, minutes: float) -> None:
@@ -313,6 +349,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument("--sentences", type=int, default=0, help="use only the first N sentences")
     parser.add_argument("--mismatch", action="store_true", help="also align each take to the next sentence")
+    parser.add_argument("--edits", action="store_true", help="also takes leaving out or adding a word")
     parser.add_argument("--aeneas", action="store_true", help=f"also align with aeneas ({AENEAS_PYTHON})")
     parser.add_argument("--long", type=float, metavar="MINUTES", help="measure one take this long instead")
     parser.add_argument("--write-long", nargs=2, metavar=("PATH", "MINUTES"), help=argparse.SUPPRESS)
@@ -329,7 +366,7 @@ def main(argv: list[str] | None = None) -> int:
         if args.long:
             measure_long_take(args.long, Path(folder), args.aeneas)
         else:
-            measure(texts, voices, conditions, Path(folder), args.mismatch, args.aeneas)
+            measure(texts, voices, conditions, Path(folder), args.mismatch, args.aeneas, args.edits)
     return 0
 
 

@@ -16,6 +16,7 @@ confidence: a recording of other words is refused, a word left out or added is n
 
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -48,16 +49,18 @@ MAX_LENGTH_RATIO = 3.0  # recordings this many times longer or shorter than the 
 CHUNK_LETTERS = 3_000  # about 5 minutes of speech synthesised at a time (split at sentences)
 SENTENCE_PAUSE = 0.3  # seconds: a word after a pause this long may start a chunk
 PADDING_FRAMES = 50  # silence added around the synthetic speech beyond the recording's own lead and tail
-VOCAL_TRACT_WARPS = (0.84, 0.9, 0.95, 1.0, 1.05, 1.1, 1.16)
-WARP_SEARCH_FRAMES = 6_000  # the warp is chosen on the first minute of a long take
+# Recording frequency axis stretched by these (a higher voice needs more): eSpeak's voice is a man's; a
+# woman's formants lie 15-20 % higher, a child's more.
+VOCAL_TRACT_WARPS = (0.8, 0.84, 0.9, 0.95, 1.0, 1.05, 1.1, 1.16, 1.22, 1.28, 1.34, 1.4)
+WARP_SEARCH_FRAMES = 3_000  # the warp is chosen on the first 30 seconds of a long take
 # Cost of a DTW step that stretches one signal (in units of the feature distance, 1-3 per frame between
 # two voices saying the same thing): keeps the path near the diagonal where the distances do not decide.
 STEP_PENALTY = 2.0
 PAUSE_COST = 1.0  # per frame of a pause one signal makes and the other does not
 BOUNDARY_SLACK = 1  # frames either side of a synthetic word onset where a recorded pause may be held
-# A stretch this long of recorded "speech" this close to the noise floor is a pause (a voice in the
-# background fills it; the voice activity detector takes that for speech).
-FLOOR_PAUSE_DB = 8.0
+# A stretch this long of recorded silence, or of "speech" this close to the noise floor, is a pause (a
+# voice in the background fills it; the voice activity detector takes that for speech).
+FLOOR_PAUSE_DB = 10.0
 FLOOR_PAUSE_FRAMES = 15
 
 
@@ -136,19 +139,20 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
     """Align the synthetic rendition of the utterance to the user's recording of it; see the module text."""
     path = Path(path)
     native, native_rate = read_audio(path)
-    # The user's audio is kept at its own rate (up to 48 kHz) as 16-bit PCM, the float copy dropped at once.
-    output_rate = min(native_rate, MAX_OUTPUT_RATE)
-    output = resampled_pcm(native, native_rate, output_rate)
-    del native
-    recorded = resample(output, output_rate, ANALYSIS_RATE, 1 / 32768)
     # A telephone-quality recording has nothing above its Nyquist frequency: describe both up to there.
     top_hertz = min(TOP_HERTZ, 0.45 * native_rate)
-    recorded_speech = speech_frames(recorded, frame_count(recorded.size))
-    recorded_loudness = above_floor(recorded, len(recorded_speech))
-    reference, analysis = synthesize_reference(utterance, engine)
-    synthetic_energies = mel_energies(analysis, top_hertz=top_hertz)
-    synthetic_speech = clean_speech_frames(analysis, len(synthetic_energies))
-    del analysis
+    # The synthetic rendition is made in a thread of its own while the recording is analysed: eSpeak NG
+    # releases the interpreter while it speaks, so on two cores the two overlap.
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        rendition = pool.submit(_synthetic_analysis, utterance, engine, top_hertz)
+        # The user's audio is kept at its own rate (up to 48 kHz) as 16-bit PCM, the float copy dropped.
+        output_rate = min(native_rate, MAX_OUTPUT_RATE)
+        output = resampled_pcm(native, native_rate, output_rate)
+        del native
+        recorded = resample(output, output_rate, ANALYSIS_RATE, 1 / 32768)
+        recorded_speech = speech_frames(recorded, frame_count(recorded.size))
+        recorded_loudness = above_floor(recorded, len(recorded_speech))
+        reference, synthetic_energies, synthetic_speech = rendition.result()
     _check_lengths(path, recorded_speech, synthetic_speech)
     spoken = np.flatnonzero(recorded_speech)
     lead = int(spoken[0]) + PADDING_FRAMES
@@ -174,6 +178,15 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
     fit = Fit(path_x, path_y, ranks, synthetic_speech, recorded_speech, recorded_loudness, lead, order_ratio)
     phrases, warnings = judge(utterance, reference.phone_events, warp, fit, path)
     return RecordingAlignment(warp, synthesis, phrases, warnings)
+
+
+def _synthetic_analysis(
+    utterance: Utterance, engine: SpeechEngine, top_hertz: float
+) -> tuple[_Reference, np.ndarray, np.ndarray]:
+    """The synthetic rendition's events, mel energies and speech frames (its audio dropped)."""
+    reference, analysis = synthesize_reference(utterance, engine)
+    energies = mel_energies(analysis, top_hertz=top_hertz)
+    return reference, energies, clean_speech_frames(analysis, len(energies))
 
 
 def _word_onsets(reference: _Reference) -> np.ndarray:
@@ -203,10 +216,11 @@ def _pauses(
     boundaries = lead + np.round(word_onsets[1:] * ANALYSIS_RATE / HOP).astype(np.int64)
     for offset in range(-BOUNDARY_SLACK, BOUNDARY_SLACK + 1):
         free[np.clip(boundaries + offset, 0, free.size - 1)] = True
-    near_floor = recorded_loudness < FLOOR_PAUSE_DB
-    for start, stop in runs(near_floor):
-        near_floor[start:stop] = stop - start >= FLOOR_PAUSE_FRAMES
-    hold = np.where(recorded_speech & ~near_floor, np.inf, PAUSE_COST)
+    quiet = ~recorded_speech | (np.convolve(recorded_loudness, np.ones(5) / 5, "same") < FLOOR_PAUSE_DB)
+    pause = ~recorded_speech
+    for start, stop in runs(quiet):
+        pause[start:stop] |= stop - start >= FLOOR_PAUSE_FRAMES
+    hold = np.where(pause, PAUSE_COST, np.inf)
     return Pauses(free, ~synthetic_speech, hold, PAUSE_COST)
 
 
@@ -238,9 +252,9 @@ def _best_warped_features(
 ) -> tuple[np.ndarray, np.ndarray, float]:
     """Cepstra of both with a common noise floor, the recording's at the vocal-tract warp that fits best.
 
-    The warps are tried on the first minute at a quarter of the frame rate (its spectra computed once),
-    from none outwards while the DTW path gets cheaper per step (another speaker's formants sit higher
-    or lower than eSpeak's). Also returns that cost over the cost of the text's sounds in reverse order:
+    The warps are tried on the first 30 seconds at a quarter of the frame rate (its spectra computed
+    once); the one whose DTW path is cheapest per step wins (another speaker's formants sit higher or
+    lower than eSpeak's). Also returns that cost over the cost of the text's sounds in reverse order:
     near 1 when the recording says something else, whatever the voice.
     """
     synthetic_levels = band_levels(synthetic, synthetic_speech)
@@ -270,10 +284,12 @@ def _best_warped_features(
         return costs[index]
 
     costs: dict[int, float] = {}
-    best = VOCAL_TRACT_WARPS.index(1.0)
-    for step in (-1, 1):
-        while 0 <= best + step < len(VOCAL_TRACT_WARPS) and cost(best + step) < cost(best):
-            best += step
+    # The cost is not smooth in the warp (a high voice's harmonics cross the filters): every third
+    # warp first, then the neighbours of the best.
+    best = min(range(0, len(VOCAL_TRACT_WARPS), 3), key=cost)
+    best = min(
+        (index for index in (best - 1, best, best + 1) if 0 <= index < len(VOCAL_TRACT_WARPS)), key=cost
+    )
     energies = dereverberate(mel_energies(recorded, VOCAL_TRACT_WARPS[best], top_hertz), rt60)
     x, y = features(energies, recorded_speech, synthetic, synthetic_speech)
     # The same sounds in the wrong order: what the cost would be if the recording said something else.

@@ -25,6 +25,7 @@ BRIDGED_GAP = 8  # frames (80 ms): shorter gaps are stop closures inside speech,
 ISOLATION = 30  # frames (300 ms) of silence around a run that makes it isolated
 VOICING = 0.5  # normalised autocorrelation at the pitch period above which a hop is voiced
 VOICED_IN_SPEECH = 3  # hops: a run with fewer voiced ones (a breath, a chair, a click) is not speech
+LOUDEST_TESTED = 12  # hops of each run tested for voicing: its loudest (a run's vowels are its loudest)
 WEAK_RUN_DB = 20.0  # an isolated run whose peak stays this far below the loud frames is not speech
 
 
@@ -50,7 +51,7 @@ def speech_frames(samples: np.ndarray, frames: int) -> np.ndarray:
     )
     speech = _drop_short_runs(_bridge_gaps(speech))
     speech = _drop_isolated_weak_runs(speech, levels, loud)
-    speech = _drop_unvoiced_runs(speech, voiced_frames(samples, speech))
+    speech = _drop_unvoiced_runs(speech, voiced_frames(samples, _loudest_of_runs(speech, levels)))
     return np.pad(speech, (0, max(0, frames - speech.size)))[:frames]
 
 
@@ -164,6 +165,17 @@ def _drop_isolated_weak_runs(mask: np.ndarray, levels: np.ndarray, loud: float) 
         if outside or min(gap_before, gap_after) >= ISOLATION:
             mask[start:stop] = False
     return mask
+
+
+def _loudest_of_runs(mask: np.ndarray, levels: np.ndarray) -> np.ndarray:
+    """The LOUDEST_TESTED loudest hops of each run of the mask (where a run's vowels are, if it has any)."""
+    tested = np.zeros(mask.size, bool)
+    for start, stop in runs(mask):
+        if stop - start <= LOUDEST_TESTED:
+            tested[start:stop] = True
+        else:
+            tested[start + np.argpartition(levels[start:stop], -LOUDEST_TESTED)[-LOUDEST_TESTED:]] = True
+    return tested
 
 
 def _drop_unvoiced_runs(mask: np.ndarray, voiced: np.ndarray) -> np.ndarray:
