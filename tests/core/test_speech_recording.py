@@ -96,24 +96,6 @@ def test_word_timing_follows_the_recordings_word_starts(recorded):
     assert np.median(np.abs(found - expected)) < 0.060
 
 
-def test_a_flac_recording_is_read_like_a_wav(tmp_path, recorded):
-    path, _ = recorded
-    samples, rate = read_audio(path)
-    flac = tmp_path / "reading.flac"
-    soundfile.write(str(flac), samples, rate, subtype="PCM_16")
-    again, again_rate = read_audio(flac)
-    assert again_rate == rate == RECORDED_RATE
-    assert np.max(np.abs(again - samples)) < 2 / 32768
-
-
-def test_float_wav_is_read_through_soundfile(tmp_path):
-    tone = 0.5 * np.sin(2 * np.pi * 440 * np.arange(8000) / 8000)
-    path = tmp_path / "float.wav"
-    soundfile.write(str(path), tone, 8000, subtype="FLOAT")
-    samples, rate = read_audio(path)
-    assert rate == 8000 and np.allclose(samples, tone, atol=1e-6)
-
-
 @pytest.mark.parametrize(
     ("content", "message"),
     [
@@ -141,16 +123,6 @@ def test_a_recording_of_a_much_longer_text_is_refused(tmp_path):
     path = write_pcm_wav(tmp_path / "long.wav", long_reading.samples / 32768, long_reading.sample_rate)
     with pytest.raises(AudioError, match="more than 3 times apart"):
         synthesize_timeline(build_utterance("Merhaba."), recording=path)
-
-
-def test_resampling_keeps_a_tone_and_its_level():
-    source_rate, target_rate = 48000, 22050
-    time = np.arange(source_rate) / source_rate
-    tone = 0.5 * np.sin(2 * np.pi * 1000 * time)
-    result = resample(tone, source_rate, target_rate)
-    assert result.size == target_rate
-    expected = 0.5 * np.sin(2 * np.pi * 1000 * np.arange(target_rate) / target_rate)
-    assert np.max(np.abs(result[200:-200] - expected[200:-200])) < 0.01
 
 
 def test_dtw_recovers_a_known_stretch():

@@ -167,7 +167,7 @@ def judge(
     voiced = np.flatnonzero(spans[:, 0] >= 0)
     worst = voiced[np.argsort(-ranks[voiced], kind="stable")]
     if take_rank > OTHER_TEXT_RANK and fit.order_ratio > OTHER_TEXT_ORDER_RATIO:
-        unheard = np.flatnonzero(ranks > UNMATCHED_WORD_RANK)
+        unheard = np.flatnonzero(ranks > OTHER_TEXT_RANK)
         unheard = unheard if unheard.size else np.sort(worst[: max(1, worst.size // 2)])
         raise AudioError(
             f"recording {path} does not read this text: {_word_list(texts, unheard)} "

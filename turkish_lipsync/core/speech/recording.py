@@ -166,8 +166,10 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
     word_onsets = _word_onsets(reference)
     pauses = _pauses(word_onsets, lead, synthetic_speech, recorded_speech, recorded_loudness)
     path_x, path_y = dtw_path(x, y, step_penalty=STEP_PENALTY, pauses=pauses)
+    recorded_pause = np.isfinite(pauses.y_hold_cost)
+    duration = output.size / output_rate
     warp = warp_from_path(
-        path_x, path_y, synthetic_speech, recorded_speech, lead, output.size / output_rate, word_onsets
+        path_x, path_y, synthetic_speech, recorded_speech, recorded_pause, lead, duration, word_onsets
     )
     synthesis = warp_synthesis(
         Synthesis(output, output_rate, reference.phone_events, reference.word_events, "recording"),

@@ -34,6 +34,7 @@ def warp_from_path(
     path_y: np.ndarray,
     synthetic_speech: np.ndarray,
     recorded_speech: np.ndarray,
+    recorded_pause: np.ndarray,
     lead: int,
     recording_duration: float,
     word_onsets: np.ndarray,
@@ -55,7 +56,8 @@ def warp_from_path(
     matched = np.maximum.accumulate(np.concatenate(([path_y[0]], matched, [path_y[-1]])))
     unique = np.concatenate(([True], np.diff(knots) > 0))
     synthetic, recorded = frame_seconds(knots[unique], lead), frame_seconds(matched[unique])
-    for onset, pause_start, pause_end in held_pauses(path_x, path_y, synthetic_speech, lead, word_onsets):
+    holds = held_pauses(path_x, path_y, synthetic_speech, recorded_pause, lead, word_onsets)
+    for onset, pause_start, pause_end in holds:
         synthetic, recorded = _jump(synthetic, recorded, onset, pause_start, pause_end)
     return TimeWarp(synthetic=synthetic, recorded=recorded, recording_duration=recording_duration)
 
@@ -68,14 +70,19 @@ JUMP = 1e-6  # seconds between the two knots of a jump (ends of events are warpe
 
 
 def held_pauses(
-    path_x: np.ndarray, path_y: np.ndarray, synthetic_speech: np.ndarray, lead: int, word_onsets: np.ndarray
+    path_x: np.ndarray,
+    path_y: np.ndarray,
+    synthetic_speech: np.ndarray,
+    recorded_pause: np.ndarray,
+    lead: int,
+    word_onsets: np.ndarray,
 ) -> list[tuple[float, float, float]]:
     """(synthetic word onset, recorded pause start, end) of each pause the recording alone makes.
 
-    Such a pause is where the path holds synthetic speech (within HELD_REACH frames) while the
-    recording goes on for HELD_PAUSE_FRAMES or more, next to a word onset: what the recording says
-    there is quiet enough for the DTW to hold a word boundary through it (its own silence, or a room or a
-    voice in the background), and no synthetic frame matches it better.
+    Such a pause is where the path holds synthetic speech (within HELD_REACH frames) next to a word
+    onset while the recording goes on for HELD_PAUSE_FRAMES or more, mostly through its pauses
+    (recorded_pause: silence, or a stretch near the noise floor). A slow speaker's long vowel is held
+    too, but through speech.
     """
     change = np.flatnonzero(np.diff(path_x)) + 1
     starts = np.concatenate(([0], change))
@@ -83,18 +90,20 @@ def held_pauses(
     found = []
     group = None  # [first path index, last path index] of the hold being followed
     for first, stop in zip(starts, stops, strict=True):
-        if group is not None and path_x[first] - path_x[group[1]] <= HELD_REACH and stop - first > 1:
+        if group is not None and path_x[first] - path_x[group[0]] <= HELD_REACH and stop - first > 1:
             group[1] = stop - 1
             continue
         if group is not None:
-            found.extend(_held(group, path_x, path_y, synthetic_speech, lead, word_onsets))
+            found.extend(_held(group, path_x, path_y, synthetic_speech, recorded_pause, lead, word_onsets))
         group = [first, stop - 1] if stop - first > 1 else None
     if group is not None:
-        found.extend(_held(group, path_x, path_y, synthetic_speech, lead, word_onsets))
+        found.extend(_held(group, path_x, path_y, synthetic_speech, recorded_pause, lead, word_onsets))
     return found
 
 
-def _held(group, path_x, path_y, synthetic_speech, lead, word_onsets) -> list[tuple[float, float, float]]:
+def _held(
+    group, path_x, path_y, synthetic_speech, recorded_pause, lead, word_onsets
+) -> list[tuple[float, float, float]]:
     first, last = group
     begin, end = int(path_y[first]), int(path_y[last])
     held = path_x[first : last + 1]
@@ -102,6 +111,8 @@ def _held(group, path_x, path_y, synthetic_speech, lead, word_onsets) -> list[tu
         return []
     if synthetic_speech[held].mean() < 0.5 or word_onsets.size == 0:
         return []  # the synthetic speech pauses here too
+    if recorded_pause[begin : end + 1].mean() < 0.5:
+        return []  # speech said slowly, not a pause
     at = float(frame_seconds(np.median(held), lead))
     nearest = int(np.argmin(np.abs(word_onsets - at)))
     if abs(word_onsets[nearest] - at) > ONSET_REACH:

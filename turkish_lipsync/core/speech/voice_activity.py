@@ -25,7 +25,7 @@ BRIDGED_GAP = 8  # frames (80 ms): shorter gaps are stop closures inside speech,
 ISOLATION = 30  # frames (300 ms) of silence around a run that makes it isolated
 VOICING = 0.5  # normalised autocorrelation at the pitch period above which a hop is voiced
 VOICED_IN_SPEECH = 3  # hops: a run with fewer voiced ones (a breath, a chair, a click) is not speech
-LOUDEST_TESTED = 12  # hops of each run tested for voicing: its loudest (a run's vowels are its loudest)
+VOICING_STRIDE = 4  # hops: the voicing of every fourth hop is tested first
 WEAK_RUN_DB = 20.0  # an isolated run whose peak stays this far below the loud frames is not speech
 
 
@@ -51,7 +51,7 @@ def speech_frames(samples: np.ndarray, frames: int) -> np.ndarray:
     )
     speech = _drop_short_runs(_bridge_gaps(speech))
     speech = _drop_isolated_weak_runs(speech, levels, loud)
-    speech = _drop_unvoiced_runs(speech, voiced_frames(samples, _loudest_of_runs(speech, levels)))
+    speech = _drop_unvoiced_runs(samples, speech)
     return np.pad(speech, (0, max(0, frames - speech.size)))[:frames]
 
 
@@ -84,7 +84,7 @@ def voiced_frames(samples: np.ndarray, candidates: np.ndarray) -> np.ndarray:
     Worked out at 8 kHz (the pitch needs no more), only for the hops the other tests left as speech.
     """
     rate, hop = ANALYSIS_RATE // 2, HOP // 2
-    halved = samples[: samples.size // 2 * 2].reshape(-1, 2).mean(axis=1)
+    halved = 0.5 * (samples[0 : samples.size - 1 : 2] + samples[1::2])
     shortest, longest = rate // 400, rate // 60
     width = 2 * longest
     size = 1 << int(np.ceil(np.log2(width + longest)))
@@ -167,20 +167,23 @@ def _drop_isolated_weak_runs(mask: np.ndarray, levels: np.ndarray, loud: float) 
     return mask
 
 
-def _loudest_of_runs(mask: np.ndarray, levels: np.ndarray) -> np.ndarray:
-    """The LOUDEST_TESTED loudest hops of each run of the mask (where a run's vowels are, if it has any)."""
-    tested = np.zeros(mask.size, bool)
-    for start, stop in runs(mask):
-        if stop - start <= LOUDEST_TESTED:
-            tested[start:stop] = True
-        else:
-            tested[start + np.argpartition(levels[start:stop], -LOUDEST_TESTED)[-LOUDEST_TESTED:]] = True
-    return tested
+def _drop_unvoiced_runs(samples: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    """The mask without its runs of fewer than VOICED_IN_SPEECH voiced hops.
 
-
-def _drop_unvoiced_runs(mask: np.ndarray, voiced: np.ndarray) -> np.ndarray:
+    Every VOICING_STRIDE-th hop is tested first: a run of speech has its voiced hops by then; only the
+    runs left short of them have all their hops tested (the same result at a fraction of the cost).
+    """
     mask = mask.copy()
-    for start, stop in runs(mask):
+    spans = runs(mask)
+    sparse = np.zeros(mask.size, bool)
+    sparse[::VOICING_STRIDE] = True
+    voiced = voiced_frames(samples, mask & sparse)
+    undecided = np.zeros(mask.size, bool)
+    for start, stop in spans:
+        if voiced[start:stop].sum() < VOICED_IN_SPEECH:
+            undecided[start:stop] = True
+    voiced |= voiced_frames(samples, undecided & ~sparse)
+    for start, stop in spans:
         if voiced[start:stop].sum() < VOICED_IN_SPEECH:
             mask[start:stop] = False
     return mask

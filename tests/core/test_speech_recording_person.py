@@ -1,0 +1,144 @@
+"""A person's take of the text: tempo changing inside a phrase, a hesitation where no comma is, a live
+room, a voice in the background, another vocal tract, and all of these at once.
+
+The takes are made here from eSpeak NG's own speech (another variant for the speaker, JSML rate changes
+for the tempo) and the measuring script's rooms and hesitations (scripts/takes.py); the truth is the
+variant's own word onsets, moved with the take.
+"""
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tests.core.test_speech_recording import OTHER_TEXT, other_voice, write_pcm_wav
+from turkish_lipsync.core.base.errors import AudioError
+from turkish_lipsync.core.speech import synthesize_timeline
+from turkish_lipsync.core.speech.audio import resample
+from turkish_lipsync.core.speech.reverberation import estimate_rt60
+from turkish_lipsync.core.text.utterance import build_utterance
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
+import takes  # noqa: E402  (the measuring script's takes: rooms, hesitations, a voice in the background)
+
+RATE = takes.RATE
+# OTHER_TEXT read in three pieces at their own tempo: slow, fast, a little slow (no pause between them).
+PIECES = (
+    ("Annem sabahları erkenden kalkar", -25),
+    ("ve bütün aileye kahvaltı hazırlar.", 35),
+    ("Toplantı saat üçte başlayacak, lütfen geç kalmayın.", -10),
+)
+TALKER_TEXT = "Kütüphaneden aldığım kitabı iki hafta içinde geri vermem gerekiyor."
+
+
+def take_of(text, variant="tr+m3", pitch=-15, rate=-10) -> takes.Take:
+    voice, timeline = other_voice(text, variant, pitch, rate)
+    utterance = build_utterance(OTHER_TEXT)
+    return takes.Take(
+        voice.astype(np.float64),
+        words=np.array([word.start for word in timeline.words]),
+        letters=np.array([phone.start for phone in timeline.phones]),
+        commas=np.array([word.pause_before > 0 for word in utterance.words]),
+    )
+
+
+def changing_tempo() -> takes.Take:
+    """OTHER_TEXT with the tempo changing inside its first sentence (JSML rates per piece)."""
+    text = " ".join(f'<PROS RATE="{rate:+d}%">{piece}</PROS>' for piece, rate in PIECES)
+    return take_of(text, rate=0)
+
+
+def aligned(take: takes.Take, tmp_path, text=OTHER_TEXT):
+    path = write_pcm_wav(tmp_path / "take.wav", 0.8 * take.samples / np.abs(take.samples).max(), RATE)
+    speech = synthesize_timeline(build_utterance(text), recording=path)
+    return speech, np.abs(np.array([word.start for word in speech.timeline.words]) - take.words)
+
+
+def quiet_room(take: takes.Take, snr=40, seed=1) -> takes.Take:
+    return takes.add_noise(takes.padded(take, 0.5), snr, "white", np.random.default_rng(seed))
+
+
+def another_tract(take: takes.Take, semitones=3.0) -> takes.Take:
+    """Pitch and formants raised by resampling (played faster as well): a shorter vocal tract."""
+    factor = 2 ** (semitones / 12)
+    samples = resample(take.samples.astype(np.float32), int(RATE * factor), RATE).astype(np.float64)
+    return takes.replace(take, samples=samples, words=take.words / factor, letters=take.letters / factor)
+
+
+def in_a_live_room(take: takes.Take, seed=2) -> takes.Take:
+    """RT60 0.3 s, direct sound as loud as the reverberation (0 dB DRR), as in a furnished living room."""
+    return takes.reverberate(
+        takes.padded(take, 0.5), takes.room_response(0.3, 0.0, np.random.default_rng(seed))
+    )
+
+
+def with_a_talker(take: takes.Take, below_db=18.0, seed=3) -> takes.Take:
+    talker, _ = other_voice(TALKER_TEXT, "tr+m2", -5, 5)
+    return takes.background_talker(take, talker.astype(np.float64), below_db, np.random.default_rng(seed))
+
+
+def test_tempo_that_changes_inside_a_phrase_is_followed(tmp_path):
+    speech, error = aligned(quiet_room(changing_tempo()), tmp_path)
+    assert np.median(error) < 0.020 and np.percentile(error, 90) < 0.050 and error.max() < 0.100
+    assert speech.warnings == ()
+
+
+def test_a_hesitation_where_the_text_has_no_comma_keeps_the_next_word_after_it(tmp_path):
+    clean = take_of(OTHER_TEXT)
+    take = takes.hesitate(clean, np.random.default_rng(5), shortest=0.6, longest=0.8)
+    held = np.flatnonzero(np.diff(take.words) - np.diff(clean.words) > 0.5) + 1
+    assert held.size >= 1 and not take.commas[held].any()  # hesitations where the text has no pause
+    speech, error = aligned(quiet_room(take), tmp_path)
+    assert error[held].max() < 0.050  # the word after the hesitation starts when it is said, not before
+    assert np.median(error) < 0.020 and error.max() < 0.100
+    assert speech.warnings == ()
+
+
+def test_a_live_room_is_aligned_without_a_warning(tmp_path):
+    speech, error = aligned(
+        takes.add_noise(in_a_live_room(take_of(OTHER_TEXT)), 50, "white", np.random.default_rng(4)), tmp_path
+    )
+    assert np.median(error) < 0.020 and np.percentile(error, 90) < 0.050 and error.max() < 0.150
+    assert speech.warnings == ()
+
+
+def test_a_voice_in_the_background_is_not_followed(tmp_path):
+    speech, error = aligned(quiet_room(with_a_talker(take_of(OTHER_TEXT)), snr=30), tmp_path)
+    assert np.median(error) < 0.020 and np.percentile(error, 90) < 0.050 and error.max() < 0.100
+    assert speech.warnings == ()
+
+
+def test_a_shorter_vocal_tract_is_aligned(tmp_path):
+    speech, error = aligned(quiet_room(another_tract(take_of(OTHER_TEXT, "tr+f3", 20, -10))), tmp_path)
+    assert np.median(error) < 0.020 and np.percentile(error, 90) < 0.050 and error.max() < 0.100
+    assert speech.warnings == ()
+
+
+def person(seed=7) -> takes.Take:
+    """All of it at once: changing tempo, another tract, a hesitation, a live room, a talker, 25 dB SNR."""
+    rng = np.random.default_rng(seed)
+    take = takes.hesitate(another_tract(changing_tempo(), 2.0), rng)
+    return takes.add_noise(with_a_talker(in_a_live_room(take)), 25, "pink", rng)
+
+
+def test_a_persons_take_is_aligned_and_not_refused(tmp_path):
+    speech, error = aligned(person(), tmp_path)
+    assert np.median(error) < 0.030 and np.percentile(error, 90) < 0.070 and error.max() < 0.200
+    assert speech.warnings == ()
+
+
+def test_a_persons_take_of_another_text_is_still_refused(tmp_path):
+    other = "Kardeşim dün akşam bana uzun bir mektup yazdı. Sonbaharda yapraklar sararır ve ağaçlardan düşer."
+    with pytest.raises(AudioError, match="does not read this text"):
+        aligned(person(), tmp_path, text=other)
+
+
+@pytest.mark.parametrize(("room", "low", "high"), [(None, 0.0, 0.22), (0.3, 0.22, 0.4), (0.6, 0.4, 0.8)])
+def test_the_rooms_reverberation_time_is_read_from_the_take(room, low, high):
+    take = take_of(OTHER_TEXT)
+    if room is not None:
+        take = takes.reverberate(
+            takes.padded(take, 0.5), takes.room_response(room, 0.0, np.random.default_rng(6))
+        )
+    assert low <= estimate_rt60(resample(take.samples.astype(np.float32), RATE, 16000)) <= high
