@@ -1,8 +1,8 @@
 """How well a recording in another voice is aligned to its text: word and letter onset error per condition.
 
     python scripts/measure_recordings.py [--set held-out|tuning] [--voices NAME ...] [--conditions NAME ...]
-                                         [--mismatch] [--aeneas]
-    python scripts/measure_recordings.py --long MINUTES [--aeneas]   # one long take: time, memory, error
+                                         [--mismatch] [--edits] [--aeneas] [--person] [--held-out-voices]
+    python scripts/measure_recordings.py --long MINUTES [--runs N] [--aeneas]   # one long take
 
 Stand-ins for other speakers are eSpeak NG's Turkish voice with other variants (timbre), pitches and
 rates; each is spoken, then turned into a take (scripts/takes.py): room noise at an SNR, noise or a
@@ -20,8 +20,9 @@ accepted with a warning, when aligned to the next sentence instead (another text
 mismatches. With --edits, each take is also made leaving out one word and adding one (EXTRA_WORDS),
 and the script counts those whose warnings name the word left out, or a neighbour of the word added.
 With --long, a take of that many minutes (the held-out sentences over and over, voice
-f3-high, 30 dB SNR) is made by a child process, then aligned here: the time, the peak resident memory
-of this process and the word onset error are printed.
+f3-high, 30 dB SNR) is made by a child process, then aligned here (--runs times, aeneas after each of
+ours with --aeneas): the median time, the peak resident memory of this process and the word onset error
+are printed.
 
 With --aeneas, the same takes are also aligned by aeneas (TTS + MFCC DTW, eSpeak NG's Turkish voice,
 its default settings, one word a fragment) and its word onset error and time are printed beside ours.
@@ -313,27 +314,33 @@ def write_long_take(path: Path, minutes: float) -> None:
     path.with_suffix(".txt").write_text(text, encoding="utf-8")
 
 
-def measure_long_take(minutes: float, folder: Path, aeneas: bool) -> None:
+def measure_long_take(minutes: float, folder: Path, aeneas: bool, runs: int) -> None:
+    """Align the long take `runs` times (and aeneas after each when asked): the median times, the errors."""
     path = folder / "long.wav"
     subprocess.run([sys.executable, __file__, "--write-long", str(path), str(minutes)], check=True)
     text = path.with_suffix(".txt").read_text(encoding="utf-8")
     truth = np.load(path.with_suffix(".npy"))
-    began = time.perf_counter()
-    speech = synthesize_timeline(build_utterance(text), recording=path)
-    elapsed = time.perf_counter() - began
+    ours, theirs = [], []
+    for _ in range(runs):
+        began = time.perf_counter()
+        speech = synthesize_timeline(build_utterance(text), recording=path)
+        ours.append(time.perf_counter() - began)
+        if aeneas:
+            onsets, seconds = aeneas_onsets(path, [word.text for word in speech.timeline.words])
+            theirs.append(seconds)
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # kB on Linux
     ms = 1000 * np.abs(np.array([word.start for word in speech.timeline.words]) - truth)
     print(
         f"take of {speech.synthesis.duration / 60:.1f} min, {len(text):,} characters, {truth.size:,} words: "
-        f"aligned in {elapsed:.1f} s, peak resident memory {peak:.0f} MB; word onsets median "
-        f"{np.median(ms):.0f} ms, p90 {np.percentile(ms, 90):.0f} ms, max {ms.max():.0f} ms; "
-        f"{len(speech.warnings)} warnings"
+        f"aligned in {np.median(ours):.2f} s (median of {runs}: {', '.join(f'{t:.2f}' for t in ours)}), peak "
+        f"resident memory {peak:.0f} MB; word onsets median {np.median(ms):.0f} ms, p90 "
+        f"{np.percentile(ms, 90):.0f} ms, max {ms.max():.0f} ms; {len(speech.warnings)} warnings"
     )
     if aeneas:
-        onsets, seconds = aeneas_onsets(path, [word.text for word in speech.timeline.words])
         ms = 1000 * np.abs(onsets - truth)
         print(
-            f"aeneas: aligned in {seconds:.1f} s; word onsets median {np.median(ms):.0f} ms, "
+            f"aeneas: aligned in {np.median(theirs):.2f} s (median of {runs}: "
+            f"{', '.join(f'{t:.2f}' for t in theirs)}); word onsets median {np.median(ms):.0f} ms, "
             f"p90 {np.percentile(ms, 90):.0f} ms, max {ms.max():.0f} ms"
         )
 
@@ -352,6 +359,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--edits", action="store_true", help="also takes leaving out or adding a word")
     parser.add_argument("--aeneas", action="store_true", help=f"also align with aeneas ({AENEAS_PYTHON})")
     parser.add_argument("--long", type=float, metavar="MINUTES", help="measure one take this long instead")
+    parser.add_argument("--runs", type=int, default=1, help="with --long: align it this many times")
     parser.add_argument("--write-long", nargs=2, metavar=("PATH", "MINUTES"), help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.write_long:
@@ -364,7 +372,7 @@ def main(argv: list[str] | None = None) -> int:
     conditions = PERSON_CONDITIONS if args.person else args.conditions
     with tempfile.TemporaryDirectory() as folder:
         if args.long:
-            measure_long_take(args.long, Path(folder), args.aeneas)
+            measure_long_take(args.long, Path(folder), args.aeneas, args.runs)
         else:
             measure(texts, voices, conditions, Path(folder), args.mismatch, args.aeneas, args.edits)
     return 0

@@ -1,16 +1,19 @@
 """A user's own recording of the text: read it, align the synthetic rendition to it, warp the events.
 
-The recording is read, mixed to mono and resampled (audio.py). The text is synthesised in chunks of
-sentences, so a take of any length needs only its features in memory, not the synthetic audio. Both
-signals become speaker- and room-normalised cepstra (features.py), the recording's speech is found by
-voice activity detection (voice_activity.py), and the two are matched by dynamic time warping (dtw.py)
-with the synthetic speech padded by silence, so noise, a breath or a click before the first word is
-matched to silence instead of being taken for speech. The recording's vocal tract length is searched
-over a few warps. Only matches of speech with speech become knots of the warp (timewarp.py); pauses
-are crossed linearly.
+The recording is read, mixed to mono and resampled (audio.py) while the text is synthesised in a thread
+of its own, in chunks of sentences, so a take of any length needs only its features in memory, not the
+synthetic audio. Both signals become speaker- and room-normalised cepstra (features.py), a live room's
+late reverberation taken out of the recording first (reverberation.py); the recording's speech is
+found by voice activity detection (voice_activity.py), and the two are matched by dynamic time warping
+(dtw.py) with the synthetic speech padded by silence, so noise, a breath or a click before the first
+word is matched to silence instead of being taken for speech. The recording's vocal tract length is
+searched over a few warps. A person pauses where the text has no comma and skips pauses it has: the
+DTW may hold any word boundary through a recorded pause and any synthetic pause against the recording
+(_pauses). Only matches of speech with speech become knots of the warp (timewarp.py); pauses both make
+are crossed linearly, a pause only the recording makes is put before the word after it.
 
-How far each synthetic word lies from what the recording says there gives every word and phrase a
-confidence: a recording of other words is refused, a word left out or added is named in a warning
+How well each synthetic frame's match ranks among the text's sounds gives every word and phrase a
+confidence: a recording of another text is refused, a word left out or added is named in a warning
 (judgement.py).
 """
 
@@ -276,30 +279,35 @@ def _best_warped_features(
     def cost(index: int) -> float:
         if index not in costs:
             energies = dereverberate(power @ mel_filters(VOCAL_TRACT_WARPS[index], top_hertz).T, rt60)
-            x, y = features(
+            tried[index] = features(
                 energies,
                 recorded_speech[excerpt][: len(energies)],
                 synthetic[excerpt],
                 synthetic_speech[excerpt],
             )
-            costs[index] = _coarse_cost(x, y)
+            costs[index] = _coarse_cost(*tried[index])
         return costs[index]
 
     costs: dict[int, float] = {}
+    tried: dict[int, tuple[np.ndarray, np.ndarray]] = {}
     # The cost is not smooth in the warp (a high voice's harmonics cross the filters): every third
     # warp first, then the neighbours of the best.
     best = min(range(0, len(VOCAL_TRACT_WARPS), 3), key=cost)
     best = min(
         (index for index in (best - 1, best, best + 1) if 0 <= index < len(VOCAL_TRACT_WARPS)), key=cost
     )
+    # The same sounds in the wrong order: what the cost would be if the recording said something else.
+    excerpt_x, excerpt_y = tried[best]
+    order_ratio = costs[best] / _coarse_cost(
+        _reversed_speech(excerpt_x, synthetic_speech[excerpt]), excerpt_y
+    )
     energies = dereverberate(mel_energies(recorded, VOCAL_TRACT_WARPS[best], top_hertz), rt60)
     x, y = features(energies, recorded_speech, synthetic, synthetic_speech)
-    # The same sounds in the wrong order: what the cost would be if the recording said something else.
-    return x, y, _coarse_cost(x, y) / _coarse_cost(_reversed_speech(x, synthetic_speech), y)
+    return x, y, order_ratio
 
 
 def _coarse_cost(x: np.ndarray, y: np.ndarray) -> float:
-    """Mean distance per step of the DTW path between the first minutes of x and y at a quarter frame rate."""
+    """Mean distance per step of the DTW path between the starts of x and y at a quarter frame rate."""
     coarse_x, coarse_y = x[:WARP_SEARCH_FRAMES:4], y[:WARP_SEARCH_FRAMES:4]
     path_x, path_y = dtw_path(coarse_x, coarse_y, step_penalty=STEP_PENALTY)
     return float(np.sqrt(((coarse_x[path_x] - coarse_y[path_y]) ** 2).sum(axis=1)).mean())
