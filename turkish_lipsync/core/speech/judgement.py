@@ -74,10 +74,12 @@ LOOSE_RANK = 0.12
 # A word stretched this much beyond the recording's pace, and ranking this badly, has company: words
 # the text does not have were said next to it (a speaker's own lengthening of a word matches closely).
 STRETCHED = 1.7
-STRETCHED_RANK = 0.2
-EXTRA_SPEECH_FRAMES = 35  # a stretch of recorded speech this long (350 ms) matched to no synthetic speech,
-LOUD_DB = 15.0  # at least half of it this far above the noise floor (not a voice in the background,
-STALL_RANK = 0.2  # not a room's tail), and ranking this badly, is speech the text lacks
+STRETCHED_RANK = 0.15
+# A stretch of recorded speech this long (300 ms) that the synthetic speech does not advance through,
+# at least half of it LOUD_DB above the noise floor (not a voice in the background, not a room's tail),
+# is speech the text lacks.
+EXTRA_SPEECH_FRAMES = 30
+LOUD_DB = 15.0
 MOST_WARNINGS = 10  # a take with more places of doubt gets the first ones and a count of the rest
 
 
@@ -238,21 +240,13 @@ def _stalls(fit: Fit, spans: np.ndarray) -> list[tuple[int, int, float]]:
         return []
     matched = np.zeros(recorded_frames, np.int64)
     matched[fit.path_y] = fit.path_x  # the path is monotone: the last synthetic frame matched to each
-    frame_rank = np.zeros(recorded_frames)
-    valid = ~np.isnan(fit.ranks)
-    frame_rank[fit.path_y[valid]] = fit.ranks[valid]
     progress = np.cumsum(fit.synthetic_speech)[matched]  # synthetic speech frames passed
     loud = fit.recorded_speech & (fit.recorded_loudness >= LOUD_DB)
     box = np.ones(window) / window
     speech_share = np.convolve(fit.recorded_speech, box, "valid")[:-1]
     loud_share = np.convolve(loud, box, "valid")[:-1]
-    window_rank = np.convolve(frame_rank * fit.recorded_speech, box, "valid")[:-1] / np.maximum(
-        speech_share, 1e-9
-    )
     advance = progress[window:] - progress[:-window]
-    stalled = (
-        (advance <= window // 8) & (speech_share >= 0.8) & (loud_share >= 0.5) & (window_rank > STALL_RANK)
-    )
+    stalled = (advance <= window // 8) & (speech_share >= 0.8) & (loud_share >= 0.5)
     firsts = spans[:, 0]
     found = []
     for start, _ in runs(stalled):
