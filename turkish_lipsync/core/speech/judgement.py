@@ -46,7 +46,7 @@ class Fit:
     ranks: np.ndarray  # per step: match_ranks (NaN where synthetic or recorded speech is silent)
     synthetic_speech: np.ndarray
     recorded_speech: np.ndarray
-    recorded_loudness: np.ndarray  # dB above the recording's noise floor, per frame
+    recorded_under_speech: np.ndarray  # dB under the recording's loud frames, per frame
     lead: int
     order_ratio: float  # the path's cost over the cost with the text's sounds in reverse order
 
@@ -76,10 +76,10 @@ LOOSE_RANK = 0.12
 STRETCHED = 1.7
 STRETCHED_RANK = 0.15
 # A stretch of recorded speech this long (300 ms) that the synthetic speech does not advance through,
-# at least half of it LOUD_DB above the noise floor (not a voice in the background, not a room's tail),
-# is speech the text lacks.
+# at least half of it within LOUD_UNDER_SPEECH_DB of the speaker's loud frames (not a voice in the
+# background, not a room's tail), is speech the text lacks.
 EXTRA_SPEECH_FRAMES = 30
-LOUD_DB = 15.0
+LOUD_UNDER_SPEECH_DB = 15.0
 MOST_WARNINGS = 10  # a take with more places of doubt gets the first ones and a count of the rest
 
 
@@ -241,7 +241,7 @@ def _stalls(fit: Fit, spans: np.ndarray) -> list[tuple[int, int, float]]:
     matched = np.zeros(recorded_frames, np.int64)
     matched[fit.path_y] = fit.path_x  # the path is monotone: the last synthetic frame matched to each
     progress = np.cumsum(fit.synthetic_speech)[matched]  # synthetic speech frames passed
-    loud = fit.recorded_speech & (fit.recorded_loudness >= LOUD_DB)
+    loud = fit.recorded_speech & (fit.recorded_under_speech <= LOUD_UNDER_SPEECH_DB)
     box = np.ones(window) / window
     speech_share = np.convolve(fit.recorded_speech, box, "valid")[:-1]
     loud_share = np.convolve(loud, box, "valid")[:-1]

@@ -46,7 +46,7 @@ from .features import (
 from .judgement import Fit, PhraseMatch, judge, match_ranks
 from .reverberation import dereverberate, estimate_rt60
 from .timewarp import TimeWarp, warp_from_path, warp_synthesis
-from .voice_activity import above_floor, clean_speech_frames, runs, speech_frames
+from .voice_activity import above_floor, clean_speech_frames, runs, speech_frames, under_speech
 
 MAX_LENGTH_RATIO = 3.0  # recordings this many times longer or shorter than the synthetic speech are refused
 CHUNK_LETTERS = 3_000  # about 5 minutes of speech synthesised at a time (split at sentences)
@@ -155,6 +155,7 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
         recorded = resample(output, output_rate, ANALYSIS_RATE, 1 / 32768)
         recorded_speech = speech_frames(recorded, frame_count(recorded.size))
         recorded_loudness = above_floor(recorded, len(recorded_speech))
+        recorded_under_speech = under_speech(recorded, len(recorded_speech))
         reference, synthetic_energies, synthetic_speech = rendition.result()
     _check_lengths(path, recorded_speech, synthetic_speech)
     spoken = np.flatnonzero(recorded_speech)
@@ -180,7 +181,9 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
         output,
     )
     ranks = match_ranks(x, y, path_x, path_y, synthetic_speech, recorded_speech)
-    fit = Fit(path_x, path_y, ranks, synthetic_speech, recorded_speech, recorded_loudness, lead, order_ratio)
+    fit = Fit(
+        path_x, path_y, ranks, synthetic_speech, recorded_speech, recorded_under_speech, lead, order_ratio
+    )
     phrases, warnings = judge(utterance, reference.phone_events, warp, fit, path)
     return RecordingAlignment(warp, synthesis, phrases, warnings)
 

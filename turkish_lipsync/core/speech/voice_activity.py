@@ -64,6 +64,19 @@ def above_floor(samples: np.ndarray, frames: int) -> np.ndarray:
     return np.pad(above, (0, max(0, frames - above.size)), mode="edge")[:frames]
 
 
+def under_speech(samples: np.ndarray, frames: int) -> np.ndarray:
+    """dB by which each hop (its level over 30 ms) lies under the recording's loud frames (95th percentile).
+
+    Relative to the speaker's own level, not the noise floor: a voice in the background or a room's
+    tail rises far above the floor of a quiet take, but stays well under the speaker's voice.
+    """
+    levels = np.convolve(frame_levels(samples), np.ones(3) / 3, "same")
+    if levels.size == 0:
+        return np.zeros(frames)
+    under = np.percentile(levels, 95) - levels
+    return np.pad(under, (0, max(0, frames - under.size)), mode="edge")[:frames]
+
+
 def clean_speech_frames(samples: np.ndarray, frames: int) -> np.ndarray:
     """speech_frames for a signal with no noise (the synthetic rendition), by its levels alone.
 
