@@ -14,9 +14,11 @@ from turkish_lipsync.blender.landmarks import (  # noqa: E402
 )
 from turkish_lipsync.blender.shapekeys import build_shape_keys, head_landmarks  # noqa: E402
 from turkish_lipsync.core.base.errors import HeadError  # noqa: E402
-from turkish_lipsync.core.faces.landmarks import LANDMARK_NAMES, find_landmarks, triangulate_loops  # noqa: E402
+from turkish_lipsync.core.faces.head_parts import find_parts  # noqa: E402
+from turkish_lipsync.core.faces.landmarks import LANDMARK_NAMES, find_landmarks  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
-from turkish_lipsync.core.faces.transfer import find_parts, transfer_units  # noqa: E402
+from turkish_lipsync.core.faces.topology import triangulate_loops  # noqa: E402
+from turkish_lipsync.core.faces.transfer import transfer_units  # noqa: E402
 
 GLB = HEADS / "makehuman" / "mh_head_expression_units.glb"
 OBJECTS = ("head", "teeth_upper", "teeth_lower", "tongue", "eye_L", "eye_R")

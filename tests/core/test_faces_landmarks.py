@@ -7,21 +7,18 @@ import pytest
 
 from tests.heads_on_disk import HEADS, read_obj
 from turkish_lipsync.core.base.errors import HeadError
+from turkish_lipsync.core.faces.hidden import hidden_face_share
+from turkish_lipsync.core.faces.landmark_fallbacks import landmarks_from_motion
 from turkish_lipsync.core.faces.landmarks import (
     FACINGS,
     LANDMARK_NAMES,
     LID_LANDMARK_NAMES,
-    connected_pieces,
     face_frame,
     find_head_region,
     find_landmarks,
-    hidden_face_share,
-    landmarks_from_motion,
-    triangulate,
-    triangulate_loops,
-    unique_pairs,
 )
 from turkish_lipsync.core.faces.reference import load_reference_head
+from turkish_lipsync.core.faces.topology import connected_pieces, triangulate, triangulate_loops, unique_pairs
 
 # Millimetres the found landmarks may lie from the reference's picked vertices (measured: the midline
 # within 3 mm, the corners of mouth and eyes and the brows within 8 mm, their depth being the larger part).

@@ -8,10 +8,11 @@ import pytest
 from turkish_lipsync.core.base.errors import DataError
 from turkish_lipsync.core.faces import reference
 from turkish_lipsync.core.faces.arkit_names import ARKIT_UNITS
-from turkish_lipsync.core.faces.landmarks import find_landmarks, triangulate
+from turkish_lipsync.core.faces.landmarks import find_landmarks
 from turkish_lipsync.core.faces.measure import edge_stretch
-from turkish_lipsync.core.faces.parts import PART_LABELS, edge_graph, find_face_parts, opening_gap
+from turkish_lipsync.core.faces.parts import PART_LABELS, find_face_parts, opening_gap
 from turkish_lipsync.core.faces.reference import load_reference_head
+from turkish_lipsync.core.faces.topology import edge_graph, triangulate
 
 
 def test_reference_head_is_a_head_in_metres_facing_minus_y():

@@ -8,11 +8,13 @@ from tests.heads_on_disk import HEADS, read_obj
 from turkish_lipsync.core.base.errors import HeadError
 from turkish_lipsync.core.faces.arkit_names import ARKIT_UNITS
 from turkish_lipsync.core.faces.closest import closest_points
-from turkish_lipsync.core.faces.landmarks import axis_rotation, find_landmarks, triangulate
+from turkish_lipsync.core.faces.head_parts import find_parts
+from turkish_lipsync.core.faces.landmarks import axis_rotation, find_landmarks
 from turkish_lipsync.core.faces.measure import displacement_cosine
 from turkish_lipsync.core.faces.reference import load_reference_head
 from turkish_lipsync.core.faces.registration import LandmarkWarp, rigid_fit, similarity_fit
-from turkish_lipsync.core.faces.transfer import find_parts, transfer_units
+from turkish_lipsync.core.faces.topology import triangulate
+from turkish_lipsync.core.faces.transfer import transfer_units
 
 
 def relative_error(found: np.ndarray, expected: np.ndarray) -> float:

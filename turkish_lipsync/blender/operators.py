@@ -11,7 +11,7 @@ import bpy
 import numpy as np
 
 from ..core.base.errors import HeadError, LipSyncError
-from ..core.faces.landmarks import landmark_layout_in_box
+from ..core.faces.landmark_fallbacks import landmark_layout_in_box
 from ..core.faces.reference import load_reference_head
 from ..core.pipeline import LipSyncOptions
 from . import exports, gltf_export, landmarks, mesh, pipeline, shapekeys

@@ -16,7 +16,7 @@ import numpy as np
 from ..core.base.data import load_table
 from ..core.base.errors import HeadError, LipSyncError
 from ..core.base.model import EMOTIONS, OWNED_PREFIX, emotion_key_name, viseme_key_name
-from ..core.faces import transfer
+from ..core.faces import head_parts, transfer
 from ..core.faces.arkit_names import ARKIT_UNITS, has_arkit_basis, match_arkit_keys
 from ..core.faces.conventions import (
     ConventionMatch,
@@ -27,9 +27,12 @@ from ..core.faces.conventions import (
     read_user_mapping,
     recognise_convention,
 )
-from ..core.faces.landmarks import connected_pieces, find_landmarks, hidden_face_share, landmarks_from_motion
+from ..core.faces.hidden import hidden_face_share
+from ..core.faces.landmark_fallbacks import landmarks_from_motion
+from ..core.faces.landmarks import find_landmarks
 from ..core.faces.recipes import VISEME_NAMES, key_deltas, load_recipes
 from ..core.faces.reference import ReferenceHead, load_reference_head
+from ..core.faces.topology import connected_pieces
 from . import mesh
 from .heads import find_head_parts, reference_part_of
 from .landmarks import read_landmark_markers
@@ -162,7 +165,7 @@ def _transfer_units(
     if len(head_triangles) == 0:
         raise HeadError(f"{head.name!r} has no faces; a head needs a surface to build shape keys on.")
     landmarks = head_landmarks(head, parts)
-    target_parts = transfer.find_parts(all_vertices, all_triangles, landmarks)
+    target_parts = head_parts.find_parts(all_vertices, all_triangles, landmarks)
     deltas = transfer.transfer_units(
         reference, all_vertices, all_triangles, landmarks, target_parts=target_parts
     )

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .landmarks import unique_pairs
+from .topology import unique_pairs
 
 
 def _nearest_vertex(points: np.ndarray, vertices: np.ndarray) -> np.ndarray:

@@ -10,9 +10,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .landmarks import face_frame, triangulate
-from .parts import PART_LABELS, edge_graph, find_face_parts, opening_gap
-from .transfer import find_parts
+from .head_parts import find_parts
+from .landmarks import face_frame
+from .parts import PART_LABELS, find_face_parts, opening_gap
+from .topology import edge_graph, triangulate
 
 # Reach of the skin above an upper lid whose folds count as the lid's creases, in eye widths.
 LID_CREASE_REACH = 1.2

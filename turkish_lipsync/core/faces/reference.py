@@ -30,8 +30,7 @@ import numpy as np
 from ..base.data import DATA_DIR, load_table
 from ..base.errors import DataError
 from .arkit_names import ARKIT_UNITS
-from .landmarks import triangulate
-from .parts import edge_graph, smooth_over_edges
+from .topology import edge_graph, smooth_over_edges, triangulate
 
 DATA_FILE = DATA_DIR / "reference_head.toml"
 EXTENSION_ROOT = Path(__file__).resolve().parents[3]
