@@ -70,6 +70,20 @@ def fade_behind_the_lids(result, frame: LidFrame, apart) -> None:
             deltas[lids] *= keep[:, None]
 
 
+def behind_the_lids(frame: LidFrame) -> np.ndarray:
+    """Per vertex: the lids' skin deeper than LID_FADE_NEAR eye widths behind the eye's corners (the
+    socket's lining, which stays still), not a place for lashes or shells to ride."""
+    inside = np.zeros(len(frame.vertices), bool)
+    for side in ("left", "right"):
+        inner, outer = frame.landmarks[f"eye_inner_{side}"], frame.landmarks[f"eye_outer_{side}"]
+        eye_width = float(np.linalg.norm(outer - inner))
+        lids = np.isin(
+            frame.face.label, [PART_LABELS.index(f"upper_lid_{side}"), PART_LABELS.index(f"lower_lid_{side}")]
+        )
+        inside |= lids & (frame.vertices[:, 1] - 0.5 * (inner[1] + outer[1]) > LID_FADE_NEAR * eye_width)
+    return inside
+
+
 def close_blinks_as_the_reference_does(result, frame: LidFrame, placement: Placement, sampled) -> None:
     """Scale each blink's lid motion so the target's lids travel the same share of their opening as the
     reference's do: an eye narrower than the reference's closes without one lid passing through the

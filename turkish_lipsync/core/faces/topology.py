@@ -7,6 +7,8 @@ import numpy as np
 
 from ..base.errors import HeadError
 
+ROUND_EXTENT = 0.6
+OPEN_RIM_SHARE = 0.2
 MAX_SWEEPS = 400  # edge hops a geodesic distance may take: far more than across a mouth or an eye
 
 
@@ -103,17 +105,31 @@ def biggest_pieces(vertex_count: int, triangles: np.ndarray, among: np.ndarray |
 
 
 def round_pieces(vertices: np.ndarray, triangles: np.ndarray) -> np.ndarray:
-    """Which triangles belong to pieces about as deep and tall as wide (eyeballs), not to flat ones
-    (lashes, corneas, clothing)."""
+    """Which triangles belong to closed pieces about as deep and tall as wide (eyeballs: their box's
+    shortest side ROUND_EXTENT of its longest or more, at most OPEN_RIM_SHARE of their vertices on an open
+    rim), not to flat or cupped ones (lashes, corneas, clothing, an eye-occlusion shell over the eyeball,
+    open all round its edge)."""
     if len(triangles) == 0:
         return np.zeros(0, bool)
-    labels = connected_pieces(len(vertices), triangles)[triangles[:, 0]]
-    keep = np.zeros(len(triangles), bool)
-    for label in np.unique(labels):
-        mine = labels == label
-        extent = np.ptp(vertices[np.unique(triangles[mine])], axis=0)
-        keep[mine] = extent.min() > 0.6 * extent.max()
-    return keep
+    labels = connected_pieces(len(vertices), triangles)
+    corners = triangles.ravel()
+    low = np.full((len(vertices), 3), np.inf)
+    high = np.full((len(vertices), 3), -np.inf)
+    np.minimum.at(low, labels[corners], vertices[corners])
+    np.maximum.at(high, labels[corners], vertices[corners])
+    extent = high - low
+    sides = np.sort(
+        np.concatenate((triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]])), axis=1
+    )
+    sides, count = np.unique(sides, axis=0, return_counts=True)
+    on_rim = np.zeros(len(vertices), bool)
+    on_rim[sides[count == 1].ravel()] = True
+    used = np.unique(corners)
+    size = np.bincount(labels[used], minlength=len(vertices))
+    rim = np.bincount(labels[used], weights=on_rim[used], minlength=len(vertices))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        round_label = (extent.min(1) > ROUND_EXTENT * extent.max(1)) & (rim <= OPEN_RIM_SHARE * size)
+    return round_label[labels[triangles[:, 0]]]
 
 
 def edge_graph(vertex_count: int, triangles: np.ndarray, vertices: np.ndarray):
@@ -152,22 +168,41 @@ def geodesic_distance(vertex_count: int, edges, lengths, seeds: np.ndarray, allo
 
     Bellman-Ford sweeps over all edges at once: a few hundred numpy passes, no Python loop per vertex.
     """
+    return _grow_from_seeds(vertex_count, edges, lengths, seeds, allowed, track=False)[0]
+
+
+def nearest_seed(vertex_count: int, edges, lengths, seeds: np.ndarray, allowed: np.ndarray):
+    """(distance, seed) along the mesh's edges: each vertex's nearest seed vertex (-1: unreached)."""
+    return _grow_from_seeds(vertex_count, edges, lengths, seeds, allowed, track=True)
+
+
+def _grow_from_seeds(vertex_count, edges, lengths, seeds, allowed, track):
     distance = np.full(vertex_count, np.inf)
-    distance[seeds[allowed[seeds]]] = 0.0
+    owner = np.full(vertex_count, -1, np.int64)
+    seeds = np.asarray(seeds, np.int64)
+    seeds = seeds[allowed[seeds]]
+    distance[seeds] = 0.0
+    owner[seeds] = seeds
     usable = allowed[edges[:, 0]] & allowed[edges[:, 1]]
     a = np.concatenate((edges[usable, 0], edges[usable, 1]))
     b = np.concatenate((edges[usable, 1], edges[usable, 0]))
     step = np.concatenate((lengths[usable], lengths[usable]))
     if len(b) == 0:
-        return distance
+        return distance, owner
     order = np.argsort(b, kind="stable")  # edges grouped by the vertex they reach: segment minima
     a, b, step = a[order], b[order], step[order]
     starts = np.flatnonzero(np.diff(b, prepend=-1))
     reached = b[starts]
+    counts = np.diff(np.append(starts, len(b)))
     for _ in range(MAX_SWEEPS):
-        offers = np.minimum.reduceat(distance[a] + step, starts)
+        through = distance[a] + step
+        offers = np.minimum.reduceat(through, starts)
         better = offers < distance[reached]
         if not better.any():
             break
         distance[reached[better]] = offers[better]
-    return distance
+        if track:  # the first edge of each group that makes the offer brings its seed
+            winner = np.where(through == np.repeat(offers, counts), np.arange(len(b)), len(b))
+            first = np.minimum.reduceat(winner, starts)
+            owner[reached[better]] = owner[a[first[better]]]
+    return distance, owner

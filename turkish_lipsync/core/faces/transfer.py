@@ -12,34 +12,31 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Mapping
-from dataclasses import dataclass
 
 import numpy as np
 
-from .closest import closest_points, triangles_around
-from .head_parts import find_parts, split_eyes
+from .carry import TransferJob, carry_by_closest_point, carry_rigidly
+from .closest import triangles_around
+from .head_parts import RIDER_KINDS, HeadParts, find_parts, fit_sphere
+from .jaw import carry_mouth_pieces, follow_the_jaw
 from .landmarks import find_landmarks
 from .lids import (
     LID_ROUGH,
     LidFrame,
+    behind_the_lids,
     close_blinks_as_the_reference_does,
     ease_the_skin_above_the_lids,
     fade_behind_the_lids,
     smooth_lids,
 )
 from .parts import OPPOSITE_PART, PART_LABELS, FaceParts, find_face_parts
-from .registration import Placement, place_reference, rigid_fit
+from .registration import place_reference
+from .riders import carry_riders
 from .topology import edge_graph, triangulate
 
-# Reference part names (reference.parts) and the target part each one drives.
-RIGID_PARTS: tuple[str, ...] = ("upper_teeth", "lower_teeth", "left_eye", "right_eye")
-SOFT_PARTS: tuple[str, ...] = ("tongue", "left_eyelashes", "right_eyelashes")
-
-
-# Beyond these distances (fractions of the reference head's height, after registration) a target vertex
-# is not near the reference skin any more (a torso, a hat): its deltas fade to nothing.
-FALLOFF_NEAR = 0.05
-FALLOFF_FAR = 0.15
+# A lash or eye shell this close to the reference's own lashes (eye widths) takes their motion; from
+# OWN_LASHES[1] on it rides its own lids (a head's lashes are rarely where the reference's are).
+OWN_LASHES = (0.02, 0.06)
 
 
 @functools.lru_cache(maxsize=4)
@@ -54,17 +51,17 @@ def transfer_units(
     target_polygons,
     target_landmarks: Mapping[str, np.ndarray],
     *,
-    target_parts: Mapping[str, np.ndarray] | None = None,
+    target_parts: HeadParts | None = None,
     warp: str = "auto",
     reference_landmarks: Mapping[str, np.ndarray] | None = None,
 ) -> dict[str, np.ndarray]:
     """Deltas (M, 3) on the target's vertices for each of the reference's units.
 
-    reference: a ReferenceHead (vertices, polygons, parts, units). target_parts: vertex indices of
-    "upper_teeth", "lower_teeth", "tongue", "left_eye", "right_eye" (or "eyes", split by side), found
-    with find_parts when not given. warp: "similarity", "landmarks" or "auto" (the warp when the
-    similarity fit leaves the landmarks more than a few percent of the face apart). reference_landmarks
-    default to find_landmarks on the reference, the convention the target's landmarks follow.
+    reference: a ReferenceHead (vertices, polygons, parts, units). target_parts: the head's skin and
+    pieces (find_parts, which is asked when they are not given). warp: "similarity", "landmarks" or
+    "auto" (the warp when the similarity fit leaves the landmarks more than a few percent of the face
+    apart). reference_landmarks default to find_landmarks on the reference, the convention the target's
+    landmarks follow.
     """
     target_vertices = np.asarray(target_vertices, np.float64)
     target_triangles = triangulate(target_polygons)
@@ -73,9 +70,8 @@ def transfer_units(
     placement = place_reference(reference.vertices, reference_landmarks, target_landmarks, warp)
     if target_parts is None:
         target_parts = find_parts(target_vertices, target_triangles, target_landmarks)
-    target_parts = split_eyes(dict(target_parts), target_vertices, target_landmarks)
     reference_triangles = triangulate(reference.polygons)
-    job = _Transfer(
+    job = TransferJob(
         reference=reference,
         reference_landmarks=reference_landmarks,
         placement=placement,
@@ -86,52 +82,24 @@ def transfer_units(
         landmarks=target_landmarks,
     )
     result = {name: np.zeros_like(target_vertices) for name in job.units}
-    in_part = np.zeros(len(target_vertices), bool)
-    for name, indices in target_parts.items():
-        if len(indices) and name in reference.parts:
-            in_part[indices] = True
-    _carry_the_skin(job, result, np.flatnonzero(~in_part))  # the skin, and whatever is no known part
+    _, anchorable = _carry_the_skin(job, result, target_parts.skin)
     _carry_the_parts(job, result, target_parts)
+    riders = [piece for piece in target_parts.pieces if piece.kind in RIDER_KINDS]
+    pivots = [_eye_centres(job, target_parts).get(piece.side) for piece in riders]
+    indices = [piece.indices for piece in riders]
+    rooted = [piece.kind == "lashes" for piece in riders]
+    carry_riders(
+        result, target_vertices, target_triangles, indices, anchorable, job.eye_width(), pivots, rooted
+    )
+    _take_the_reference_lashes(job, result, target_parts)
     return result
 
 
-@dataclass(frozen=True)
-class _Transfer:
-    """One transfer's inputs: the reference, where it lies on the target, and the target."""
-
-    reference: object  # the ReferenceHead
-    reference_landmarks: Mapping[str, np.ndarray]
-    placement: Placement
-    surface: tuple[np.ndarray, np.ndarray]  # the reference's triangles and triangles_around them
-    units: dict[str, np.ndarray]  # the reference's units, float64
-    vertices: np.ndarray  # the target's
-    triangles: np.ndarray
-    landmarks: Mapping[str, np.ndarray]
-
-    @property
-    def turn(self) -> np.ndarray:
-        """Deltas follow the global rotation and scale only."""
-        return self.placement.scale * self.placement.rotation
-
-    def eye_width(self) -> float:
-        return float(
-            np.mean(
-                [
-                    np.linalg.norm(self.landmarks[f"eye_outer_{side}"] - self.landmarks[f"eye_inner_{side}"])
-                    for side in ("left", "right")
-                ]
-            )
-        )
-
-    def mouth_width(self) -> float:
-        return float(
-            np.linalg.norm(self.landmarks["mouth_corner_left"] - self.landmarks["mouth_corner_right"])
-        )
-
-
-def _carry_the_skin(job: _Transfer, result, skin) -> None:
+def _carry_the_skin(job: TransferJob, result, skin) -> tuple[LidFrame, np.ndarray]:
     """Each lip and lid samples only its own kind on the reference, the rest of the skin the whole
-    reference skin; the inside of the mouth follows the teeth of its jaw; then the lid passes."""
+    reference skin; the inside of the mouth follows the teeth of its jaw; then the lid passes. Returns
+    the faces as the lid passes read them, and the skin vertices a piece may ride (not the socket's
+    still lining behind the lids, not the inside of the mouth)."""
     reference, placement = job.reference, job.placement
     reference_vertices = np.asarray(reference.vertices, np.float64)
     reference_skin = np.asarray(reference.parts.get("skin", np.arange(len(reference_vertices))))
@@ -155,7 +123,7 @@ def _carry_the_skin(job: _Transfer, result, skin) -> None:
             opposite = reference_face.label[reference_skin] == PART_LABELS.index(OPPOSITE_PART[label])
             opposite &= reference_face.sure[reference_skin]
             sources = reference_skin[~opposite]
-        apart[targets], corners, weights = _carry_by_closest_point(job, result, targets, sources, height)
+        apart[targets], corners, weights = carry_by_closest_point(job, result, targets, sources, height)
         if corners is not None:
             sampled[targets] = (reference_vertices[corners] * weights[:, :, None]).sum(1)
     frame = LidFrame(
@@ -166,28 +134,65 @@ def _carry_the_skin(job: _Transfer, result, skin) -> None:
     # where the target's mouth goes deeper than the reference's.
     mouth_width = job.mouth_width()
     beyond = np.clip((apart - 0.02 * mouth_width) / (0.06 * mouth_width), 0.0, 1.0)
-    _follow_the_jaw(job, result, skin, target_face, beyond, upright_vertices)
+    follow_the_jaw(job, result, skin, target_face, beyond, upright_vertices)
     eye_width = job.eye_width()
     target_edges, _ = edge_graph(len(job.vertices), job.triangles, job.vertices)
     smooth_lids(result, target_face, target_edges, np.clip(apart / (LID_ROUGH * eye_width), 0, 1))
     close_blinks_as_the_reference_does(result, frame, placement, sampled)
     ease_the_skin_above_the_lids(result, frame, target_edges, apart / eye_width)
+    return frame, skin[~behind_the_lids(frame)[skin] & (target_face.inside_mouth[skin] < 0.5)]
 
 
-def _carry_the_parts(job: _Transfer, result, target_parts) -> None:
-    """The tongue and lashes bend (closest point on the reference's own); teeth and eyes move as solids."""
+def _carry_the_parts(job: TransferJob, result, parts: HeadParts) -> None:
+    """Eyes and teeth move as solids, the tongue bends as the reference's does, and pieces reaching both
+    jaws go with each jaw vertex by vertex."""
     reference = job.reference
-    for name in SOFT_PARTS:
-        if name in target_parts and name in reference.parts and len(target_parts[name]):
-            _carry_by_closest_point(job, result, np.asarray(target_parts[name]), reference.parts[name], None)
     reference_vertices = np.asarray(reference.vertices, np.float64)
-    for name in RIGID_PARTS:
-        if name in target_parts and name in reference.parts and len(target_parts[name]):
+    solids = {f"{side}_eye": parts.indices("eyeball", "cornea", side=side) for side in ("left", "right")}
+    solids.update(upper_teeth=parts.indices("upper_teeth"), lower_teeth=parts.indices("lower_teeth"))
+    for name, targets in solids.items():
+        if len(targets) and name in reference.parts:
             indices = reference.parts[name]
             part_units = {unit: delta[indices] for unit, delta in job.units.items()}
-            _carry_rigidly(
-                job, result, np.asarray(target_parts[name]), reference_vertices[indices], part_units
-            )
+            carry_rigidly(job, result, targets, reference_vertices[indices], part_units)
+    tongue = parts.indices("tongue")
+    if len(tongue) and "tongue" in reference.parts:
+        carry_by_closest_point(job, result, tongue, reference.parts["tongue"], None)
+    carry_mouth_pieces(job, result, [piece.indices for piece in parts.pieces if piece.kind == "mouth"])
+
+
+def _eye_centres(job: TransferJob, parts: HeadParts) -> dict[str, np.ndarray]:
+    """The centre of each eyeball, which the eye's lashes and shells turn about: the head's own; else the
+    centre of the sphere its biggest shell lies on (an occlusion shell hugs the eyeball); else the
+    reference's eyeball where the registration placed it (a head whose eyes are not in its mesh)."""
+    centres = {}
+    for side in ("left", "right"):
+        ball = parts.eye_balls.get(side)
+        shells = [piece.indices for piece in parts.pieces if piece.kind == "eye_shell" and piece.side == side]
+        if ball is not None:
+            centres[side] = job.vertices[ball].mean(0)
+        elif shells:
+            centres[side] = fit_sphere(job.vertices[max(shells, key=len)])[0]
+        elif f"{side}_eye" in job.reference.parts:
+            centres[side] = job.placement.placed[job.reference.parts[f"{side}_eye"]].mean(0)
+    return centres
+
+
+def _take_the_reference_lashes(job: TransferJob, result, parts: HeadParts) -> None:
+    """Lashes and eye shells lying where the reference's own lashes lie take those lashes' motion (the
+    reference onto itself keeps its units); further off they ride their own lids."""
+    eye_width = job.eye_width()
+    for side in ("left", "right"):
+        name = f"{side}_eyelashes"
+        targets = parts.indices("lashes", "eye_shell", side=side)
+        if len(targets) == 0 or name not in job.reference.parts:
+            continue
+        sampled = {unit: np.zeros_like(job.vertices) for unit in job.units}
+        distance, _, _ = carry_by_closest_point(job, sampled, targets, job.reference.parts[name], None)
+        near, far = OWN_LASHES
+        weight = np.clip((far * eye_width - distance) / ((far - near) * eye_width), 0.0, 1.0)[:, None]
+        for unit, deltas in result.items():
+            deltas[targets] = (1 - weight) * deltas[targets] + weight * sampled[unit][targets]
 
 
 @functools.lru_cache(maxsize=4)
@@ -199,73 +204,3 @@ def _reference_face_parts(reference, landmark_items) -> FaceParts:
         np.asarray(reference.parts.get("skin", np.arange(len(reference.vertices)))),
         landmarks,
     )
-
-
-def _follow_the_jaw(job: _Transfer, result, skin, face, beyond, in_reference) -> None:
-    """Blend the inside of the mouth (bag, gums, teeth and tongue joined to the skin) toward the rigid
-    motion of the reference's teeth, the lower teeth's below the lips and the upper teeth's above."""
-    reference = job.reference
-    if "upper_teeth" not in reference.parts or "lower_teeth" not in reference.parts:
-        return
-    targets = skin[face.inside_mouth[skin] > 0]
-    if len(targets) == 0:
-        return
-    weight = (face.inside_mouth[targets] * beyond[targets])[:, None]
-    lower = face.lower_jaw[targets][:, None]
-    in_reference = in_reference[targets]
-    reference_vertices = np.asarray(reference.vertices, np.float64)
-    for name, delta in job.units.items():
-        rigid = np.zeros_like(in_reference)
-        for teeth, share in (("upper_teeth", 1 - lower), ("lower_teeth", lower)):
-            points = reference_vertices[reference.parts[teeth]]
-            part_delta = delta[reference.parts[teeth]]
-            if np.any(part_delta):
-                turn, shift = rigid_fit(points, points + part_delta)
-                rigid += share * (in_reference @ turn.T + shift - in_reference)
-        deltas = job.placement.deltas_to_target(rigid)
-        result[name][targets] = (1 - weight) * result[name][targets] + weight * deltas
-
-
-def _carry_by_closest_point(job: _Transfer, result, targets, reference_indices, height):
-    """Deltas at the closest point of the placed reference (among reference_indices), interpolated over
-    its triangle, turned and scaled; fading beyond FALLOFF_* of height from it (None: never).
-
-    Returns the distances and the sampled triangles' corners with their barycentric weights (None, None
-    when nothing was sampled).
-    """
-    triangles, around = job.surface
-    placed = job.placement.placed
-    keep = np.zeros(len(placed), bool)
-    keep[reference_indices] = True
-    allowed = keep[triangles].all(1)
-    if not allowed.any() or len(targets) == 0:
-        return np.zeros(len(targets)), None, None
-    triangle, weights, distance = closest_points(job.vertices[targets], placed, triangles, allowed, around)
-    corners = triangles[triangle]
-    if height is None:
-        fade = np.ones(len(targets))
-    else:
-        fade = np.clip((FALLOFF_FAR * height - distance) / ((FALLOFF_FAR - FALLOFF_NEAR) * height), 0, 1)
-    faded = weights * fade[:, None]
-    for name, delta in job.units.items():
-        local = (delta[corners] * faded[:, :, None]).sum(1)
-        result[name][targets] = local @ job.turn.T
-    return distance, corners, weights
-
-
-def _carry_rigidly(job: _Transfer, result, targets, reference_points, part_units) -> None:
-    """Each unit's motion of a reference part as a rotation about the part's centre plus a shift.
-
-    The rotation turns the target part about its own centre (in the reference frame), so a part the
-    landmarks placed a little off still turns in place instead of swinging around the reference's.
-    """
-    target_in_reference = job.placement.to_reference(job.vertices[targets])
-    target_centre = target_in_reference.mean(0)
-    reference_centre = reference_points.mean(0)
-    for name, delta in part_units.items():
-        if not np.any(delta):
-            continue
-        turn, shift = rigid_fit(reference_points, reference_points + delta)
-        centre_motion = turn @ reference_centre + shift - reference_centre
-        moved = (target_in_reference - target_centre) @ turn.T + target_centre + centre_motion
-        result[name][targets] = job.placement.deltas_to_target(moved - target_in_reference)
