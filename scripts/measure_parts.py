@@ -85,10 +85,19 @@ def kit_heads(names: list[str] | None = None) -> list[joined_heads.KitHead]:
     made = []
     default = joined_heads.joined_head("default head, parts joined, bent", default_head_parts())
     made.append(default)
-    made.append(default.welded([("lower_teeth", "tongue", False), ("upper_teeth", "lower_teeth", True)],
-                               "default head, teeth and tongue welded"))  # fmt: skip
-    made.append(default.welded([("lower_teeth", "skin", False), ("upper_teeth", "skin", False),
-                                ("tongue", "skin", False)], "default head, parts welded, by material", True))  # fmt: skip
+    made.append(
+        default.welded(
+            [("lower_teeth", "tongue", False), ("upper_teeth", "lower_teeth", True)],
+            "default head, teeth and tongue welded",
+        )
+    )
+    made.append(
+        default.welded(
+            [("lower_teeth", "skin", False), ("upper_teeth", "skin", False), ("tongue", "skin", False)],
+            "default head, parts welded, by material",
+            True,
+        )
+    )
     vitruvian = HEADS / "vitruvian" / "vitruvian_head_facs.glb"
     if vitruvian.exists():
         head = joined_heads.joined_head("vitruvian", glb_parts(vitruvian, ARTIST_KEYS["vitruvian"]))
@@ -108,8 +117,12 @@ def kit_heads(names: list[str] | None = None) -> list[joined_heads.KitHead]:
             "makehuman, parts joined", glb_parts(makehuman, ARTIST_KEYS["makehuman"])
         )
         made.append(joined)
-        made.append(joined.welded([("teeth_lower", "tongue", False), ("teeth_upper", "teeth_lower", True)],
-                                  "makehuman, teeth and tongue welded"))  # fmt: skip
+        made.append(
+            joined.welded(
+                [("teeth_lower", "tongue", False), ("teeth_upper", "teeth_lower", True)],
+                "makehuman, teeth and tongue welded",
+            )
+        )
     return [head for head in made if names is None or any(name in head.name for name in names)]
 
 
@@ -166,12 +179,16 @@ def main() -> int:
         print(f"{head.name} ({len(head.vertices)} v)")
         for key, row in rows.items():
             means.append(row["whole"])
-            print(f"  {key:13s} whole {row['whole']:.3f}  skin {row['skin']:.3f}  "
-                  f"stretch {row['stretch']:.1f} (truth {row['truth_stretch']:.1f})")  # fmt: skip
+            print(
+                f"  {key:13s} whole {row['whole']:.3f}  skin {row['skin']:.3f}  "
+                f"stretch {row['stretch']:.1f} (truth {row['truth_stretch']:.1f})"
+            )
             for part, figures in row["parts"].items():
                 if figures["share"] > 0.005 or figures["ours"] > 0.005:
-                    print(f"      {part:22s} share {figures['share']:.2f}  ours {figures['ours']:.2f}  "
-                          f"cosine {figures['cosine']:6.3f}  found as {figures['found']}")  # fmt: skip
+                    print(
+                        f"      {part:22s} share {figures['share']:.2f}  ours {figures['ours']:.2f}  "
+                        f"cosine {figures['cosine']:6.3f}  found as {figures['found']}"
+                    )
     print(f"mean whole-mesh cosine {np.mean(means):.3f} over {len(means)} keys")
     return 0
 
