@@ -309,7 +309,7 @@ class KitHead:
 def joined_head(name: str, parts: dict[str, tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]]) -> KitHead:
     """One mesh of several: part name -> (vertices, triangles, key -> deltas); the first part is the skin."""
     vertices, triangles, labels, start = [], [], {}, 0
-    keys = {key for _, _, truth in parts.values() for key in truth}
+    keys = list(dict.fromkeys(key for _, _, truth in parts.values() for key in truth))
     truth = {key: [] for key in keys}
     for number, (part, (points, faces, deltas)) in enumerate(parts.items()):
         vertices.append(points)

@@ -22,9 +22,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from .closest import nearest_vertices
+from .depth import DepthMap
 from .landmarks import face_frame
 from .topology import connected_pieces, edge_graph, geodesic_distance, triangulate
 
+# Vertices this close (a share of the mesh's size) are one place: pieces touching there are one.
+WELD_DISTANCE = 1e-6
 # Kinds of piece, and how each moves: eyes as solids with the eyeball; teeth with their jaw; the tongue
 # bends as the reference's does; "mouth" pieces reach both jaws; riders follow the skin they touch.
 EYE_KINDS = ("eyeball", "cornea")
@@ -85,7 +88,7 @@ def find_parts(
     upright = (np.asarray(vertices, np.float64) - origin) @ axes
     marks = {name: (np.asarray(point, np.float64) - origin) @ axes for name, point in landmarks.items()}
     triangles = triangulate(polygons)
-    islands = connected_pieces(len(upright), triangles)
+    islands = _islands(upright, triangles)
     used = np.zeros(len(upright), bool)
     used[triangles.ravel()] = True
     skin_island = np.bincount(islands[used], minlength=len(upright)).argmax()
@@ -108,7 +111,25 @@ def find_parts(
                 pieces.append(Piece(piece.kind, piece.side, inner))
                 skin[inner] = False
     pieces = reader.settle_the_eyes(pieces, np.flatnonzero(skin))
-    return HeadParts(skin=np.flatnonzero(skin), pieces=tuple(pieces))
+    kept = []
+    for piece, surface in zip(pieces, reader.of_the_surface(pieces, np.flatnonzero(skin)), strict=True):
+        if surface:
+            skin[piece.indices] = True  # a piece of the face's own surface (a stylised face in pieces)
+        else:
+            kept.append(piece)
+    return HeadParts(skin=np.flatnonzero(skin), pieces=tuple(kept))
+
+
+def _islands(vertices: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """A label per vertex: its connected piece, vertices at one place counted as one (game exports split
+    a face's mesh along its UV seams and hard edges: Godette's face arrives as 27 islands, its lids and
+    eyes among them, that are one surface)."""
+    size = float(np.ptp(vertices, axis=0).max()) if len(vertices) else 1.0
+    cells = np.round(vertices / max(WELD_DISTANCE * size, 1e-300)).astype(np.int64)
+    _, place = np.unique(cells, axis=0, return_inverse=True)
+    place = place.ravel()
+    labels = connected_pieces(int(place.max()) + 1, place[triangles])
+    return labels[place]
 
 
 def _material_runs(vertex_count: int, triangles: np.ndarray, materials) -> list[np.ndarray] | None:
@@ -231,6 +252,28 @@ class _PieceReader:
             else:
                 settled.append(Piece("lashes", piece.side, piece.indices))
         return settled
+
+    def of_the_surface(self, pieces: list[Piece], skin: np.ndarray) -> list[bool]:
+        """Per piece, whether it is part of the face's surface rather than something on it: a piece that
+        would ride the skin but has none behind it over most of its vertices in the front view fills a
+        gap in the skin (Godette's face comes as pieces: its lids and the skin around its eyes are
+        pieces beside the rest), where lashes, shells and brow cards lie over the skin."""
+        riding = [piece.kind in RIDER_KINDS for piece in pieces]
+        if not any(riding):
+            return riding
+        on_skin = np.zeros(len(self.upright), bool)
+        on_skin[skin] = True
+        depth = DepthMap(self.upright, self.triangles[on_skin[self.triangles].all(1)], self.mouth_width / 30)
+        rows = np.clip(
+            np.round((depth.top - self.upright[:, 2]) / depth.pixel).astype(int), 0, depth.front.shape[0] - 1
+        )
+        columns = np.clip(
+            np.round((self.upright[:, 0] - depth.left) / depth.pixel).astype(int), 0, depth.front.shape[1] - 1
+        )
+        behind = np.isfinite(depth.front[rows, columns])
+        return [
+            ride and behind[piece.indices].mean() < 0.5 for ride, piece in zip(riding, pieces, strict=True)
+        ]
 
     def _rim_touches(self, indices: np.ndarray, skin: np.ndarray, eye_width: float) -> bool:
         """Whether most of the piece's open rim (or, for a closed piece, any of it) lies on the skin."""

@@ -9,11 +9,14 @@ beside the nose with the brows above them. Left means the character's left, whic
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
-from ..base.errors import HeadError
+from ..base.errors import HeadError, LipSyncError
 from .depth import DepthMap
 from .face_reader import FaceReader
+from .reference import load_reference_head
 from .topology import biggest_pieces, largest_piece, round_pieces, triangulate
 
 # Slices (of 200, from the top) where find_head_region looks for no neck yet.
@@ -141,7 +144,7 @@ def axis_rotation(axis: int, degrees: float) -> np.ndarray:
 # (about X) and turned (about Z) by these many degrees. A head rolled 10 degrees showed no mouth.
 TILTS: tuple[np.ndarray, ...] = tuple(
     axis_rotation(axis, sign * degrees)
-    for axis, steps in ((1, (15, 30)), (0, (15, 30)), (2, (20,)))
+    for axis, steps in ((1, (15, 30)), (0, (15, 30)), (2, (10, 20)))
     for degrees in steps
     for sign in (1, -1)
 )
@@ -152,12 +155,30 @@ REFINE_DEGREES = 3.0
 # of the two views read something else as a face (a forehead as the nose of a head looking down, a
 # mouth corner run out along a cheek), so the search goes on.
 AGREEMENT = 0.08
+# A face the reference's landmarks show standing this far off the view it was read in (degrees) is read
+# again facing them, and nodding from there by these.
+POSE_DEGREES = 7.0
+POSE_NODS = (-10.0, 10.0)
+POSE_ROUNDS = 3
+# A reading its own pose stands more than POSE_DEGREES off counts this much worse (a share of the face's
+# size) than the reference's fit of it says; nods are tried where the fit facing the pose is worse than
+# POSE_FIT.
+OFF_POSE_DOUBT = 0.02
+POSE_FIT = 0.05
+# A reading the reference's landmarks fit this badly (_fit_template: the furthest landmark, as a share of
+# the face's size) is doubted even when it agrees with itself: the bent faces of measure_transfer.py
+# read at most 0.07, a "face" read off the chin and neck of a head turned 12 degrees 0.16.
+DOUBTFUL_MISFIT = 0.1
 
 
-def _search_views(vertices: np.ndarray, triangles: np.ndarray) -> dict[str, np.ndarray]:
+def _search_views(vertices: np.ndarray, triangles: np.ndarray, posing: bool = True) -> dict[str, np.ndarray]:
     """The landmarks of the first view that shows a face and agrees with itself seen straight on: looking
-    toward -Y, then each other facing, then -Y and +Y tilted by TILTS (view = mesh @ turn.T)."""
-    first_error, doubtful = None, None
+    toward -Y, then each other facing, then -Y and +Y tilted by TILTS (view = mesh @ turn.T). posing:
+    each reading is also read again facing the pose the reference's landmarks fitted onto it show
+    (_facing_the_reference), and a reading they fit worse than DOUBTFUL_MISFIT is doubted; of the
+    doubted readings the one they fit best is taken when no view gives a sure one. Without posing, the
+    doubted reading that agrees best with itself."""
+    first_error, doubtful = None, None  # doubtful: (landmarks, how doubtful) of the best reading not taken
     views = [np.eye(3), *(turn for _, turn in FACINGS)]
     views += [tilt @ facing for facing in views[:2] for tilt in TILTS]
     for turn in views:
@@ -167,11 +188,19 @@ def _search_views(vertices: np.ndarray, triangles: np.ndarray) -> dict[str, np.n
             first_error = first_error or error
             continue
         found = {name: point @ turn for name, point in found.items()}
-        refined, disagreement = _seen_straight_on(vertices, triangles, found, turn)
-        if disagreement <= AGREEMENT:
-            return refined
-        if doubtful is None or disagreement < doubtful[1]:
-            doubtful = (found, disagreement)
+        refined, disagreement, _ = _seen_straight_on(vertices, triangles, found, turn)
+        agrees = disagreement <= AGREEMENT
+        if posing:
+            # The pose is judged against the view the face was first read in: a face corrected only for
+            # roll and turn, still nodding, is read again.
+            reading, doubt = _facing_the_reference(vertices, triangles, refined if agrees else found, turn)
+            sure = agrees and doubt <= DOUBTFUL_MISFIT
+        else:
+            reading, doubt, sure = (refined if agrees else found), disagreement, agrees
+        if sure:
+            return reading
+        if doubtful is None or doubt < doubtful[1]:
+            doubtful = (reading, doubt)
     if doubtful is not None:
         return doubtful[0]
     raise HeadError(
@@ -180,32 +209,111 @@ def _search_views(vertices: np.ndarray, triangles: np.ndarray) -> dict[str, np.n
     ) from first_error
 
 
-def _seen_straight_on(vertices, triangles, found, turn) -> tuple[dict[str, np.ndarray], float]:
-    """(landmarks, disagreement): when the line across the face (mouth corners, inner eye corners) runs
-    aslant in the view it was found in (a head rolled or turned a little), the landmarks found again in a
-    view turned to run along it, and how far the furthest moved (share of the face's size); the landmarks
-    as found, 0, when the face was seen level. (Only roll and turn are corrected: the lean of the chin
-    below the eyes is a matter of proportions as much as of pose.)"""
+def _facing_the_reference(vertices, triangles, found, turn) -> tuple[dict[str, np.ndarray], float]:
+    """(landmarks, doubt): the reference head's landmarks fitted onto a reading show the face's pose (a
+    nodding head too: face_frame reads roll and turn, not nod); a reading standing more than
+    POSE_DEGREES off its own view is read again facing that pose, up to POSE_ROUNDS times, and nodding by
+    POSE_NODS from there where it still fits badly (over POSE_FIT). Of the readings, the one the reference
+    fits best (_fit_template) with OFF_POSE_DOUBT added for a reading its pose stands off (one read at a
+    slant misplaces a feature: a chin 19 % of the face off, that fit only 0.003 worse than read straight)."""
+    template = _template_landmarks()
+    if template is None:
+        return found, 0.0
+    readings, current, view = [(found, turn)], found, turn
+    for _ in range(POSE_ROUNDS):
+        facing = _fit_template(template, current)[0].T  # view = mesh @ facing.T shows it upright
+        if _angle_between(facing, view) <= POSE_DEGREES:
+            break
+        again = _read_in_view(vertices, triangles, facing)
+        if again is None:
+            break
+        readings.append((again, facing))
+        current, view = again, facing
+    if len(readings) > 1 and _fit_template(template, current)[1] > POSE_FIT:
+        for degrees in POSE_NODS:
+            nodding = axis_rotation(0, degrees) @ view
+            again = _read_in_view(vertices, triangles, nodding)
+            if again is not None:
+                readings.append((again, nodding))
+    doubts = []
+    for reading, seen_from in readings:
+        rotation, misfit = _fit_template(template, reading)
+        doubts.append(misfit + OFF_POSE_DOUBT * (_angle_between(rotation.T, seen_from) > POSE_DEGREES))
+    best = int(np.argmin(doubts))
+    return readings[best][0], doubts[best]
+
+
+def _read_in_view(vertices, triangles, view) -> dict[str, np.ndarray] | None:
+    """The landmarks read in a view (view = mesh @ view.T), in the mesh's frame; None where none are."""
+    try:
+        found = _find_facing_front(vertices @ view.T, triangles)
+    except HeadError:
+        return None
+    return {name: point @ view for name, point in found.items()}
+
+
+def _angle_between(first: np.ndarray, second: np.ndarray) -> float:
+    """Degrees of the rotation between two views (rotation matrices)."""
+    return float(np.degrees(np.arccos(np.clip((np.trace(first @ second.T) - 1) / 2, -1.0, 1.0))))
+
+
+def _fit_template(template, found) -> tuple[np.ndarray, float]:
+    """(rotation, misfit): the pose of found landmarks against the reference's, and how far the
+    furthest of them (brows aside: they differ most from face to face) lies from an affine fit of the
+    reference's (which takes up a face's other proportions, not a feature read off its place), as a
+    share of the face's size."""
+    names = [name for name in LANDMARK_NAMES if name in found and not name.startswith("brow")]
+    source = np.array([template[name] for name in names])
+    target = np.array([found[name] for name in names])
+    design = np.hstack((source, np.ones((len(source), 1))))
+    affine, *_ = np.linalg.lstsq(design, target, rcond=None)
+    # The pose: the rotation of the affine fit (its polar part), which a face's other proportions (a
+    # longer chin, a wider jaw) leave alone, where a similarity fit turns to meet them.
+    u, _, vt = np.linalg.svd(affine[:3].T)
+    rotation = u @ np.diag([1.0, 1.0, np.sign(np.linalg.det(u @ vt))]) @ vt
+    size = float(np.linalg.norm(np.ptp(target, axis=0)))
+    return rotation, float(np.linalg.norm(design @ affine - target, axis=1).max()) / size
+
+
+@functools.cache
+def _template_landmarks() -> dict[str, np.ndarray] | None:
+    """The reference head's landmarks as this reader finds them (its picked vertices follow another
+    convention, which set the pose of the reference turned 5 degrees 6.5 degrees off); None where its
+    data cannot be read."""
+    try:
+        reference = load_reference_head()
+    except LipSyncError:
+        return None
+    return _search_views(np.asarray(reference.vertices, np.float64), triangulate(reference.polygons), False)
+
+
+def _seen_straight_on(vertices, triangles, found, turn) -> tuple[dict[str, np.ndarray], float, np.ndarray]:
+    """(landmarks, disagreement, the view they were read in): when the line across the face (mouth
+    corners, inner eye corners) runs aslant in the view it was found in (a head rolled or turned a
+    little), the landmarks found again in a view turned to run along it, and how far the furthest moved
+    (share of the face's size); the landmarks as found, 0, when the face was seen level. (Only roll and
+    turn are corrected here: the lean of the chin below the eyes is a matter of proportions as much as of
+    pose; _facing_the_reference reads the nod.)"""
     view_across, view_up = turn[0], turn[2]
     across = (found["mouth_corner_left"] - found["mouth_corner_right"]) + (
         found["eye_inner_left"] - found["eye_inner_right"]
     )
     across /= np.linalg.norm(across)
     if np.degrees(np.arccos(np.clip(across @ view_across, -1.0, 1.0))) <= REFINE_DEGREES:
-        return found, 0.0
+        return found, 0.0, turn
     up = view_up - (view_up @ across) * across
     up /= np.linalg.norm(up)
     level = np.stack((across, np.cross(up, across), up))  # view = mesh @ level.T, as turn is
     try:
         again = _find_facing_front(vertices @ level.T, triangles)
     except HeadError:
-        return found, np.inf
+        return found, np.inf, turn
     again = {name: point @ level for name, point in again.items()}
     names = [name for name in found if name in again]
     points = np.array([found[name] for name in names])
     size = float(np.linalg.norm(np.ptp(points, axis=0)))
     moved = max(np.linalg.norm(again[name] - found[name]) for name in names) / size
-    return again, float(moved)
+    return again, float(moved), level
 
 
 # How far the line from the chin to the eyes leans back from the vertical on an upright face (measured on
