@@ -165,7 +165,12 @@ def _transfer_units(
     if len(head_triangles) == 0:
         raise HeadError(f"{head.name!r} has no faces; a head needs a surface to build shape keys on.")
     landmarks = head_landmarks(head, parts)
-    target_parts = head_parts.find_parts(all_vertices, all_triangles, landmarks)
+    # Each object's materials of its own: a part split from the skin by material only is a piece too.
+    slots = np.cumsum([0] + [max(len(obj.material_slots), 1) for obj in objects])
+    materials = np.concatenate(
+        [mesh.triangle_materials(obj) + slot for obj, slot in zip(objects, slots, strict=False)]
+    )
+    target_parts = head_parts.find_parts(all_vertices, all_triangles, landmarks, materials)
     deltas = transfer.transfer_units(
         reference, all_vertices, all_triangles, landmarks, target_parts=target_parts
     )
