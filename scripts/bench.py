@@ -182,14 +182,15 @@ def run_keyframes() -> dict:
 def run_build() -> dict:
     """The 43 keys from a head's own ARKit keys, and by transfer, on the 27,000-vertex head."""
     context = _fresh_scene()
-    from turkish_lipsync.blender import shapekeys
+    from turkish_lipsync.blender import owned_keys, shapekeys
+    from turkish_lipsync.core.faces.arkit_names import ARKIT_UNITS
 
     head = _dense_head(context)
     started = time.perf_counter()
     transferred = shapekeys.build_shape_keys(head, source="transfer", arkit_keys=True)
     transfer_seconds = time.perf_counter() - started
     # The head now carries the 52 ARKit units: hand them over as if an artist had made them, and rebuild.
-    head.data.pop(shapekeys.BUILT_ARKIT_PROPERTY, None)
+    owned_keys.disown(head, ARKIT_UNITS)
     started = time.perf_counter()
     own = shapekeys.build_shape_keys(head, source="arkit")
     own_seconds = time.perf_counter() - started

@@ -11,7 +11,8 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from turkish_lipsync import blender  # noqa: E402
-from turkish_lipsync.blender import compat, heads, keyframes, shapekeys  # noqa: E402
+from turkish_lipsync.blender import compat, heads, keyframes, owned_keys, shapekeys  # noqa: E402
+from turkish_lipsync.core.faces.arkit_names import ARKIT_UNITS  # noqa: E402
 from turkish_lipsync.core.pipeline import LipSyncOptions, lip_sync  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -122,7 +123,7 @@ def test_a_head_lacking_units_is_warned_by_the_build_and_the_operator(capfd):
     shapekeys.build_shape_keys(head, parts=[], arkit_keys=True)
     head["tr_reference_part"] = "not the reference"
     head.location.x += 1.0  # away from the reference's place: only its own ARKit keys count
-    del head.data[shapekeys.BUILT_ARKIT_PROPERTY]
+    owned_keys.disown(head, ARKIT_UNITS)  # our ARKit keys, handed over as if an artist had made them
     for name in ("mouthRollUpper", "mouthRollLower", "cheekPuff", "browInnerUp"):
         head.shape_key_remove(head.data.shape_keys.key_blocks[name])
     report = shapekeys.build_shape_keys(head, parts=[])

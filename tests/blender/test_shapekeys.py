@@ -6,7 +6,7 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from tests.heads_on_disk import HEADS  # noqa: E402
-from turkish_lipsync.blender import heads, shapekeys  # noqa: E402
+from turkish_lipsync.blender import heads, owned_keys, shapekeys  # noqa: E402
 from turkish_lipsync.core.base.errors import HeadError  # noqa: E402
 from turkish_lipsync.core.base.model import (  # noqa: E402
     EMOTIONS,
@@ -14,6 +14,7 @@ from turkish_lipsync.core.base.model import (  # noqa: E402
     emotion_release_key_name,
     viseme_key_name,
 )
+from turkish_lipsync.core.faces.arkit_names import ARKIT_UNITS  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
 
 
@@ -156,7 +157,7 @@ def test_head_with_its_own_arkit_keys_under_other_spellings():
     expected = {b.name: np.array([v.co[:] for v in b.data]) for b in head.data.shape_keys.key_blocks}
     copy = head.copy()
     copy.data = head.data.copy()
-    del copy.data[shapekeys.BUILT_ARKIT_PROPERTY]
+    owned_keys.disown(copy, ARKIT_UNITS)  # our ARKit keys, handed over as if an artist had made them
     copy["tr_reference_part"] = "not the reference"
     copy.location.x += 1.0  # moved away: no longer recognised by position either
     bpy.context.scene.collection.objects.link(copy)

@@ -16,9 +16,10 @@ from pathlib import Path
 import bpy
 
 from ..core.base.errors import HeadError, TextError
-from ..core.base.model import OWNED_PREFIX, Timeline, Utterance, WeightTracks
+from ..core.base.model import OWNED_PREFIX, VISEME_KEY_PREFIX, Timeline, Utterance, WeightTracks
 from ..core.pipeline import LipSyncOptions, lip_sync
 from . import compat, heads, keyframes, render, sequencer, shapekeys
+from .owned_keys import owned_keys
 from .shapekeys import BuildReport
 
 Progress = Callable[[float, str], None]
@@ -111,8 +112,8 @@ def build_keys(
 
 
 def has_lipsync_keys(head: bpy.types.Object) -> bool:
-    key = getattr(head.data, "shape_keys", None)
-    return key is not None and any(block.name.startswith("TR_viseme_") for block in key.key_blocks)
+    """Whether a build of ours left its visemes on the head (by our mark: a user's TR_* keys do not count)."""
+    return any(name.startswith(VISEME_KEY_PREFIX) for name in owned_keys(head))
 
 
 # ---------------------------------------------------------------- text

@@ -17,6 +17,7 @@ from ..core.base.errors import LipSyncError
 from ..core.base.model import EMOTION_KEY_PREFIX, VISEME_KEY_PREFIX
 from ..core.interchange.video import join_videos
 from . import compat, mesh
+from .owned_keys import owned_keys
 
 ENGINES = ("EEVEE", "CYCLES", "WORKBENCH")
 CAMERA_NAME = "TR_camera"
@@ -259,9 +260,10 @@ def face_bounds(objects) -> tuple[np.ndarray, np.ndarray]:
         if key is None:
             continue
         moved = np.zeros(count, dtype=bool)
-        for block in key.key_blocks:
-            if not block.name.startswith((VISEME_KEY_PREFIX, EMOTION_KEY_PREFIX)):
+        for ours, name in owned_keys(obj).items():
+            if not ours.startswith((VISEME_KEY_PREFIX, EMOTION_KEY_PREFIX)):
                 continue
+            block = key.key_blocks[name]
             displacement = np.linalg.norm(mesh.read_coordinates(block.data, count) - rest, axis=1)
             # Recipes smear tiny motion over the whole head; the face is where a key really moves.
             moved |= displacement > max(1e-6, 0.1 * float(displacement.max(initial=0.0)))

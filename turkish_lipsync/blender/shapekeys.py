@@ -15,7 +15,7 @@ import numpy as np
 
 from ..core.base.data import load_table
 from ..core.base.errors import HeadError, LipSyncError
-from ..core.base.model import EMOTIONS, OWNED_PREFIX, emotion_key_name, viseme_key_name
+from ..core.base.model import EMOTIONS, emotion_key_name, viseme_key_name
 from ..core.faces import head_parts, transfer
 from ..core.faces.arkit_names import ARKIT_UNITS, has_arkit_basis, match_arkit_keys
 from ..core.faces.conventions import (
@@ -36,10 +36,9 @@ from ..core.faces.topology import connected_pieces
 from . import mesh
 from .heads import find_head_parts, reference_part_of
 from .landmarks import read_landmark_markers
+from .owned_keys import LEGACY_ARKIT_PROPERTY, free_name, mark_owned, owned_keys
 
 SOURCES = ("auto", "convention", "arkit", "reference", "transfer", "obj_folder")
-# Mesh property listing the ARKit-named keys this module wrote (so a rebuild never touches the user's own).
-BUILT_ARKIT_PROPERTY = "tr_built_arkit_keys"
 # Mesh property: built key name -> where it came from (the panel lists it).
 KEY_SOURCES_PROPERTY = "tr_key_sources"
 # A build warns when other pieces of the head's mesh hide this share of its face (hidden_face_share).
@@ -65,17 +64,15 @@ class BuildReport:
 
 
 def own_key_names(obj: bpy.types.Object) -> list[str]:
-    """The user's own shape keys on obj: neither the rest key nor any key a build wrote."""
+    """The user's own shape keys on obj: neither the rest key nor any key a build wrote (by our mark)."""
     shape_keys = obj.data.shape_keys
     if shape_keys is None:
         return []
-    built = set(obj.data.get(BUILT_ARKIT_PROPERTY, ()))
+    ours = set(owned_keys(obj).values())
     return [
         block.name
         for block in shape_keys.key_blocks
-        if block != shape_keys.reference_key
-        and not block.name.startswith(OWNED_PREFIX)
-        and block.name not in built
+        if block != shape_keys.reference_key and block.name not in ours
     ]
 
 
@@ -383,7 +380,11 @@ def build_shape_keys(
     _check_planned(objects, planned)
 
     for obj in objects:
-        _write_keys(obj, planned[obj.name], arkit_keys=arkit_keys)
+        for name in _write_keys(obj, planned[obj.name]):
+            warnings.append(
+                f"{obj.name!r} has a key of its own named {name!r}: it was left as it is, and ours was "
+                f"built beside it as {owned_keys(obj)[name]!r}."
+            )
     head.data[KEY_SOURCES_PROPERTY] = {
         key: key_sources[key] for key in planned[head.name] if key in key_sources
     }
@@ -542,28 +543,38 @@ def _check_planned(objects, planned) -> None:
                 raise HeadError(f"Key {key_name} for {obj.name!r} came out malformed; nothing was changed.")
 
 
-def _write_keys(obj: bpy.types.Object, deltas_by_key: dict[str, np.ndarray], *, arkit_keys: bool) -> None:
-    """Replace this module's keys on obj; keep every other key, its value, drivers and animation."""
+def _write_keys(obj: bpy.types.Object, deltas_by_key: dict[str, np.ndarray]) -> list[str]:
+    """Replace our keys on obj (those our mark lists); keep every other key, its value, drivers and
+    animation. A user's own key already holding one of our names keeps it, and ours is written beside it
+    under a free name; returns those names."""
     mesh = obj.data
-    previously_built = set(mesh.get(BUILT_ARKIT_PROPERTY, ()))
+    owned = owned_keys(obj)
     if mesh.shape_keys is None:
         obj.shape_key_add(name="Basis", from_mix=False)
     shape_keys = mesh.shape_keys
     blocks = shape_keys.key_blocks
     # Drop our own keys that this build does not write (e.g. ARKit keys no longer asked for).
-    for block in list(blocks):
-        ours = block.name.startswith(OWNED_PREFIX) or block.name in previously_built
-        if ours and block.name not in deltas_by_key and block != shape_keys.reference_key:
+    for ours, name in owned.items():
+        block = blocks.get(name)
+        if ours not in deltas_by_key and block is not None and block != shape_keys.reference_key:
             obj.shape_key_remove(block)
     basis = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
     shape_keys.reference_key.data.foreach_get("co", basis)
-    for key_name, deltas in deltas_by_key.items():
-        block = blocks.get(key_name)
+    written, taken = {}, []
+    for ours, deltas in deltas_by_key.items():
+        name = owned.get(ours)
+        if name is None or name not in blocks:
+            if ours in blocks:
+                taken.append(ours)  # the user's own key of that name
+            name = free_name(blocks, ours)
+        block = blocks.get(name)
         if block is None:
-            block = obj.shape_key_add(name=key_name, from_mix=False)
+            block = obj.shape_key_add(name=name, from_mix=False)
             block.value = 0.0  # Blender 5.0 adds new keys at full weight
         block.relative_key = shape_keys.reference_key
         block.data.foreach_set("co", basis + deltas.astype(np.float32).ravel())
-    built_arkit = sorted(name for name in deltas_by_key if not name.startswith(OWNED_PREFIX))
-    mesh[BUILT_ARKIT_PROPERTY] = built_arkit if arkit_keys else []
+        written[ours] = block.name
+    mark_owned(obj, written)
+    mesh.pop(LEGACY_ARKIT_PROPERTY, None)
     mesh.update()
+    return taken
