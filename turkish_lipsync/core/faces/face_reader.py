@@ -297,10 +297,11 @@ class FaceReader:
 
 
 def _grow_blob(mask: np.ndarray, seed: tuple[int, int]) -> np.ndarray:
-    """The 4-connected region of a boolean mask that contains the seed pixel."""
+    """The 4-connected region of a boolean mask that contains the seed pixel (grown at most twice the
+    map's rows and columns in steps: a region winding further, which no eye or socket does, is cut)."""
     blob = np.zeros_like(mask)
     blob[seed] = True
-    while True:
+    for _ in range(2 * sum(mask.shape)):
         grown = blob.copy()
         grown[1:] |= blob[:-1]
         grown[:-1] |= blob[1:]
@@ -308,5 +309,6 @@ def _grow_blob(mask: np.ndarray, seed: tuple[int, int]) -> np.ndarray:
         grown[:, :-1] |= blob[:, 1:]
         grown &= mask
         if np.array_equal(grown, blob):
-            return blob
+            break
         blob = grown
+    return blob

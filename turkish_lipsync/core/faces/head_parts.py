@@ -224,7 +224,7 @@ class _PieceReader:
         along = geodesic_distance(len(indices), local[edges], lengths, upper, np.ones(len(indices), bool))[
             lower
         ]
-        across = np.linalg.norm(points[upper][:, None] - points[lower][None], axis=2).min()
+        across = float(nearest_vertices(points[upper], points[lower])[1].min())
         return bool(along.min() > BOTH_JAWS_DETOUR * max(across, 1e-12 * self.mouth_width))
 
     def settle_the_eyes(self, pieces: list[Piece], skin: np.ndarray) -> list[Piece]:

@@ -16,6 +16,7 @@ import functools
 import numpy as np
 
 from .carry import TransferJob, carry_by_closest_point
+from .closest import nearest_vertices
 from .registration import rigid_fit
 from .topology import edge_graph, geodesic_distance, smooth_over_edges
 
@@ -113,12 +114,10 @@ def _nearer_the_tongue(job: TransferJob, targets: np.ndarray) -> np.ndarray:
     """Which of the targets lie nearer the placed reference's tongue than its lower teeth."""
     placed = job.placement.placed
     points = job.vertices[targets]
-    distance = []
-    for part in ("tongue", "lower_teeth"):
-        candidates = placed[job.reference.parts[part]]
-        gaps = np.linalg.norm(points[:, None] - candidates[None], axis=2)
-        distance.append(gaps.min(1) if len(points) else np.zeros(0))
-    return distance[0] < distance[1]
+    tongue, teeth = (
+        nearest_vertices(points, placed[job.reference.parts[part]])[1] for part in ("tongue", "lower_teeth")
+    )
+    return tongue < teeth
 
 
 @functools.lru_cache(maxsize=4)
