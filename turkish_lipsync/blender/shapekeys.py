@@ -15,9 +15,14 @@ import numpy as np
 
 from ..core.base.data import load_table
 from ..core.base.errors import HeadError, LipSyncError
-from ..core.base.model import EMOTIONS, emotion_key_name, viseme_key_name
-from ..core.faces import head_parts, transfer
-from ..core.faces.arkit_names import ARKIT_UNITS, has_arkit_basis, match_arkit_keys
+from ..core.faces import head_parts, obj_folder, transfer
+from ..core.faces.arkit_names import (
+    ARKIT_UNITS,
+    has_arkit_basis,
+    match_arkit_keys,
+    missing_units,
+    missing_units_warning,
+)
 from ..core.faces.conventions import (
     ConventionMatch,
     convention_key_deltas,
@@ -30,8 +35,8 @@ from ..core.faces.conventions import (
 from ..core.faces.hidden import hidden_face_share
 from ..core.faces.landmark_fallbacks import landmarks_from_motion
 from ..core.faces.landmarks import find_landmarks
-from ..core.faces.recipes import VISEME_NAMES, key_deltas, load_recipes
-from ..core.faces.reference import ReferenceHead, load_reference_head
+from ..core.faces.recipes import key_deltas, load_recipes
+from ..core.faces.reference import ReferenceHead, load_reference_head, reference_vertices_at
 from ..core.faces.topology import connected_pieces
 from . import mesh
 from .heads import find_head_parts, reference_part_of
@@ -43,7 +48,6 @@ SOURCES = ("auto", "convention", "arkit", "reference", "transfer", "obj_folder")
 KEY_SOURCES_PROPERTY = "tr_key_sources"
 # A build warns when other pieces of the head's mesh hide this share of its face (hidden_face_share).
 HIDDEN_FACE_WARNING = 0.3
-_MATCH_GRID = 1e-4  # metres: vertices this close to a reference vertex are that vertex
 
 
 @dataclass(frozen=True)
@@ -111,35 +115,18 @@ def _reference_units_by_part(obj: bpy.types.Object, reference: ReferenceHead) ->
 def _reference_units_by_position(
     obj: bpy.types.Object, reference: ReferenceHead
 ) -> dict[str, np.ndarray] | None:
-    """Units of a mesh cut from MakeHuman's base mesh (the whole body, or a crop) where it was imported.
-
-    Vertices that coincide with reference vertices (in metres, decimetres or centimetres) take their deltas.
-    """
+    """Units of a mesh cut from MakeHuman's base mesh (the whole body, or a crop) where it was imported."""
     world = mesh.world_rest_coordinates(obj)
-    reference_keys = _grid_keys(reference.vertices)
-    order = np.argsort(reference_keys)
-    sorted_keys = reference_keys[order]
-    for metres_per_unit in (1.0, 0.1, 0.01):
-        keys = _grid_keys(world * metres_per_unit)
-        position = np.clip(np.searchsorted(sorted_keys, keys), 0, len(sorted_keys) - 1)
-        found = sorted_keys[position] == keys
-        if found.sum() < 0.9 * min(len(world), len(reference.parts["skin"])):
-            continue
-        matched = np.full(len(world), -1, dtype=np.int64)
-        matched[found] = order[position[found]]
-        units = {}
-        for unit, deltas in reference.units.items():
-            world_deltas = np.zeros((len(world), 3), dtype=np.float32)
-            world_deltas[found] = deltas[matched[found]] / metres_per_unit
-            units[unit] = mesh.world_deltas_to_local(obj, world_deltas)
-        return units
-    return None
-
-
-def _grid_keys(points: np.ndarray) -> np.ndarray:
-    # A quarter-cell offset keeps coordinates written with few decimals off the rounding boundaries.
-    cells = np.round(np.asarray(points, dtype=np.float64) / _MATCH_GRID + 0.25).astype(np.int64) + (1 << 20)
-    return (cells[:, 0] << 42) | (cells[:, 1] << 21) | cells[:, 2]
+    found = reference_vertices_at(world, reference)
+    if found is None:
+        return None
+    matched, metres_per_unit = found
+    units = {}
+    for unit, deltas in reference.units.items():
+        world_deltas = np.zeros((len(world), 3), dtype=np.float32)
+        world_deltas[matched >= 0] = deltas[matched[matched >= 0]] / metres_per_unit
+        units[unit] = mesh.world_deltas_to_local(obj, world_deltas)
+    return units
 
 
 def reference_units(obj: bpy.types.Object, reference: ReferenceHead) -> dict[str, np.ndarray] | None:
@@ -233,53 +220,9 @@ def head_landmarks(
 # ---------------------------------------------------------------- the thesis path: a folder of OBJ models
 
 
-def _read_obj_vertices(path: Path) -> np.ndarray:
-    """Vertices of an OBJ file in Blender axes (what Blender's OBJ importer gives by default)."""
-    with open(path, encoding="utf-8", errors="replace") as handle:
-        rows = [line[2:].split()[:3] for line in handle if line.startswith("v ")]
-    try:
-        points = np.array(rows, dtype=np.float64).reshape(-1, 3)
-    except ValueError as error:
-        raise HeadError(
-            f"{path}: unreadable vertex line ({error}); export the model again as OBJ."
-        ) from error
-    return np.stack([points[:, 0], -points[:, 2], points[:, 1]], axis=1)
-
-
 def obj_folder_keys(head: bpy.types.Object, folder: str | Path) -> dict[str, np.ndarray]:
-    """TR_viseme_* deltas (and TR_emotion_* where <emotion>.obj exists) from homeomorphic OBJ models."""
-    folder = Path(folder)
-    if not folder.is_dir():
-        raise HeadError(
-            f"OBJ folder not found: {folder}. Choose the folder holding a.obj, bpa.obj, ..., Neutral.obj."
-        )
-    files = {path.stem.lower(): path for path in folder.glob("*.obj")}
-    files.update({path.stem: path for path in folder.glob("*.obj")})
-    if "neutral" not in files:
-        raise HeadError(f"{folder} has no Neutral.obj; the visemes are measured against the neutral model.")
-    neutral = _read_obj_vertices(files["neutral"])
-    basis = mesh.rest_coordinates(head)
-    if len(neutral) != len(basis):
-        raise HeadError(
-            f"{files['neutral']} has {len(neutral)} vertices but {head.name!r} has {len(basis)}; "
-            "the models must be homeomorphic to the head (same vertices in the same order)."
-        )
-    scale = float(np.ptp(basis, axis=0).sum() / max(np.ptp(neutral, axis=0).sum(), 1e-12))
-    missing = [name for name in VISEME_NAMES if name != "neutral" and name not in files]
-    if missing:
-        raise HeadError(f"{folder} lacks the viseme models {', '.join(m + '.obj' for m in missing)}.")
-    keys: dict[str, np.ndarray] = {viseme_key_name("neutral"): np.zeros_like(basis, dtype=np.float32)}
-    for name in [*VISEME_NAMES, *EMOTIONS]:
-        if name == "neutral" or name not in files:
-            continue
-        shape = _read_obj_vertices(files[name])
-        if len(shape) != len(neutral):
-            raise HeadError(
-                f"{files[name]} has {len(shape)} vertices, Neutral.obj {len(neutral)}; they must match."
-            )
-        key_name = viseme_key_name(name) if name in VISEME_NAMES else emotion_key_name(name)
-        keys[key_name] = ((shape - neutral) * scale).astype(np.float32)
-    return keys
+    """TR_viseme_* deltas (and TR_emotion_*) from the thesis's homeomorphic OBJ models (obj_folder.py)."""
+    return obj_folder.obj_folder_keys(folder, mesh.rest_coordinates(head), head.name)
 
 
 # ---------------------------------------------------------------- building
@@ -373,10 +316,10 @@ def build_shape_keys(
         warnings = _hidden_face_warnings(head, parts, landmarks) if used_source != "arkit" else []
         key_sources = dict.fromkeys(planned[head.name], used_source)
     missing = (
-        () if used_source in ("obj_folder", "convention") else _missing_units(unit_sets.get(head.name, {}))
+        () if used_source in ("obj_folder", "convention") else missing_units(unit_sets.get(head.name, {}))
     )
     if missing:
-        warnings.append(_missing_units_warning(head.name, missing))
+        warnings.append(missing_units_warning(head.name, missing))
     _check_planned(objects, planned)
 
     for obj in objects:
@@ -502,10 +445,6 @@ def _plan_arkit_keys(objects, unit_sets, planned) -> None:
                 planned[obj.name][unit] = units.get(unit, zeros)
 
 
-def _missing_units(units: dict[str, np.ndarray]) -> tuple[str, ...]:
-    return tuple(unit for unit in ARKIT_UNITS if unit not in units)
-
-
 def _hidden_face_warnings(
     head: bpy.types.Object, parts: list[bpy.types.Object], landmarks: dict[str, np.ndarray] | None
 ) -> list[str]:
@@ -526,14 +465,6 @@ def _hidden_face_warnings(
         "clothing geometry?): renders will not show it speaking. Delete those pieces, or separate them "
         "(Edit Mode, Mesh > Separate > By Loose Parts) and hide them."
     ]
-
-
-def _missing_units_warning(head_name: str, missing: tuple[str, ...]) -> str:
-    shown = ", ".join(missing[:8]) + (f" and {len(missing) - 8} more" if len(missing) > 8 else "")
-    return (
-        f"{head_name!r} lacks {len(missing)} of the 52 ARKit units ({shown}); the visemes and emotions that "
-        "use them are weaker. Add those keys, or choose the transfer source to carry them over."
-    )
 
 
 def _check_planned(objects, planned) -> None:
