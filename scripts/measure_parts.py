@@ -29,7 +29,7 @@ from scripts.measure_transfer import reshape_face  # noqa: E402
 from tests.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync.core.faces.head_parts import find_parts  # noqa: E402
 from turkish_lipsync.core.faces.landmarks import find_landmarks  # noqa: E402
-from turkish_lipsync.core.faces.measure import displacement_cosine, edge_stretch  # noqa: E402
+from turkish_lipsync.core.faces.measure import displacement_cosine, edge_stretch, piece_motion  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
 from turkish_lipsync.core.faces.topology import edge_graph  # noqa: E402
 from turkish_lipsync.core.faces.transfer import transfer_units  # noqa: E402
@@ -153,18 +153,12 @@ def measure_head(head: joined_heads.KitHead) -> dict:
             "skin": displacement_cosine(ours[skin], truth[skin]),
             "stretch": edge_stretch(head.vertices, edges, ours),
             "truth_stretch": edge_stretch(head.vertices, edges, truth),
-            "parts": {},
         }
-        for part, indices in head.labels.items():
-            if part == "skin" or len(indices) == 0:
-                continue
+        labelled = {part: indices for part, indices in head.labels.items() if part != "skin" and len(indices)}
+        row["parts"] = piece_motion(labelled, ours, truth)
+        for part, indices in labelled.items():
             found, counts = np.unique(kinds[indices], return_counts=True)
-            row["parts"][part] = {
-                "share": float((truth[indices] ** 2).sum() / max((truth**2).sum(), 1e-300)),
-                "ours": float((ours[indices] ** 2).sum() / max((ours**2).sum(), 1e-300)),
-                "cosine": displacement_cosine(ours[indices], truth[indices]),
-                "found": str(found[np.argmax(counts)]),
-            }
+            row["parts"][part]["found"] = str(found[np.argmax(counts)])
         rows[key] = row
     return rows
 

@@ -8,6 +8,8 @@ made the same shape) how closely its displacement field points the artist's way.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 
 from .closest import nearest_vertices
@@ -145,3 +147,19 @@ class FaceMeasure:
 
     def symmetry(self, deltas: np.ndarray) -> float:
         return symmetry(self.vertices, self.upright(deltas), self.middle_x)
+
+
+def piece_motion(pieces: Mapping[str, np.ndarray], ours: np.ndarray, truth: np.ndarray | None = None) -> dict:
+    """Per piece (name -> vertex indices): its share of a key's motion (of the summed squared
+    displacements), and with a truth (an artist's key, or a known one) its share of that and the
+    cosine of the two."""
+    ours = np.asarray(ours, np.float64)
+    total = max(float((ours**2).sum()), 1e-300)
+    figures = {}
+    for name, indices in pieces.items():
+        row = {"ours": float((ours[indices] ** 2).sum()) / total}
+        if truth is not None:
+            row["share"] = float((truth[indices] ** 2).sum()) / max(float((truth**2).sum()), 1e-300)
+            row["cosine"] = displacement_cosine(ours[indices], truth[indices])
+        figures[name] = row
+    return figures
