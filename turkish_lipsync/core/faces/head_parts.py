@@ -24,7 +24,7 @@ import numpy as np
 from .closest import nearest_vertices
 from .depth import DepthMap
 from .landmarks import face_frame
-from .topology import connected_pieces, edge_graph, geodesic_distance, triangulate
+from .topology import connected_pieces, edge_graph, fit_sphere, geodesic_distance, triangulate
 
 # Vertices this close (a share of the mesh's size) are one place: pieces touching there are one.
 WELD_DISTANCE = 1e-6
@@ -302,18 +302,6 @@ def _on_the_eyeball(points: np.ndarray, ball: np.ndarray) -> str:
     if np.mean((reach > 0.85) & (reach < 1.2)) >= 0.7:
         return "eye_shell"
     return "lashes"
-
-
-def fit_sphere(points: np.ndarray) -> tuple[np.ndarray, float, float]:
-    """(centre, radius, RMS residual) of the sphere best through points (an algebraic least-squares fit:
-    |p|^2 = 2 p.c + (r^2 - |c|^2) is linear in the centre c and one more unknown)."""
-    points = np.asarray(points, np.float64)
-    design = np.hstack((2 * points, np.ones((len(points), 1))))
-    solution, *_ = np.linalg.lstsq(design, (points**2).sum(1), rcond=None)
-    centre = solution[:3]
-    radius = float(np.sqrt(max(solution[3] + centre @ centre, 0.0)))
-    residual = float(np.sqrt(np.mean((np.linalg.norm(points - centre, axis=1) - radius) ** 2)))
-    return centre, radius, residual
 
 
 def _hugs_a_ball(points: np.ndarray, eye_width: float) -> bool:

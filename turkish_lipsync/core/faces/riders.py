@@ -18,12 +18,14 @@ from __future__ import annotations
 import numpy as np
 
 from .closest import closest_points, nearest_vertices
-from .topology import edge_graph, nearest_seed, unique_pairs
+from .topology import edge_graph, nearest_seed, smooth_over_edges, unique_pairs
 
 # A piece's base: its vertices within this many eye widths of its nearest approach to the skin.
 BASE_TOLERANCE = 0.015
 # A vertex of a piece that is not rooted (not a lash) rides the skin itself where it lies this close.
 TOUCH = 0.06
+# Sweeps of neighbour averaging over a riding sheet's own edges.
+SHEET_SWEEPS = 10
 # A vertex this far along its piece from the skin it rides (eye widths) rides it fully, twice as far not
 # at all: a lash or a shell is carried whole, a garment hanging far from the face is not.
 ALONG_NEAR = 0.5
@@ -84,6 +86,14 @@ def carry_riders(
     neighbourhood = _two_rings(vertices, triangles, anchorable, distinct)
     offset = vertices[riders] - anchor_points
     around = np.unique(np.concatenate((neighbourhood[:, 1], corners.ravel())))
+    # Sheets that ride where they touch (shells, tear lines, brow cards) are smoothed over their own
+    # edges: neighbours riding different places (a shell's rim under the lid, the next row on the
+    # lining) would tear them.
+    sheets = riders[~rooted[piece_of]]
+    local = np.full(len(vertices), -1, np.int64)
+    local[sheets] = np.arange(len(sheets))
+    own = triangles[(local[triangles] >= 0).all(1)]
+    sheet_edges = local[edge_graph(len(vertices), own, vertices)[0]]
     for deltas in result.values():
         if not np.any(deltas[around]):
             continue
@@ -94,6 +104,9 @@ def carry_riders(
             turns[pivoting] = _turns_between(before, before + motion[pivoting])
         turned = np.einsum("nij,nj->ni", turns - np.eye(3), offset)
         deltas[riders] = fade[:, None] * (motion + turned)
+        if len(sheets):
+            movable = np.ones(len(sheets), bool)
+            deltas[sheets] = smooth_over_edges(deltas[sheets], sheet_edges, movable, SHEET_SWEEPS)
 
 
 def _closest_skin(vertices, triangles, anchorable, points, reach):

@@ -132,6 +132,18 @@ def round_pieces(vertices: np.ndarray, triangles: np.ndarray) -> np.ndarray:
     return round_label[labels[triangles[:, 0]]]
 
 
+def fit_sphere(points: np.ndarray) -> tuple[np.ndarray, float, float]:
+    """(centre, radius, RMS residual) of the sphere best through points (an algebraic least-squares fit:
+    |p|^2 = 2 p.c + (r^2 - |c|^2) is linear in the centre c and one more unknown)."""
+    points = np.asarray(points, np.float64)
+    design = np.hstack((2 * points, np.ones((len(points), 1))))
+    solution, *_ = np.linalg.lstsq(design, (points**2).sum(1), rcond=None)
+    centre = solution[:3]
+    radius = float(np.sqrt(max(solution[3] + centre @ centre, 0.0)))
+    residual = float(np.sqrt(np.mean((np.linalg.norm(points - centre, axis=1) - radius) ** 2)))
+    return centre, radius, residual
+
+
 def edge_graph(vertex_count: int, triangles: np.ndarray, vertices: np.ndarray):
     """(E, 2) unique edges and their lengths."""
     edges = np.concatenate((triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]))

@@ -17,7 +17,7 @@ import numpy as np
 
 from .carry import TransferJob, carry_by_closest_point, carry_rigidly
 from .closest import triangles_around
-from .head_parts import RIDER_KINDS, HeadParts, find_parts, fit_sphere
+from .head_parts import RIDER_KINDS, HeadParts, find_parts
 from .jaw import carry_mouth_pieces, follow_the_jaw
 from .landmarks import find_landmarks
 from .lids import (
@@ -32,7 +32,7 @@ from .lids import (
 from .parts import OPPOSITE_PART, PART_LABELS, FaceParts, find_face_parts
 from .registration import place_reference
 from .riders import carry_riders
-from .topology import edge_graph, triangulate
+from .topology import edge_graph, fit_sphere, triangulate
 
 # A lash or eye shell this close to the reference's own lashes (eye widths) takes their motion; from
 # OWN_LASHES[1] on it rides its own lids (a head's lashes are rarely where the reference's are).
