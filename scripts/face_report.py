@@ -279,6 +279,7 @@ def setup_scene(landmarks, tile: int, samples: int) -> tuple[bpy.types.Object, b
     camera_data = bpy.data.cameras.new("TR_FaceReportCamera")
     camera_data.type = "ORTHO"
     camera_data.ortho_scale = view
+    camera_data.clip_start = 0.01 * view  # the label bar rides close in front of a close-up's camera
     camera_data.clip_end = 100 * view
     camera = bpy.data.objects.new("TR_FaceReportCamera", camera_data)
     scene.collection.objects.link(camera)
@@ -398,6 +399,27 @@ def render_sheet(objects, landmarks, out: Path, tile: int, samples: int, shots, 
     print(f"wrote {out}")
 
 
+def kit_object(name: str) -> bpy.types.Object:
+    """A test head of scripts/measure_parts.py as one object, its known motion as its own keys (named as
+    our units, so the report compares with them)."""
+    from scripts.measure_parts import kit_heads
+
+    made = kit_heads([name])
+    if not made:
+        raise LipSyncError(f"No test head's name contains {name!r}; see scripts/measure_parts.py.")
+    kit = made[0]
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    obj = bpy.data.objects.new("KitHead", heads.mesh_from_arrays("KitHead", kit.vertices, kit.triangles))
+    bpy.context.scene.collection.objects.link(obj)
+    obj.shape_key_add(name="Basis", from_mix=False)
+    for key, deltas in kit.truth.items():
+        block = obj.shape_key_add(name=key, from_mix=False)
+        block.data.foreach_set("co", (kit.vertices + deltas).astype(np.float32).ravel())
+        block.value = 0.0
+    print(f"test head: {kit.name}")
+    return obj
+
+
 def face_report(
     head_path: Path | None,
     out_dir: Path,
@@ -407,9 +429,15 @@ def face_report(
     tile: int,
     samples: int,
     render: bool,
+    kit: str | None = None,
+    parts_only: bool = False,
 ) -> list[dict]:
+    """kit: a test head of scripts/measure_parts.py (by a part of its name) instead of a file, its known
+    motion as the artist's keys; parts_only: render the close-ups only."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    if head_path is None:
+    if kit is not None:
+        head = kit_object(kit)
+    elif head_path is None:
         head = heads.create_reference_head(bpy.context)["head"]
     else:
         imported = heads.import_head(head_path)
@@ -438,12 +466,14 @@ def face_report(
     print_parts(part_rows([head, *parts], landmarks, built_by_object, artist_by_object, millimetres))
     if render:
         out_dir.mkdir(parents=True, exist_ok=True)
-        stem = head_path.stem if head_path else "default_head"
+        stem = (
+            kit.replace(" ", "_").replace(",", "") if kit else head_path.stem if head_path else "default_head"
+        )
         objects = [head, *parts]
         shots = [(name, keys, "face") for name, keys in ROWS]
-        render_sheet(
-            objects, landmarks, out_dir / f"face_report_{stem}.png", tile, samples, shots, KEYS_PER_ROW
-        )
+        if not parts_only:
+            sheet = out_dir / f"face_report_{stem}.png"
+            render_sheet(objects, landmarks, sheet, tile, samples, shots, KEYS_PER_ROW)
         render_sheet(
             objects, landmarks, out_dir / f"face_report_{stem}_parts.png", tile, samples, CLOSE_UPS, 2
         )
@@ -466,6 +496,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--tile", type=int, default=200, help="pixels per picture")
     parser.add_argument("--samples", type=int, default=8, help="Cycles samples per picture")
     parser.add_argument("--no-render", action="store_true", help="print the figures only")
+    parser.add_argument("--kit", default=None, help="a test head of measure_parts.py (part of its name)")
+    parser.add_argument("--parts-only", action="store_true", help="render the parts' close-ups only")
     args = parser.parse_args(argv)
     try:
         face_report(
@@ -477,6 +509,8 @@ def main(argv: list[str] | None = None) -> int:
             args.tile,
             args.samples,
             not args.no_render,
+            kit=args.kit,
+            parts_only=args.parts_only,
         )
     except LipSyncError as error:
         print(f"face_report.py: error: {error}", file=sys.stderr)

@@ -11,6 +11,7 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from scripts.face_report import strip_keys, world_key_deltas  # noqa: E402
+from tests.blender.evaluated import evaluated_world  # noqa: E402
 from tests.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync.blender import heads, mesh, shapekeys  # noqa: E402
 from turkish_lipsync.core.faces.closest import nearest_vertices  # noqa: E402
@@ -210,16 +211,6 @@ def test_the_face_report_reads_millimetres_whatever_the_units():
         assert millimetres_per_unit(scaled) == pytest.approx(expected)
 
 
-def _evaluated_world(obj) -> np.ndarray:
-    depsgraph = bpy.context.evaluated_depsgraph_get()
-    evaluated = obj.evaluated_get(depsgraph)
-    shape = evaluated.to_mesh()
-    flat = np.empty(len(shape.vertices) * 3, np.float32)
-    shape.vertices.foreach_get("co", flat)
-    evaluated.to_mesh_clear()
-    return mesh.to_world(obj, flat.reshape(-1, 3)).astype(np.float64)
-
-
 def _set_keys(obj, values: dict[str, float]) -> None:
     for block in obj.data.shape_keys.key_blocks[1:]:
         block.value = values.get(block.name, 0.0)
@@ -258,9 +249,9 @@ def test_the_default_head_joined_into_one_mesh_closes_its_lashes_and_drops_its_l
     rest = mesh.world_rest_coordinates(head).astype(np.float64)
     reference = load_reference_head()
     _set_keys(head, {"eyeBlinkLeft": 1.0})
-    blink = _evaluated_world(head) - rest
+    blink = evaluated_world(head) - rest
     _set_keys(head, {"jawOpen": 1.0})
-    jaw = _evaluated_world(head) - rest
+    jaw = evaluated_world(head) - rest
     _set_keys(head, {})
     origin, axes = face_frame(landmarks)
     lashes = parts["left_eyelashes"]

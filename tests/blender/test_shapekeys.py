@@ -5,6 +5,7 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
+from tests.blender.evaluated import evaluated_world  # noqa: E402
 from tests.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync.blender import heads, owned_keys, shapekeys  # noqa: E402
 from turkish_lipsync.core.base.errors import HeadError  # noqa: E402
@@ -26,23 +27,12 @@ def default_head():
     return objects, report
 
 
-def _evaluated(obj):
-    depsgraph = bpy.context.evaluated_depsgraph_get()
-    evaluated = obj.evaluated_get(depsgraph)
-    mesh = evaluated.to_mesh()
-    flat = np.empty(len(mesh.vertices) * 3, np.float32)
-    mesh.vertices.foreach_get("co", flat)
-    evaluated.to_mesh_clear()
-    matrix = np.array(obj.matrix_world)
-    return flat.reshape(-1, 3) @ matrix[:3, :3].T + matrix[:3, 3]
-
-
 def _pose(objects, key):
     for obj in objects.values():
         for block in obj.data.shape_keys.key_blocks[1:]:
             block.value = 1.0 if block.name == key else 0.0
     bpy.context.view_layer.update()
-    return _evaluated(objects["head"]), _evaluated(objects["upper_teeth"])
+    return evaluated_world(objects["head"]), evaluated_world(objects["upper_teeth"])
 
 
 class Measures:
@@ -123,9 +113,9 @@ def test_open_and_rounded_vowels(default_head):
 def test_lower_teeth_follow_the_jaw(default_head):
     objects, _ = default_head
     _pose(objects, "")
-    rest = _evaluated(objects["lower_teeth"])
+    rest = evaluated_world(objects["lower_teeth"])
     _pose(objects, "TR_viseme_a")
-    assert (_evaluated(objects["lower_teeth"])[:, 2] - rest[:, 2]).mean() < -0.005
+    assert (evaluated_world(objects["lower_teeth"])[:, 2] - rest[:, 2]).mean() < -0.005
 
 
 def test_rebuild_keeps_the_users_keys_values_and_animation():
@@ -239,7 +229,7 @@ def test_a_fresh_build_rests_at_zero_so_the_face_stays_neutral():
     basis = np.array([v.co for v in objects["head"].data.shape_keys.reference_key.data])
     matrix = np.array(objects["head"].matrix_world)
     rest = basis @ matrix[:3, :3].T + matrix[:3, 3]
-    np.testing.assert_allclose(_evaluated(objects["head"]), rest, atol=1e-6)
+    np.testing.assert_allclose(evaluated_world(objects["head"]), rest, atol=1e-6)
 
 
 @pytest.fixture
@@ -279,6 +269,6 @@ def test_bilabials_close_under_every_emotion_with_its_mouth_release(fresh_defaul
                 for block in obj.data.shape_keys.key_blocks[1:]:
                     block.value = keys.get(block.name, 0.0)
             bpy.context.view_layer.update()
-            skin = _evaluated(objects["head"])
+            skin = evaluated_world(objects["head"])
             assert measures.lip_distance(skin) < 1e-3, (viseme, emotion)
             assert measures.lip_gap(skin) < 1e-3, (viseme, emotion)
