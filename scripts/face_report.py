@@ -26,7 +26,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from scripts.contact_sheet import _aim, _emission_material  # noqa: E402
-from turkish_lipsync.blender import heads, mesh, shapekeys  # noqa: E402
+from turkish_lipsync.blender import compat, heads, mesh, shapekeys  # noqa: E402
 from turkish_lipsync.blender.landmarks import read_landmark_markers, show_landmark_markers  # noqa: E402
 from turkish_lipsync.core.base.data import load_table  # noqa: E402
 from turkish_lipsync.core.base.errors import LipSyncError  # noqa: E402
@@ -363,6 +363,47 @@ def place_camera(camera: bpy.types.Object, landmarks, degrees: float, framing: s
     camera.matrix_world = Matrix.Translation(Vector(position.tolist())) @ rotation.to_4x4() @ scale
 
 
+# Colours of the pieces in the close-ups, for heads without materials of their own.
+PART_COLOURS = {
+    "skin": (0.8, 0.78, 0.75),
+    "eyeball": (0.95, 0.95, 0.95),
+    "cornea": (0.6, 0.7, 0.9),
+    "upper_teeth": (1.0, 0.97, 0.88),
+    "lower_teeth": (0.92, 0.85, 0.6),
+    "tongue": (0.85, 0.4, 0.45),
+    "mouth": (0.9, 0.6, 0.5),
+    "lashes": (0.05, 0.04, 0.04),
+    "eye_shell": (0.45, 0.55, 0.75),
+    "rider": (0.3, 0.6, 0.3),
+}
+
+
+def colour_the_parts(objects, landmarks) -> None:
+    """Paint each piece of the objects without materials by what the parts finder took it for."""
+    plain = [obj for obj in objects if not obj.data.materials]
+    if not plain:
+        return
+    vertices = np.concatenate([mesh.world_rest_coordinates(obj) for obj in plain]).astype(np.float64)
+    offsets = np.cumsum([0] + [len(obj.data.vertices) for obj in plain])
+    triangles = np.concatenate(
+        [mesh.triangles(obj) + offset for obj, offset in zip(plain, offsets, strict=False)]
+    )
+    colours = np.tile([*PART_COLOURS["skin"], 1.0], (len(vertices), 1))
+    for piece in find_parts(vertices, triangles, landmarks).pieces:
+        colours[piece.indices, :3] = PART_COLOURS[piece.kind]
+    material = bpy.data.materials.new("TR_FaceReportParts")
+    compat.enable_material_nodes(material)
+    nodes, links = material.node_tree.nodes, material.node_tree.links
+    attribute = nodes.new("ShaderNodeAttribute")
+    attribute.attribute_name = "TR_parts"
+    shader = next(node for node in nodes if node.type == "BSDF_PRINCIPLED")
+    links.new(attribute.outputs["Color"], shader.inputs["Base Color"])
+    for obj, start, stop in zip(plain, offsets[:-1], offsets[1:], strict=True):
+        layer = obj.data.color_attributes.new("TR_parts", "FLOAT_COLOR", "POINT")
+        layer.data.foreach_set("color", colours[start:stop].astype(np.float32).ravel())
+        obj.data.materials.append(material)
+
+
 def render_sheet(objects, landmarks, out: Path, tile: int, samples: int, shots, per_row: int) -> None:
     """One PNG of shots (label, keys set to 1, framing), each from the front and three-quarter."""
     camera, label = setup_scene(landmarks, tile, samples)
@@ -474,6 +515,7 @@ def face_report(
         if not parts_only:
             sheet = out_dir / f"face_report_{stem}.png"
             render_sheet(objects, landmarks, sheet, tile, samples, shots, KEYS_PER_ROW)
+        colour_the_parts(objects, landmarks)
         render_sheet(
             objects, landmarks, out_dir / f"face_report_{stem}_parts.png", tile, samples, CLOSE_UPS, 2
         )

@@ -201,3 +201,34 @@ def _turns_between(first: np.ndarray, second: np.ndarray) -> np.ndarray:
     turns = np.eye(3) + sine[:, None, None] * cross + (1 - cosine)[:, None, None] * cross @ cross
     turns[sine < 1e-12] = np.eye(3)
     return turns
+
+
+def keep_under_the_skin(
+    result: dict[str, np.ndarray],
+    vertices: np.ndarray,
+    shell: np.ndarray,
+    skin: np.ndarray,
+    centre,
+    gap: float,
+) -> None:
+    """Hold a shell over an eyeball (an occlusion shell, a tear line) behind the skin that covers it: a
+    shell vertex that a key carries out past the moved skin in its direction from the eyeball's centre
+    is drawn back to `gap` under it. Riding its nearer lid, a shell's middle otherwise came out in front
+    of the closed lid (seen in the close-ups)."""
+    if len(shell) == 0 or len(skin) == 0:
+        return
+    for deltas in result.values():
+        if not np.any(deltas[shell]):
+            continue
+        moved_shell = vertices[shell] + deltas[shell] - centre
+        moved_skin = vertices[skin] + deltas[skin] - centre
+        shell_reach = np.linalg.norm(moved_shell, axis=1)
+        skin_reach = np.linalg.norm(moved_skin, axis=1)
+        directions = moved_shell / np.maximum(shell_reach, 1e-300)[:, None]
+        nearest, _ = nearest_vertices(directions, moved_skin / np.maximum(skin_reach, 1e-300)[:, None], 0.1)
+        covered = nearest >= 0
+        limit = np.where(covered, skin_reach[np.maximum(nearest, 0)] - gap, np.inf)
+        out = covered & (shell_reach > limit)
+        if out.any():
+            pulled = directions[out] * limit[out, None] + centre
+            deltas[shell[out]] = pulled - vertices[shell[out]]

@@ -31,12 +31,16 @@ from .lids import (
 )
 from .parts import OPPOSITE_PART, PART_LABELS, FaceParts, find_face_parts
 from .registration import place_reference
-from .riders import carry_riders
+from .riders import carry_riders, keep_under_the_skin
 from .topology import edge_graph, fit_sphere, triangulate
 
 # A lash or eye shell this close to the reference's own lashes (eye widths) takes their motion; from
 # OWN_LASHES[1] on it rides its own lids (a head's lashes are rarely where the reference's are).
 OWN_LASHES = (0.02, 0.06)
+
+
+# An eye's shell is held this far (eye widths) under the moved skin that covers it.
+SHELL_GAP = 0.01
 
 
 @functools.lru_cache(maxsize=4)
@@ -84,13 +88,7 @@ def transfer_units(
     result = {name: np.zeros_like(target_vertices) for name in job.units}
     _, anchorable = _carry_the_skin(job, result, target_parts.skin)
     _carry_the_parts(job, result, target_parts)
-    riders = [piece for piece in target_parts.pieces if piece.kind in RIDER_KINDS]
-    pivots = [_eye_centres(job, target_parts).get(piece.side) for piece in riders]
-    indices = [piece.indices for piece in riders]
-    rooted = [piece.kind == "lashes" for piece in riders]
-    carry_riders(
-        result, target_vertices, target_triangles, indices, anchorable, job.eye_width(), pivots, rooted
-    )
+    _carry_the_riders(job, result, target_parts, anchorable)
     _take_the_reference_lashes(job, result, target_parts)
     return result
 
@@ -159,6 +157,28 @@ def _carry_the_parts(job: TransferJob, result, parts: HeadParts) -> None:
     if len(tongue) and "tongue" in reference.parts:
         carry_by_closest_point(job, result, tongue, reference.parts["tongue"], None)
     carry_mouth_pieces(job, result, [piece.indices for piece in parts.pieces if piece.kind == "mouth"])
+
+
+def _carry_the_riders(job: TransferJob, result, parts: HeadParts, anchorable: np.ndarray) -> None:
+    """Lashes, shells and cards ride the skin they touch (an eye's turning about its eyeball); an eye's
+    shells stay under the lids."""
+    riders = [piece for piece in parts.pieces if piece.kind in RIDER_KINDS]
+    centres = _eye_centres(job, parts)
+    eye_width = job.eye_width()
+    carry_riders(
+        result,
+        job.vertices,
+        job.triangles,
+        [piece.indices for piece in riders],
+        anchorable,
+        eye_width,
+        [centres.get(piece.side) for piece in riders],
+        [piece.kind == "lashes" for piece in riders],
+    )
+    for side, centre in centres.items():
+        near = anchorable[np.linalg.norm(job.vertices[anchorable] - centre, axis=1) < 1.5 * eye_width]
+        shells = parts.indices("eye_shell", side=side)
+        keep_under_the_skin(result, job.vertices, shells, near, centre, SHELL_GAP * eye_width)
 
 
 def _eye_centres(job: TransferJob, parts: HeadParts) -> dict[str, np.ndarray]:
