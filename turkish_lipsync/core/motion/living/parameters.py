@@ -1,0 +1,49 @@
+"""The validated contents of shapekeys/living.toml (read once per process)."""
+
+from __future__ import annotations
+
+import math
+from functools import cache
+
+from ...base.data import DATA_DIR, load_table, require
+from ...base.errors import DataError
+from ...base.model import EMOTIONS
+
+TABLE = "living"
+SECTIONS = ("gaze", "blinks", "head", "brows", "expression")
+SHARES = {"cardinal_share", "phrase_pull_share", "close_share", "hold_share", "blink_suppress_closure"}
+SHARES |= {"gaze_shift_share", "depth", "loudness"}
+
+
+def _number(section: dict, key: str, where: str) -> float:
+    value = section.get(key)
+    high = 1.0 if key in SHARES else math.inf
+    if isinstance(value, bool) or not isinstance(value, int | float) or not 0.0 <= value <= high:
+        raise DataError(
+            f"data file {DATA_DIR / (TABLE + '.toml')}: [{where}] {key} must be a number in [0, {high}], "
+            f"got {value!r}; fix the entry or reinstall the extension"
+        )
+    return float(value)
+
+
+@cache
+def living_parameters() -> dict[str, dict[str, float]]:
+    """Section -> {name: number}; blinks also has "eye_closure": {emotion: share}."""
+    table = load_table(TABLE)
+    result: dict[str, dict] = {}
+    for name in SECTIONS:
+        section = require(table, name, dict, TABLE)
+        result[name] = {
+            key: _number(section, key, name) for key, value in section.items() if not isinstance(value, dict)
+        }
+    closure = require(table["blinks"], "eye_closure", dict, TABLE)
+    unknown = sorted(set(closure) - set(EMOTIONS))
+    if unknown:
+        raise DataError(f"data file {DATA_DIR / 'living.toml'}: [blinks.eye_closure] names unknown {unknown}")
+    result["blinks"]["eye_closure"] = {e: _number(closure, e, "blinks.eye_closure") for e in closure}
+    blinks = result["blinks"]
+    if blinks["close_share"] + blinks["hold_share"] >= 1.0:
+        raise DataError(
+            f"data file {DATA_DIR / 'living.toml'}: [blinks] close_share + hold_share must stay below 1"
+        )
+    return result

@@ -1,0 +1,173 @@
+"""Where the speech pauses, where its phrases begin and end, and which syllables carry a pitch accent.
+
+With audio (synthesised or the user's recording) the pauses are the audio's own silences and the accents
+are the syllables whose pitch stands out of their phrase; table timing has no audio, so the pauses come
+from the timeline's gaps and the accents from Turkish word stress (most words stress their last syllable;
+emphasised words always).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...base.model import Timeline
+from .prosody import Prosody
+
+MIN_PAUSE = 0.18  # seconds of silence that count as a pause (stop closures are shorter)
+MIN_GAP = 0.15  # seconds between phones that count as a pause when there is no audio
+ACCENT_RISE = 1.0  # semitones a syllable's pitch must rise above its phrase's median to be accented
+ACCENT_FULL = 4.0  # semitones of rise that make an accent full strength
+STRESS_STRENGTH = 0.45  # accent strength of a word's stressed syllable read from the text alone
+
+
+@dataclass(frozen=True)
+class Accent:
+    time: float  # seconds: the syllable's pitch peak (its middle without audio)
+    strength: float  # 0..1
+    rise: float  # semitones above the phrase's median (0 without audio)
+
+
+@dataclass(frozen=True, eq=False)
+class SpeechStructure:
+    """The speech's pauses, phrases and accents, and its prosody where there is audio."""
+
+    duration: float
+    pauses: tuple[tuple[float, float], ...]  # (start, end) seconds, leading and trailing silence included
+    phrases: tuple[tuple[float, float], ...]  # (start, end) seconds of speech between pauses
+    accents: tuple[Accent, ...]
+    prosody: Prosody | None
+
+    def in_pause(self, times: np.ndarray, margin: float = 0.0) -> np.ndarray:
+        times = np.asarray(times, np.float64)
+        inside = np.zeros(times.shape, bool)
+        for start, end in self.pauses:
+            inside |= (times >= start - margin) & (times <= end + margin)
+        return inside
+
+    def pause_length_at(self, times: np.ndarray) -> np.ndarray:
+        """Seconds of the pause each time falls in (0 while speaking)."""
+        times = np.asarray(times, np.float64)
+        length = np.zeros(times.shape)
+        for start, end in self.pauses:
+            length[(times >= start) & (times <= end)] = end - start
+        return length
+
+
+def speech_structure(timeline: Timeline, prosody: Prosody | None) -> SpeechStructure:
+    duration = timeline.duration
+    if prosody is not None and np.isfinite(prosody.f0).any():
+        pauses = _audio_pauses(prosody, duration)
+    else:
+        prosody = None if prosody is None or not (~prosody.silent()).any() else prosody
+        pauses = _audio_pauses(prosody, duration) if prosody is not None else _timeline_pauses(timeline)
+    phrases = _phrases(pauses, duration)
+    syllables = _syllable_spans(timeline)
+    if prosody is not None and np.isfinite(prosody.f0).any():
+        accents = _pitch_accents(syllables, phrases, prosody)
+    else:
+        accents = _stress_accents(syllables, timeline)
+    return SpeechStructure(duration, tuple(pauses), tuple(phrases), tuple(accents), prosody)
+
+
+def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """(first, last + 1) of every run of True."""
+    edges = np.diff(np.concatenate([[0], mask.astype(np.int8), [0]]))
+    return list(zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1), strict=True))
+
+
+def _audio_pauses(prosody: Prosody, duration: float) -> list[tuple[float, float]]:
+    silent = prosody.silent()
+    pauses = []
+    for first, last in _runs(silent):
+        start, end = first / prosody.rate, min(last / prosody.rate, duration)
+        at_edge = first == 0 or last >= silent.size
+        if end - start >= MIN_PAUSE or (at_edge and end > start):
+            pauses.append((start, end))
+    if silent.size / prosody.rate < duration:  # the timeline's final pause outlasts the audio
+        tail = silent.size / prosody.rate
+        if pauses and abs(pauses[-1][1] - tail) < 1e-6:
+            pauses[-1] = (pauses[-1][0], duration)
+        else:
+            pauses.append((tail, duration))
+    return pauses
+
+
+def _timeline_pauses(timeline: Timeline) -> list[tuple[float, float]]:
+    phones = sorted(timeline.phones, key=lambda p: p.start)
+    if not phones:
+        return [(0.0, timeline.duration)]
+    pauses = [(0.0, phones[0].start)] if phones[0].start > 0 else []
+    reached = phones[0].end
+    for phone in phones[1:]:
+        if phone.start - reached >= MIN_GAP:
+            pauses.append((reached, phone.start))
+        reached = max(reached, phone.end)
+    if timeline.duration > reached:
+        pauses.append((reached, timeline.duration))
+    return pauses
+
+
+def _phrases(pauses: list[tuple[float, float]], duration: float) -> list[tuple[float, float]]:
+    phrases, cursor = [], 0.0
+    for start, end in pauses:
+        if start - cursor > 0.05:
+            phrases.append((cursor, start))
+        cursor = max(cursor, end)
+    if duration - cursor > 0.05:
+        phrases.append((cursor, duration))
+    return phrases
+
+
+def _syllable_spans(timeline: Timeline) -> list[tuple[float, float, int, bool]]:
+    """(start, end, word index, is the word's last syllable) of each spoken syllable, in order."""
+    spans: list[list] = []
+    for phone in sorted(timeline.phones, key=lambda p: p.start):
+        key = (phone.word_index, phone.syllable)
+        if spans and spans[-1][4] == key and phone.start - spans[-1][1] < 0.1:
+            spans[-1][1] = max(spans[-1][1], phone.end)
+        else:
+            spans.append([phone.start, phone.end, phone.word_index, False, key])
+    for index, span in enumerate(spans):
+        span[3] = index + 1 == len(spans) or spans[index + 1][2] != span[2]
+    return [(s[0], s[1], s[2], s[3]) for s in spans]
+
+
+def _pitch_accents(syllables, phrases, prosody: Prosody) -> list[Accent]:
+    semitones = prosody.semitones()
+    times = prosody.times
+    peaks = []
+    for start, end, _word, _last in syllables:
+        inside = (times >= start) & (times < max(end, start + 1 / prosody.rate)) & np.isfinite(semitones)
+        if not inside.any():
+            peaks.append((np.nan, (start + end) / 2))
+            continue
+        index = np.flatnonzero(inside)[np.argmax(semitones[inside])]
+        peaks.append((float(semitones[index]), float(times[index])))
+    accents = []
+    for index, (peak, time) in enumerate(peaks):
+        if not np.isfinite(peak):
+            continue
+        phrase = next(((s, e) for s, e in phrases if s - 0.05 <= time <= e + 0.05), None)
+        if phrase is None:
+            continue
+        within = (times >= phrase[0]) & (times <= phrase[1]) & np.isfinite(semitones)
+        baseline = float(np.median(semitones[within]))
+        rise = peak - baseline
+        neighbours = [p for p, _t in peaks[max(0, index - 1) : index + 2] if np.isfinite(p)]
+        if rise >= ACCENT_RISE and peak >= max(neighbours):
+            strength = float(np.clip(rise / ACCENT_FULL, 0.0, 1.0))
+            accents.append(Accent(time, strength, float(rise)))
+    return accents
+
+
+def _stress_accents(syllables, timeline: Timeline) -> list[Accent]:
+    emphasised = timeline.emphases
+    accents = []
+    for start, end, _word, last in syllables:
+        middle = (start + end) / 2
+        strong = any(s <= middle <= e for s, e in emphasised)
+        if last or strong:
+            accents.append(Accent(middle, 1.0 if strong else STRESS_STRENGTH, 0.0))
+    return accents
