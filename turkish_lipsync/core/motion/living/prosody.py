@@ -14,7 +14,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-
 ANALYSIS_RATE = 2000  # Hz: the voice's first harmonics, which carry its periodicity
 FRAME_RATE = 50.0  # analysis frames per second: syllables last 100-250 ms, the head follows slower
 WINDOW_SECONDS = 0.030  # integration window: two periods of the lowest voice
