@@ -18,7 +18,7 @@ import bpy
 from ..core.base.errors import HeadError, TextError
 from ..core.base.model import OWNED_PREFIX, Timeline, Utterance, WeightTracks
 from ..core.pipeline import LipSyncOptions, lip_sync
-from . import compat, heads, keyframes, render, sequencer, shapekeys
+from . import compat, heads, keyframes, living, render, sequencer, shapekeys
 from .shapekeys import BuildReport
 
 Progress = Callable[[float, str], None]
@@ -162,10 +162,13 @@ def generate(
     start_frame: int | None = None,
     package: str | None = None,
     progress: Progress | None = None,
+    gaze_target: str = "",
 ) -> GenerateResult:
-    """Speak source on head: F-curves on its TR_* keys, the speech strip, the frame range.
+    """Speak source on head: F-curves on its TR_* keys, its head and eyes turned, the speech strip, the
+    frame range.
 
-    options are the core's (timing, motion, rate, ...); their frame rate is replaced by the scene's.
+    options are the core's (timing, motion, rate, ...); their frame rate is replaced by the scene's and
+    their gaze set-up by the head's eyes and the target (gaze_target names an object; else the camera).
     """
     progress = progress or _no_progress
     scene = context.scene
@@ -177,8 +180,11 @@ def generate(
     fps = sequencer.scene_fps(scene)
     start = scene.frame_start if start_frame is None else int(start_frame)
 
+    objects = head_objects(head)
+    rig, target = living.rig_and_target(context, head, objects, gaze_target)
+    options = dataclasses.replace(options or LipSyncOptions(), fps=fps, gaze_setup=rig.gaze_setup(target))
     progress(0.05, "Reading the text and speaking it")
-    spoken = lip_sync(source, dataclasses.replace(options or LipSyncOptions(), fps=fps))
+    spoken = lip_sync(source, options)
     timeline, synthesis, tracks = spoken.timeline, spoken.synthesis, spoken.tracks
     action_name = action_name_for(spoken.utterance)
     wav_path = None
@@ -191,7 +197,9 @@ def generate(
 
     # From here on Blender data changes; nothing below raises LipSyncError for bad input.
     progress(0.6, f"Keying {len(tracks.tracks)} shape-key tracks")
-    written = keyframes.write_weight_tracks(head_objects(head), tracks, start, action_name)
+    written = keyframes.write_weight_tracks(objects, tracks, start, action_name)
+    progress(0.8, "Turning the head and eyes")
+    moved = living.key_living_motion(context, rig, tracks, start)
     progress(0.85, "Placing the speech in the sequencer")
     strip_name = None
     frame_count = sequencer.frame_count_for(timeline.duration, fps)
@@ -215,7 +223,7 @@ def generate(
         fps=fps,
         timeline=timeline,
         tracks=tracks,
-        warnings=spoken.warnings,
+        warnings=spoken.warnings + moved.warnings,
     )
 
 

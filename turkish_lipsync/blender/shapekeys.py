@@ -31,6 +31,7 @@ from ..core.faces.landmarks import connected_pieces, find_landmarks, hidden_face
 from ..core.faces.recipes import VISEME_NAMES, key_deltas, load_recipes
 from ..core.faces.reference import ReferenceHead, load_reference_head
 from . import mesh
+from .eye_keys import plan_look_keys
 from .heads import find_head_parts, reference_part_of
 from .landmarks import read_landmark_markers
 
@@ -367,6 +368,9 @@ def build_shape_keys(
             _plan_arkit_keys(objects, unit_sets, planned)
         warnings = _hidden_face_warnings(head, parts, landmarks) if used_source != "arkit" else []
         key_sources = dict.fromkeys(planned[head.name], used_source)
+    looks = plan_look_keys(head, parts, planned, unit_sets, own_key_names(head))
+    key_sources.update(looks.sources)
+    warnings.extend(looks.warnings)
     missing = (
         () if used_source in ("obj_folder", "convention") else _missing_units(unit_sets.get(head.name, {}))
     )

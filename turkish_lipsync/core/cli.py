@@ -7,6 +7,8 @@ import json
 import sys
 from pathlib import Path
 
+import numpy as np
+
 from .base.errors import LipSyncError
 from .base.model import Timeline, WeightTracks
 from .pipeline import (
@@ -230,7 +232,9 @@ def timeline_as_dict(timeline: Timeline, fps: float) -> dict:
 
 
 def tracks_as_dict(tracks: WeightTracks) -> dict:
-    """The weight tracks as Blender keys them: frames from 0 (the scene's start frame) and weights."""
+    """The weight tracks as Blender keys them: frames from 0 (the scene's start frame) and weights; and the
+    head's and eyes' rotations at every frame (degrees, HeadAndEyes' conventions), null when off."""
+    motion = tracks.head_and_eyes
     return {
         "fps": tracks.fps,
         "frame_count": tracks.frame_count,
@@ -239,6 +243,15 @@ def tracks_as_dict(tracks: WeightTracks) -> dict:
         "keys": {
             track.name: {"frames": track.frames.tolist(), "values": track.values.tolist()}
             for track in tracks.tracks
+        },
+        "head_and_eyes": None
+        if motion is None
+        else {
+            "units": "degrees per frame; head yaw, pitch, roll; eyes yaw, pitch relative to the head; yaw + "
+            "toward the character's left, pitch + up, roll + toward its right shoulder",
+            "head": np.round(motion.head, 4).tolist(),
+            "left_eye": np.round(motion.left_eye[:, :2], 4).tolist(),
+            "right_eye": np.round(motion.right_eye[:, :2], 4).tolist(),
         },
     }
 

@@ -51,3 +51,40 @@ def shape_runs(labels: np.ndarray) -> list[tuple[int, int, int]]:
 def sampled_weights(tracks: WeightTracks) -> tuple[tuple[str, ...], np.ndarray]:
     """Every track's weight at the integer frames 0 .. frame_count - 1."""
     return tracks.sample(np.arange(tracks.frame_count, dtype=np.float64))
+
+
+def decimated_keys(values: np.ndarray, tolerance: float, passes: int = 4) -> np.ndarray:
+    """Indices of the frames to key so that linear interpolation between them stays within tolerance of
+    every frame's value (smooth motion needs a key every few frames, a saccade every one); first and last
+    always kept. Each pass drops every other key whose value its neighbours reproduce."""
+    values = np.asarray(values, np.float64)
+    keep = np.arange(values.size)
+    for _ in range(passes):
+        if keep.size <= 2:
+            break
+        candidates = np.arange(1, keep.size - 1, 2)
+        before, here, after = keep[candidates - 1], keep[candidates], keep[candidates + 1]
+        share = (here - before) / (after - before)
+        between = values[before] + (values[after] - values[before]) * share
+        # The frames between the outer keys must also stay close once the middle key is gone.
+        fits = np.abs(values[here] - between) <= tolerance
+        fits &= _spans_fit(values, before, after, tolerance)
+        if not fits.any():
+            break
+        drop = np.zeros(keep.size, bool)
+        drop[candidates[fits]] = True
+        keep = keep[~drop]
+    return keep
+
+
+def _spans_fit(values: np.ndarray, first: np.ndarray, last: np.ndarray, tolerance: float) -> np.ndarray:
+    """For each span first..last, whether the line between its ends stays within tolerance of every frame."""
+    lengths = last - first + 1
+    owner = np.repeat(np.arange(first.size), lengths)
+    frames = np.repeat(first, lengths) + (
+        np.arange(owner.size) - np.repeat(np.cumsum(lengths) - lengths, lengths)
+    )
+    share = (frames - first[owner]) / np.maximum(last[owner] - first[owner], 1)
+    line = values[first[owner]] + (values[last[owner]] - values[first[owner]]) * share
+    error = np.abs(values[frames] - line) > tolerance
+    return ~np.bincount(owner, weights=error, minlength=first.size).astype(bool)

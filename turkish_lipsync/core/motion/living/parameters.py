@@ -10,7 +10,7 @@ from ...base.errors import DataError
 from ...base.model import EMOTIONS
 
 TABLE = "living"
-SECTIONS = ("gaze", "blinks", "head", "brows", "expression")
+SECTIONS = ("gaze", "blinks", "head", "brows", "expression", "eyes")
 SHARES = {"cardinal_share", "phrase_pull_share", "close_share", "hold_share", "blink_suppress_closure"}
 SHARES |= {"gaze_shift_share", "depth", "loudness"}
 
@@ -28,7 +28,7 @@ def _number(section: dict, key: str, where: str) -> float:
 
 @cache
 def living_parameters() -> dict[str, dict[str, float]]:
-    """Section -> {name: number}; blinks also has "eye_closure": {emotion: share}."""
+    """Section -> {name: number}; blinks also has "eye_closure": {emotion: share}, eyes "arkit_degrees"."""
     table = load_table(TABLE)
     result: dict[str, dict] = {}
     for name in SECTIONS:
@@ -41,6 +41,10 @@ def living_parameters() -> dict[str, dict[str, float]]:
     if unknown:
         raise DataError(f"data file {DATA_DIR / 'living.toml'}: [blinks.eye_closure] names unknown {unknown}")
     result["blinks"]["eye_closure"] = {e: _number(closure, e, "blinks.eye_closure") for e in closure}
+    arkit = require(table["eyes"], "arkit_degrees", dict, TABLE)
+    result["eyes"]["arkit_degrees"] = {
+        w: _number(arkit, w, "eyes.arkit_degrees") for w in ("out", "in", "up", "down")
+    }
     blinks = result["blinks"]
     if blinks["close_share"] + blinks["hold_share"] >= 1.0:
         raise DataError(
