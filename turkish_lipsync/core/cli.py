@@ -247,11 +247,11 @@ def tracks_as_dict(tracks: WeightTracks) -> dict:
         "head_and_eyes": None
         if motion is None
         else {
-            "units": "degrees per frame; head yaw, pitch, roll; eyes yaw, pitch relative to the head; yaw + "
-            "toward the character's left, pitch + up, roll + toward its right shoulder",
+            "units": "degrees per frame; yaw, pitch, roll of the head, and of each eye relative to the head; "
+            "yaw + toward the character's left, pitch + up, roll + toward its right shoulder",
             "head": np.round(motion.head, 4).tolist(),
-            "left_eye": np.round(motion.left_eye[:, :2], 4).tolist(),
-            "right_eye": np.round(motion.right_eye[:, :2], 4).tolist(),
+            "left_eye": np.round(motion.left_eye, 4).tolist(),
+            "right_eye": np.round(motion.right_eye, 4).tolist(),
         },
     }
 

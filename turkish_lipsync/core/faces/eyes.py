@@ -46,7 +46,7 @@ class Ball:
 
 
 def sphere_fit(points: np.ndarray) -> tuple[np.ndarray, float, float]:
-    """(centre, radius, largest distance from the sphere as a share of the radius) of a least-squares sphere."""
+    """(centre, radius, largest distance from it as a share of the radius) of a least-squares sphere."""
     points = np.asarray(points, np.float64)
     system = np.column_stack([2 * points, np.ones(len(points))])
     solution, *_ = np.linalg.lstsq(system, (points**2).sum(axis=1), rcond=None)

@@ -89,8 +89,9 @@ def rotation_columns(tracks: WeightTracks) -> np.ndarray:
     if motion is not None:
         count = min(tracks.frame_count, len(motion.head))
         rotations[:count, 0:3] = motion.head[:count]
-        rotations[:count, 3:5] = motion.left_eye[:count, :2]
-        rotations[:count, 6:8] = motion.right_eye[:count, :2]
+        eyes = motion.left_eye.shape[1]
+        rotations[:count, 3 : 3 + eyes] = motion.left_eye[:count]
+        rotations[:count, 6 : 6 + eyes] = motion.right_eye[:count]
     return rotations / 180.0
 
 

@@ -53,7 +53,8 @@ def place_blinks(
             np.clip(rng.gamma(shape, mean / shape), settings["min_interval"], settings["max_interval"])
         )
         upcoming = next((t for t in times if t > last + settings["min_gap"]), None)
-        if upcoming is not None and upcoming <= due + settings["pause_pull"]:
+        reachable = min(due + settings["pause_pull"], last + settings["max_interval"])
+        if upcoming is not None and upcoming <= reachable:
             when = upcoming  # a large gaze shift's own blink comes first
         else:
             reach = (candidates >= max(last + settings["min_interval"], due - settings["pause_pull"])) & (

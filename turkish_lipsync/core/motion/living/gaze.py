@@ -29,6 +29,7 @@ class GazeSetup:
     eye_separation: float = 0.063  # metres between the eyes' centres
     eyes_above_pivot: float = 0.075  # metres from the head's pivot (the top of the neck) up to the eyes
     eyes_before_pivot: float = 0.085  # ... and forward
+    counter_roll: float = 0.15  # share of the head's roll the eyes roll back (ocular counter-roll, 0.1-0.2)
 
     def eye_positions(self) -> np.ndarray:
         """(2, 3) left and right eye centres relative to the pivot."""
@@ -187,10 +188,12 @@ def eye_angles(
     )
     fixation = middle + setup.target_distance * fixation_direction
     rotations = head_matrices(head)
+    # The eyes roll a little against the head's tilt (ocular counter-roll).
+    roll = -setup.counter_roll * head[:, 2:3]
     result = []
     for eye in eyes:
         placed = rotations @ eye
         looking = fixation - placed
         in_head = np.einsum("nji,nj->ni", rotations, looking)
-        result.append(angles_of(in_head))
+        result.append(np.hstack([angles_of(in_head), roll]))
     return result[0], result[1], fixation_direction

@@ -65,7 +65,8 @@ def saccades(gaze: np.ndarray, fps: float) -> list[tuple[int, int, float]]:
 
 def blinks(closure: np.ndarray, fps: float) -> list[dict]:
     """Each blink in a closure signal (0 open .. 1 shut): when it starts closing, how long it takes to shut
-    and to open again (seconds, from BLINK_OPEN to BLINK_CLOSED and back)."""
+    and to open again (seconds, from 10 % to 90 % of its travel and back). The lids may rest lower while the
+    eyes look down, so each blink's travel is measured from where its rise begins."""
     shut = closure >= BLINK_CLOSED
     found = []
     index = 0
@@ -76,22 +77,29 @@ def blinks(closure: np.ndarray, fps: float) -> list[dict]:
         last = index
         while last + 1 < shut.size and shut[last + 1]:
             last += 1
-        start = index
-        while start > 0 and closure[start - 1] > BLINK_OPEN:
-            start -= 1
-        end = last
-        while end + 1 < closure.size and closure[end + 1] > BLINK_OPEN:
-            end += 1
-        opened_at = min(end + 1, closure.size - 1)
-        began = max(start - 1, 0)
+        peak = float(closure[index : last + 1].max())
+        rise = index
+        while rise > 0 and closure[rise - 1] < closure[rise]:
+            rise -= 1
+        fall = last
+        while fall + 1 < closure.size and closure[fall + 1] < closure[fall]:
+            fall += 1
+        before, after = closure[rise], closure[fall]
+        closing_from = rise + np.argmax(closure[rise : index + 1] > before + BLINK_OPEN * (peak - before))
+        closed_at = rise + np.argmax(closure[rise : index + 1] >= before + BLINK_CLOSED * (peak - before))
+        opening_from = last - np.argmax(
+            closure[last : rise - 1 : -1] >= after + BLINK_CLOSED * (peak - after)
+        )
+        tail = closure[last : fall + 1] <= after + BLINK_OPEN * (peak - after)
+        opened_at = last + (np.argmax(tail) if tail.any() else fall - last)
         found.append(
             {
-                "start": began / fps,
-                "closing": (index - began) / fps,
-                "opening": (opened_at - last) / fps,
+                "start": (closing_from - 1) / fps,
+                "closing": max(closed_at - closing_from + 1, 1) / fps,
+                "opening": max(opened_at - opening_from, 1) / fps,
             }
         )
-        index = end + 1
+        index = max(fall, last) + 1
     return found
 
 

@@ -15,9 +15,11 @@ def head_matrices(angles: np.ndarray) -> np.ndarray:
 
 
 def eye_matrices(angles: np.ndarray) -> np.ndarray:
-    """(N, 3, 3) rotations of eyes from (N, 2) yaw, pitch in degrees (yaw then pitch)."""
-    yaw, pitch = np.radians(np.asarray(angles, np.float64)[:, :2]).T
-    return _about_y(yaw) @ _about_x(-pitch)
+    """(N, 3, 3) rotations of eyes from (N, 2 or 3) yaw, pitch (, roll) in degrees, applied in that order."""
+    angles = np.asarray(angles, np.float64)
+    yaw, pitch = np.radians(angles[:, :2]).T
+    roll = np.radians(angles[:, 2]) if angles.shape[1] > 2 else np.zeros(len(angles))
+    return _about_y(yaw) @ _about_x(-pitch) @ _about_z(roll)
 
 
 def direction(yaw: np.ndarray, pitch: np.ndarray) -> np.ndarray:
