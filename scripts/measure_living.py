@@ -13,6 +13,7 @@ figure of issue 19's "Done when" with its range.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import sys
 import tempfile
@@ -24,7 +25,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from turkish_lipsync.blender import eye_keys, heads, living, mesh, pipeline, render  # noqa: E402
+from turkish_lipsync.blender import compat, eye_keys, heads, living, mesh, pipeline, render  # noqa: E402
 from turkish_lipsync.blender.living_rig import find_rig  # noqa: E402
 from turkish_lipsync.core.base.model import BLINK_KEYS, OWNED_PREFIX  # noqa: E402
 from turkish_lipsync.core.faces.eyes import own_look_keys, sphere_fit  # noqa: E402
@@ -97,15 +98,17 @@ def _probes(rig, head: bpy.types.Object) -> dict[str, tuple[str, np.ndarray]]:
 
 
 def _skull(head: bpy.types.Object) -> np.ndarray:
-    """Head vertices none of our keys moves (the back and top of the head)."""
+    """Head vertices our keys move least (the back and top of the head): under 2 % of the most any key
+    moves, else the least-moved third."""
     keys = head.data.shape_keys
     count = len(head.data.vertices)
     rest = mesh.read_coordinates(keys.reference_key.data, count)
-    still = np.ones(count, bool)
+    moved = np.zeros(count)
     for block in keys.key_blocks:
         if block.name.startswith(OWNED_PREFIX):
-            still &= np.linalg.norm(mesh.read_coordinates(block.data, count) - rest, axis=1) < 1e-6
-    return np.flatnonzero(still)
+            moved = np.maximum(moved, np.linalg.norm(mesh.read_coordinates(block.data, count) - rest, axis=1))
+    still = np.flatnonzero(moved < 0.02 * moved.max())
+    return still if len(still) >= 50 else np.argsort(moved)[: count // 3]
 
 
 def _lid(head: bpy.types.Object) -> tuple[np.ndarray, np.ndarray]:
@@ -117,6 +120,33 @@ def _lid(head: bpy.types.Object) -> tuple[np.ndarray, np.ndarray]:
     size = np.linalg.norm(delta, axis=1)
     top = np.flatnonzero(size >= 0.8 * size.max())
     return top, delta[top]
+
+
+@contextlib.contextmanager
+def _without_our_keys(head: bpy.types.Object):
+    """The head with our shape-key curves muted and our keys at 0: its rest as the scene shows it (the
+    head's own keys at the values it came with)."""
+    keys = head.data.shape_keys
+    action = keys.animation_data.action if keys.animation_data else None
+    curves = (
+        [fc for fc in compat.all_action_fcurves(action) if fc.data_path.startswith('key_blocks["TR_')]
+        if action
+        else []
+    )
+    values = {block.name: block.value for block in keys.key_blocks if block.name.startswith(OWNED_PREFIX)}
+    for fcurve in curves:
+        fcurve.mute = True
+    for name in values:
+        keys.key_blocks[name].value = 0.0
+    bpy.context.view_layer.update()
+    try:
+        yield
+    finally:
+        for fcurve in curves:
+            fcurve.mute = False
+        for name, value in values.items():
+            keys.key_blocks[name].value = value
+        bpy.context.view_layer.update()
 
 
 def _evaluated_world(obj: bpy.types.Object, depsgraph) -> np.ndarray:
@@ -136,12 +166,10 @@ def sample_scene(context, head, rig, frames) -> dict:
     probes = _probes(rig, head)
     skull = _skull(head)
     lid, blink_motion = _lid(head)
-    with living.at_rest(scene):
-        rest = {
-            name: mesh.world_rest_coordinates(bpy.data.objects[name]).astype(np.float64)
-            for name, _ in probes.values()
-        }
-        rest[head.name] = mesh.world_rest_coordinates(head).astype(np.float64)
+    with living.at_rest(scene), _without_our_keys(head):
+        depsgraph = context.evaluated_depsgraph_get()
+        rest = {name: _evaluated_world(bpy.data.objects[name], depsgraph) for name, _ in probes.values()}
+        rest[head.name] = _evaluated_world(head, depsgraph)
     centres = {
         side: sphere_fit(rest[name][indices])[0] if len(indices) > 12 else rest[name][indices].mean(0)
         for side, (name, indices) in probes.items()

@@ -6,8 +6,8 @@ The rotations of `tracks.head_and_eyes` (the character's own frame) become, per 
   rotation) keyed about the head's pivot, so the user's own keys, constraints and transforms stay as they
   are (their static deltas are kept and composed with ours);
 - eye objects: a turn about the eyeball's fitted centre, whatever the object's origin;
-- a head or eye bone of an armature: an NLA track of our own above the user's, its strip blended with
-  Combine, so it adds to whatever the user animates.
+- a head or eye bone of an armature: its rotation, in the armature's action (ours when it has none),
+  unless the user animates that bone there (then a warning says how to make room).
 
 Ours are recognisable by a mark, not by name alone: every action we make carries ACTION_TAG, the curves we
 add to a user's action are listed in its CURVES_PROPERTY, and the static deltas we found in REST_PROPERTY;
@@ -32,7 +32,6 @@ from .living_rig import LivingRig, find_rig
 ACTION_TAG = "turkish_lipsync_living"  # on actions we create for the living motion
 CURVES_PROPERTY = "tr_living_curves"  # on any action: the data paths of the curves we added to it
 REST_PROPERTY = "tr_living_rest"  # on an object: its static delta transform before ours
-NLA_TRACK = "TR_living"
 GROUP = "TR living"
 OBJECT_ID = "OBJECT"
 # Keys are dropped where linear interpolation between their neighbours stays this close.
@@ -66,11 +65,6 @@ def at_rest(scene: bpy.types.Scene):
         if REST_PROPERTY in obj:
             saved.append((obj, _deltas_of(obj)))
             _set_deltas(obj, obj[REST_PROPERTY])
-    tracks = [
-        t for o in scene.objects if o.animation_data for t in o.animation_data.nla_tracks if _is_ours(t)
-    ]
-    for track in tracks:
-        track.mute = True
     bpy.context.view_layer.update()
     try:
         yield
@@ -79,8 +73,6 @@ def at_rest(scene: bpy.types.Scene):
             fcurve.mute = False
         for obj, values in saved:
             _set_deltas(obj, values)
-        for track in tracks:
-            track.mute = False
         bpy.context.view_layer.update()
 
 
@@ -155,8 +147,12 @@ def key_living_motion(
         bones = {rig.head_bone: head_world}
         if rig.eyes_turn_by == "bones":
             bones |= {rig.eyes[side].bone_name: eye_world[side] for side in EYE_SIDES}
-        key_count += _key_bones(armature, bones, frames, rig)
-        moved_bones.extend(bones)
+        written, problem = _key_bones(armature, bones, frames)
+        if problem:
+            warnings.append(problem)
+        else:
+            key_count += written
+            moved_bones.extend(bones)
     return LivingResult(tuple(moved_objects), tuple(moved_bones), key_count, tuple(warnings))
 
 
@@ -219,13 +215,20 @@ def _key_object(obj: bpy.types.Object, motion_world: np.ndarray, frames: np.ndar
     return _write_channels(obj, obj, OBJECT_ID, channels, frames), ""
 
 
-def _key_bones(armature: bpy.types.Object, bones: dict[str, np.ndarray], frames: np.ndarray, rig) -> int:
-    """Our NLA track on the armature: each bone turned by its world motion, relative to its rest."""
-    action = bpy.data.actions.new(f"TR_living.{armature.name}")
-    action[ACTION_TAG] = True
+def _key_bones(
+    armature: bpy.types.Object, bones: dict[str, np.ndarray], frames: np.ndarray
+) -> tuple[int, str]:
+    """Each bone turned by its world motion relative to its rest, keyed in the armature's action (ours when
+    it has none); refused for a bone whose rotation the user animates there."""
     armature_rotation = np.array(armature.matrix_world)[:3, :3]
     armature_rotation /= np.cbrt(abs(np.linalg.det(armature_rotation)))
-    channels_by_bone = {}
+    action = armature.animation_data.action if armature.animation_data else None
+    theirs = set()
+    if action is not None:
+        theirs = {fc.data_path for fc in compat.all_action_fcurves(action)} - set(
+            action.get(CURVES_PROPERTY, ())
+        )
+    channels = {}
     for bone_name, motion in bones.items():
         bone = armature.data.bones[bone_name]
         rest = armature_rotation @ np.array(bone.matrix_local)[:3, :3]
@@ -233,17 +236,21 @@ def _key_bones(armature: bpy.types.Object, bones: dict[str, np.ndarray], frames:
         pose = armature.pose.bones[bone_name]
         path = f'pose.bones["{bpy.utils.escape_identifier(bone_name)}"].'
         if pose.rotation_mode == "QUATERNION":
-            channels_by_bone[path + "rotation_quaternion"] = _quaternions(local)
+            path, values = path + "rotation_quaternion", _quaternions(local)
         elif pose.rotation_mode != "AXIS_ANGLE":
-            channels_by_bone[path + "rotation_euler"] = _eulers(local, pose.rotation_mode)
-    written = _write_channels(armature, action, OBJECT_ID, channels_by_bone, frames, assign=False)
-    animation = armature.animation_data or armature.animation_data_create()
-    track = animation.nla_tracks.new()
-    track.name = NLA_TRACK
-    strip = track.strips.new(action.name, int(frames[0]), action)
-    strip.blend_type = "COMBINE"
-    strip.extrapolation = "NOTHING"
-    return written
+            path, values = path + "rotation_euler", _eulers(local, pose.rotation_mode)
+        else:
+            return (
+                0,
+                f"The bone {bone_name!r} rotates by axis and angle: set it to quaternion to let it move.",
+            )
+        if path in theirs:
+            return 0, (
+                f"The bone {bone_name!r} is animated by {action.name!r} already, so the head's motion was "
+                "not keyed on it; key it on a layer of your own (NLA) and generate again."
+            )
+        channels[path] = values
+    return _write_channels(armature, armature, OBJECT_ID, channels, frames), ""
 
 
 def _write_channels(
@@ -301,19 +308,7 @@ def remove_living_motion(scene: bpy.types.Scene) -> int:
         if REST_PROPERTY in obj:
             _set_deltas(obj, obj[REST_PROPERTY])
             del obj[REST_PROPERTY]
-        if animation is not None:
-            for track in [t for t in animation.nla_tracks if _is_ours(t)]:
-                actions = [strip.action for strip in track.strips if strip.action is not None]
-                animation.nla_tracks.remove(track)
-                for ours_action in actions:
-                    if ours_action.get(ACTION_TAG) and ours_action.users == 0:
-                        bpy.data.actions.remove(ours_action)
-                removed += 1
     return removed
-
-
-def _is_ours(track) -> bool:
-    return any(strip.action is not None and strip.action.get(ACTION_TAG) for strip in track.strips)
 
 
 # ---------------------------------------------------------------- delta transforms and rotations

@@ -24,6 +24,7 @@ from .heads import find_head_parts
 # joint), where a head without a head bone nods and turns.
 PIVOT_BELOW_EYES = 1.2
 PIVOT_BEHIND_EYES = 1.35
+REACH_DEGREES = 50.0  # a target further from the face's facing than this is out of the eyes' reach
 TYPICAL_EYE_SEPARATION = 0.45  # of the head's width, where no eyes are found
 _HEAD_BONE = re.compile(r"(^|[^a-z])head($|[^a-z])", re.IGNORECASE)
 _NECK_BONE = re.compile(r"neck", re.IGNORECASE)
@@ -57,8 +58,9 @@ class LivingRig:
         """World points in the head's frame, relative to the pivot."""
         return (np.asarray(points, np.float64) - self.pivot) @ self.frame
 
-    def gaze_setup(self, target: np.ndarray | None) -> GazeSetup:
-        """The core's view of the eyes and of a world-space target point (straight ahead without one)."""
+    def gaze_setup(self, target: np.ndarray | None) -> tuple[GazeSetup, str]:
+        """The core's view of the eyes and of a world-space target point (straight ahead without one), and
+        a warning where the target lies out of the eyes' reach (behind or far beside the face)."""
         if len(self.eyes) == 2:
             left, right = (self.to_head(self.eyes[side].centre) for side in EYE_SIDES)
         else:
@@ -70,12 +72,19 @@ class LivingRig:
             "eyes_before_pivot": float(middle[2]),
         }
         if target is None:
-            return GazeSetup(**kwargs)
+            return GazeSetup(**kwargs), ""
         seen = self.to_head(target) - middle
-        distance = float(np.linalg.norm(seen))
+        distance = max(float(np.linalg.norm(seen)), 0.05)
         yaw = float(np.degrees(np.arctan2(seen[0], seen[2])))
         pitch = float(np.degrees(np.arctan2(seen[1], np.hypot(seen[0], seen[2]))))
-        return GazeSetup(target_yaw=yaw, target_pitch=pitch, target_distance=max(distance, 0.05), **kwargs)
+        if abs(yaw) > REACH_DEGREES or abs(pitch) > REACH_DEGREES:
+            warning = (
+                f"The gaze target is {abs(yaw):.0f} degrees to the side of where {self.head!r} faces (and "
+                f"{pitch:.0f} up), out of the eyes' reach, so they look straight ahead instead; place the "
+                "camera or the target in front of the face."
+            )
+            return GazeSetup(target_distance=distance, **kwargs), warning
+        return GazeSetup(target_yaw=yaw, target_pitch=pitch, target_distance=distance, **kwargs), ""
 
 
 def find_rig(head: bpy.types.Object, parts: list[bpy.types.Object] | None = None) -> LivingRig:

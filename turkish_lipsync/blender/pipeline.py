@@ -182,7 +182,8 @@ def generate(
 
     objects = head_objects(head)
     rig, target = living.rig_and_target(context, head, objects, gaze_target)
-    options = dataclasses.replace(options or LipSyncOptions(), fps=fps, gaze_setup=rig.gaze_setup(target))
+    setup, target_warning = rig.gaze_setup(target)
+    options = dataclasses.replace(options or LipSyncOptions(), fps=fps, gaze_setup=setup)
     progress(0.05, "Reading the text and speaking it")
     spoken = lip_sync(source, options)
     timeline, synthesis, tracks = spoken.timeline, spoken.synthesis, spoken.tracks
@@ -223,7 +224,9 @@ def generate(
         fps=fps,
         timeline=timeline,
         tracks=tracks,
-        warnings=spoken.warnings + moved.warnings,
+        warnings=spoken.warnings
+        + moved.warnings
+        + ((target_warning,) if target_warning and options.living().gaze > 0 else ()),
     )
 
 

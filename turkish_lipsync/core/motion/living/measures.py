@@ -87,9 +87,8 @@ def blinks(closure: np.ndarray, fps: float) -> list[dict]:
         before, after = closure[rise], closure[fall]
         closing_from = rise + np.argmax(closure[rise : index + 1] > before + BLINK_OPEN * (peak - before))
         closed_at = rise + np.argmax(closure[rise : index + 1] >= before + BLINK_CLOSED * (peak - before))
-        opening_from = last - np.argmax(
-            closure[last : rise - 1 : -1] >= after + BLINK_CLOSED * (peak - after)
-        )
+        backwards = closure[rise : last + 1][::-1]
+        opening_from = last - np.argmax(backwards >= after + BLINK_CLOSED * (peak - after))
         tail = closure[last : fall + 1] <= after + BLINK_OPEN * (peak - after)
         opened_at = last + (np.argmax(tail) if tail.any() else fall - last)
         found.append(
