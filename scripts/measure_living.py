@@ -236,7 +236,15 @@ def figures(
         )
         out["gaze_p95_deg"] = float(np.percentile(off, 95))
         out["contact_share"] = float((off[speaking] < CONTACT_DEGREES).mean())
-    found = measures.saccades(gaze, fps)
+    # An eye behind shut lids is not seen, and an artist's blink may move the eyeball (Vitruvian's pulls it
+    # in): fast gaze mostly behind half-shut lids is not a saccade (one that a blink accompanies comes
+    # before the lids close).
+    lidded = samples["closure"] > 0.5
+    found = [
+        (start, length, amplitude)
+        for start, length, amplitude in measures.saccades(gaze, fps)
+        if lidded[start : start + length + 1].mean() <= 0.5
+    ]
     amplitudes = np.array([a for _, _, a in found])
     durations = np.array([n / fps * 1000 for _, n, _ in found])
     minutes = frames / fps / 60

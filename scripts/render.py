@@ -27,6 +27,7 @@ if str(REPOSITORY) not in sys.path:
     sys.path.insert(0, str(REPOSITORY))
 
 from turkish_lipsync.core.base.errors import LipSyncError  # noqa: E402  (the core needs no bpy)
+from turkish_lipsync.core.cli import add_living_arguments, living_option_values  # noqa: E402
 from turkish_lipsync.core.pipeline import (  # noqa: E402
     INTERPOLATION_CHOICES,
     MOTION_CHOICES,
@@ -130,6 +131,10 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
     parser.add_argument(
         "--audio", type=Path, help="a recording of the same text (WAV, FLAC, OGG) to use instead of eSpeak"
     )
+    add_living_arguments(parser)
+    parser.add_argument(
+        "--gaze-target", metavar="OBJECT", help="the object the eyes seek (default: the scene's camera)"
+    )
     parser.add_argument(
         "--arkit-keys", action="store_true", help="also keep the 52 ARKit unit keys on the head"
     )
@@ -223,6 +228,7 @@ def _check_farm_arguments(parser: argparse.ArgumentParser, arguments: argparse.N
         "--rebuild-keys": arguments.rebuild_keys,
         "--save-blend": arguments.save_blend,
         "--still": arguments.still,
+        "--gaze-target": arguments.gaze_target,
     }
     used = [flag for flag, value in speech_flags.items() if value]
     mode = "--join" if arguments.join else "--frames"
@@ -410,9 +416,11 @@ def run(arguments: argparse.Namespace) -> None:
             rate=arguments.rate,
             recording=arguments.audio,
             cues=arguments.cues,
+            **living_option_values(arguments),
         ),
         audio_folder=audio_folder,
         progress=_print_progress,
+        gaze_target=arguments.gaze_target or "",
     )
     _print_warnings(result.warnings)
     print(

@@ -16,6 +16,7 @@ from ..core.faces.reference import load_reference_head
 from ..core.pipeline import LipSyncOptions
 from . import exports, gltf_export, landmarks, mesh, pipeline, shapekeys
 from .preferences import ADDON_PACKAGE, configure_speech_engine
+from .properties import LAYER_VALUES
 
 # What an operator's work returns: the line to report, and the warnings the user must see.
 Outcome = tuple[str, tuple[str, ...]]
@@ -216,6 +217,7 @@ class TURKISH_LIPSYNC_OT_generate(ReportedOperator, bpy.types.Operator):
                 audio_folder=settings.audio_folder,
                 package=ADDON_PACKAGE,
                 progress=progress,
+                gaze_target=settings.gaze_target.name if settings.gaze_target else "",
             )
         settings.head = head
         message = (
@@ -229,7 +231,11 @@ def options_of(settings) -> LipSyncOptions:
     """The core's options from the panel's settings (the frame rate is the scene's, set by generate)."""
     recording = Path(bpy.path.abspath(settings.recording)) if settings.recording else None
     cues = Path(bpy.path.abspath(settings.cue_file)) if settings.cue_file else None
-    return LipSyncOptions.from_attributes(settings, recording=recording, cues=cues)
+    layers = {
+        layer: LAYER_VALUES[getattr(settings, f"{layer}_layer")]
+        for layer in ("gaze", "blinks", "head_motion", "expression")
+    }
+    return LipSyncOptions.from_attributes(settings, recording=recording, cues=cues, **layers)
 
 
 def _source_chosen(cls, settings) -> bool:

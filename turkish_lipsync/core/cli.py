@@ -11,6 +11,7 @@ import numpy as np
 
 from .base.errors import LipSyncError
 from .base.model import Timeline, WeightTracks
+from .motion.living import GazeSetup
 from .pipeline import (
     FPS_RANGE,
     INTERPOLATION_CHOICES,
@@ -97,6 +98,59 @@ def _add_source_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--audio", type=Path, metavar="RECORDING", help="a recording of the same text to align"
     )
+    add_living_arguments(parser)
+    parser.add_argument(
+        "--gaze-target",
+        type=_gaze_target,
+        metavar="YAW,PITCH[,DISTANCE]",
+        help="where the eyes seek the listener: degrees to the character's left and up, metres away "
+        "(default 0,0,1: straight ahead)",
+    )
+
+
+def add_living_arguments(parser: argparse.ArgumentParser) -> None:
+    """The living layers' flags, shared with scripts/render.py: each layer on or off (default: the motion
+    model's) with an amount, and the seed."""
+    defaults = LipSyncOptions()
+    for layer, amount, what in LIVING_FLAGS:
+        parser.add_argument(
+            f"--{layer.replace('_', '-')}",
+            action=argparse.BooleanOptionalAction,
+            default=None,
+            help=f"{what} (default: on for the natural motion, off for the thesis's)",
+        )
+        parser.add_argument(
+            f"--{amount.replace('_', '-')}",
+            type=float,
+            default=getattr(defaults, amount),
+            help="how much, 0..2 (1 the usual)",
+        )
+    parser.add_argument("--seed", type=int, default=defaults.seed, help="seed of the gaze, blinks and head")
+
+
+def living_option_values(args: argparse.Namespace) -> dict:
+    """The living layers' options from parsed flags (add_living_arguments)."""
+    names = [name for flags in LIVING_FLAGS for name in flags[:2]] + ["seed"]
+    return {name: getattr(args, name) for name in names}
+
+
+LIVING_FLAGS = (
+    ("gaze", "gaze_amount", "eyes that hold the listener and look away with saccades"),
+    ("blinks", "blink_amount", "blinks at pauses and gaze shifts (the amount scales their rate)"),
+    ("head_motion", "head_amount", "head motion from the voice's pitch and loudness"),
+    ("expression", "expression_amount", "brows on pitch accents and emphasis, emotions that breathe"),
+)
+
+
+def _gaze_target(text: str) -> GazeSetup:
+    try:
+        values = [float(part) for part in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) not in (2, 3):
+        raise argparse.ArgumentTypeError(f"gaze target {text!r} is not YAW,PITCH or YAW,PITCH,DISTANCE")
+    yaw, pitch, *distance = values
+    return GazeSetup(target_yaw=yaw, target_pitch=pitch, target_distance=distance[0] if distance else 1.0)
 
 
 def read_source(file: Path | None, text: str | None, cues: Path | None = None) -> str:
@@ -117,7 +171,8 @@ def read_source(file: Path | None, text: str | None, cues: Path | None = None) -
 
 
 def options_from(args: argparse.Namespace) -> LipSyncOptions:
-    return LipSyncOptions.from_attributes(args, recording=args.audio)
+    setup = {"gaze_setup": args.gaze_target} if args.gaze_target is not None else {}
+    return LipSyncOptions.from_attributes(args, recording=args.audio, **setup)
 
 
 def _lip_sync(args: argparse.Namespace) -> LipSyncResult:

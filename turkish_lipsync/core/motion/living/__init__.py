@@ -83,8 +83,9 @@ def living_tracks(
     head = head_angles(structure, times, rng("head"), settings["head"], options.head)
     plan = plan_gaze(structure, times, rng("gaze"), settings["gaze"], options.gaze)
     left, right, _direction = eye_angles(plan, head, options.setup)
-    for eye, angles in (("left", left), ("right", right)):
-        columns.update(_look_columns(eye, angles))
+    if options.gaze > 0 or options.head > 0:  # the eyes keep the target while the head moves
+        for eye, angles in (("left", left), ("right", right)):
+            columns.update(_look_columns(eye, angles))
 
     blink_spans: list[tuple[float, float]] = []
     if options.blinks > 0:
@@ -118,7 +119,9 @@ def living_tracks(
         tracks,
         tracks=(*kept, *added),
         extra=extra,
-        head_and_eyes=HeadAndEyes(head=head, left_eye=left, right_eye=right),
+        head_and_eyes=HeadAndEyes(head=head, left_eye=left, right_eye=right)
+        if options.gaze > 0 or options.head > 0
+        else None,
     )
 
 
