@@ -35,8 +35,10 @@ REST_PROPERTY = "tr_living_rest"  # on an object: its static delta transform bef
 GROUP = "TR living"
 OBJECT_ID = "OBJECT"
 # Keys are dropped where linear interpolation between their neighbours stays this close.
-TOLERANCE = {"delta_location": 1e-5, "delta_rotation_euler": 2e-4, "delta_rotation_quaternion": 1e-4}
-TOLERANCE |= {"rotation_euler": 2e-4, "rotation_quaternion": 1e-4}
+# A tenth of a degree (a hundredth of the eyes' contact threshold), or the 0.17 mm a head turning that much
+# shifts 10 cm from its pivot.
+TOLERANCE = {"delta_location": 1.7e-4, "delta_rotation_euler": 1.7e-3, "delta_rotation_quaternion": 8.7e-4}
+TOLERANCE |= {"rotation_euler": 1.7e-3, "rotation_quaternion": 8.7e-4}
 
 
 @dataclass(frozen=True)
@@ -271,7 +273,7 @@ def _write_channels(
         values = np.asarray(values, np.float64)
         if values.ndim == 1:
             values = values[:, None]
-        tolerance = TOLERANCE.get(path.rsplit(".", 1)[-1], 1e-4)
+        tolerance = TOLERANCE.get(path.rsplit(".", 1)[-1], 8.7e-4)
         for index in range(values.shape[1]):
             keep = decimated_keys(values[:, index], tolerance)
             fcurve = compat.new_fcurve(bag, path, GROUP, index=index)

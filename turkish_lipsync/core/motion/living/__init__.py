@@ -22,6 +22,7 @@ from ...base.model import (
     EMOTION_KEY_PREFIX,
     EMOTIONS,
     LOOK_KEY_DEGREES,
+    LOOK_KEYS,
     HeadAndEyes,
     Timeline,
     Track,
@@ -30,7 +31,7 @@ from ...base.model import (
     emotion_release_key_name,
     look_key_name,
 )
-from ..frames import sparse_track
+from ..frames import decimated_keys, sparse_track
 from .blinks import blink_curve, place_blinks
 from .brows import brow_curve
 from .expression import emotion_life
@@ -41,6 +42,7 @@ from .phrases import speech_structure
 from .prosody import measure_prosody
 
 __all__ = ["GazeSetup", "LivingOptions", "living_tracks", "speech_structure"]
+LOOK_TOLERANCE = 0.1 / LOOK_KEY_DEGREES
 _LAYER_SEEDS = {"gaze": 1, "blinks": 2, "head": 3, "expression": 4}
 
 
@@ -108,7 +110,7 @@ def living_tracks(
         factor = emotion_life(structure, times, rng("expression"), settings["expression"], options.expression)
         kept = _with_life(kept, factor)
     key_frames = np.arange(frame_count, dtype=np.float64)
-    added = tuple(sparse_track(name, key_frames, values) for name, values in columns.items())
+    added = tuple(_track(name, key_frames, values) for name, values in columns.items())
     extra = dict(tracks.extra)
     extra.update(
         blinks=tuple(blink_spans),
@@ -123,6 +125,15 @@ def living_tracks(
         if options.gaze > 0 or options.head > 0
         else None,
     )
+
+
+def _track(name: str, frames: np.ndarray, values: np.ndarray) -> Track:
+    """A look key keyed where its motion needs it (within LOOK_TOLERANCE, a tenth of a degree); the
+    blinks and brows exactly (sparse_track)."""
+    if name in LOOK_KEYS:
+        keep = decimated_keys(values, LOOK_TOLERANCE)
+        return Track(name=name, frames=frames[keep], values=values[keep])
+    return sparse_track(name, frames, values)
 
 
 def _look_columns(eye: str, angles: np.ndarray) -> dict[str, np.ndarray]:

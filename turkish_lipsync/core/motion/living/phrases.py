@@ -40,19 +40,18 @@ class SpeechStructure:
     prosody: Prosody | None
 
     def in_pause(self, times: np.ndarray, margin: float = 0.0) -> np.ndarray:
-        times = np.asarray(times, np.float64)
-        inside = np.zeros(times.shape, bool)
-        for start, end in self.pauses:
-            inside |= (times >= start - margin) & (times <= end + margin)
-        return inside
+        return self.pause_length_at(times, margin) > 0
 
-    def pause_length_at(self, times: np.ndarray) -> np.ndarray:
-        """Seconds of the pause each time falls in (0 while speaking)."""
+    def pause_length_at(self, times: np.ndarray, margin: float = 0.0) -> np.ndarray:
+        """Seconds of the pause each time falls in (0 while speaking); pauses widened by margin."""
         times = np.asarray(times, np.float64)
-        length = np.zeros(times.shape)
-        for start, end in self.pauses:
-            length[(times >= start) & (times <= end)] = end - start
-        return length
+        if not self.pauses:
+            return np.zeros(times.shape)
+        starts = np.array([start for start, _ in self.pauses]) - margin
+        ends = np.array([end for _, end in self.pauses]) + margin
+        index = np.clip(np.searchsorted(starts, times, side="right") - 1, 0, len(starts) - 1)
+        inside = (times >= starts[index]) & (times <= ends[index])
+        return np.where(inside, ends[index] - starts[index] - 2 * margin, 0.0)
 
 
 def speech_structure(timeline: Timeline, prosody: Prosody | None) -> SpeechStructure:
@@ -136,25 +135,38 @@ def _syllable_spans(timeline: Timeline) -> list[tuple[float, float, int, bool]]:
 
 def _pitch_accents(syllables, phrases, prosody: Prosody) -> list[Accent]:
     semitones = prosody.semitones()
-    times = prosody.times
-    peaks = []
-    for start, end, _word, _last in syllables:
-        inside = (times >= start) & (times < max(end, start + 1 / prosody.rate)) & np.isfinite(semitones)
-        if not inside.any():
-            peaks.append((np.nan, (start + end) / 2))
-            continue
-        index = np.flatnonzero(inside)[np.argmax(semitones[inside])]
-        peaks.append((float(semitones[index]), float(times[index])))
+    rate = prosody.rate
+    finite = np.isfinite(semitones)
+    # Each syllable's highest voiced frame, all syllables at once (a syllable spans at most a few frames).
+    spans = np.array([(start, end) for start, end, _word, _last in syllables]).reshape(-1, 2)
+    first = np.ceil(spans[:, 0] * rate).astype(int)
+    last = np.maximum(np.ceil(np.maximum(spans[:, 1], spans[:, 0] + 1 / rate) * rate).astype(int), first + 1)
+    width = int((last - first).max(initial=1))
+    index = np.minimum(first[:, None] + np.arange(width), semitones.size - 1)
+    values = np.where((index < last[:, None]) & finite[index], semitones[index], -np.inf)
+    best = values.argmax(axis=1)
+    top = values[np.arange(len(values)), best]
+    peaks = [
+        (float(v), float(i / rate)) if np.isfinite(v) else (np.nan, float(spans[k].mean()))
+        for k, (v, i) in enumerate(zip(top, index[np.arange(len(values)), best], strict=True))
+    ]
+    baselines = []
+    for start, end in phrases:
+        window = semitones[int(start * rate) : int(np.ceil(end * rate)) + 1]
+        window = window[np.isfinite(window)]
+        baselines.append(float(np.median(window)) if window.size else np.nan)
+    phrase_starts = np.array([start for start, _ in phrases])
     accents = []
     for index, (peak, time) in enumerate(peaks):
-        if not np.isfinite(peak):
+        if not np.isfinite(peak) or not phrases:
             continue
-        phrase = next(((s, e) for s, e in phrases if s - 0.05 <= time <= e + 0.05), None)
-        if phrase is None:
+        phrase = int(
+            np.clip(np.searchsorted(phrase_starts, time + 0.05, side="right") - 1, 0, len(phrases) - 1)
+        )
+        start, end = phrases[phrase]
+        if not (start - 0.05 <= time <= end + 0.05) or not np.isfinite(baselines[phrase]):
             continue
-        within = (times >= phrase[0]) & (times <= phrase[1]) & np.isfinite(semitones)
-        baseline = float(np.median(semitones[within]))
-        rise = peak - baseline
+        rise = peak - baselines[phrase]
         neighbours = [p for p, _t in peaks[max(0, index - 1) : index + 2] if np.isfinite(p)]
         if rise >= ACCENT_RISE and peak >= max(neighbours):
             strength = float(np.clip(rise / ACCENT_FULL, 0.0, 1.0))
