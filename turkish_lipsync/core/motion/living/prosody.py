@@ -58,12 +58,15 @@ class Prosody:
 def measure_prosody(samples: np.ndarray, sample_rate: int) -> Prosody:
     """F0 and energy of mono speech samples (int16 or float)."""
     audio = np.asarray(samples)
-    audio = audio.astype(np.float32) * np.float32(1.0 / 32768.0 if audio.dtype.kind == "i" else 1.0)
     # Averaging blocks of samples decimates to about ANALYSIS_RATE: its gentle low-pass keeps the voice's
     # first harmonics, all YIN needs, at a tenth of a band-limited resampler's cost.
     factor = max(1, round(sample_rate / ANALYSIS_RATE))
     rate = sample_rate / factor
-    audio = audio[: audio.size // factor * factor].reshape(-1, factor).mean(axis=1)
+    blocks = audio[: audio.size // factor * factor].reshape(-1, factor)
+    if audio.dtype.kind == "i":
+        audio = blocks.sum(axis=1, dtype=np.int32).astype(np.float32) / np.float32(32768.0 * factor)
+    else:
+        audio = blocks.mean(axis=1, dtype=np.float32)
     hop = rate / FRAME_RATE
     count = max(1, int(np.ceil(audio.size / hop)))
     window = round(WINDOW_SECONDS * rate)
