@@ -23,7 +23,7 @@ from turkish_lipsync.blender import pipeline, render  # noqa: E402
 from turkish_lipsync.core.base.model import BLINK_KEYS  # noqa: E402
 from turkish_lipsync.core.pipeline import LipSyncOptions  # noqa: E402
 
-TEXT = "Merhaba, benim adım Erdem. Bugün hava çok güzel, parka gidip biraz yürüyüş yapalım mı? Sonra eve döneriz."
+TEXT = "Merhaba, benim adım Erdem. Bugün hava çok güzel, parka gidip yürüyelim mi? Sonra eve döneriz."
 
 
 def chosen_frames(tracks) -> list[tuple[int, str]]:

@@ -88,7 +88,8 @@ def test_brows_rise_on_emphasis_and_on_pitch_accents():
 
 @pytest.mark.parametrize("emotion", ["happy", "sad", "angry", "afraid", "surprised", "disgusted"])
 def test_emotions_breathe_at_their_apex_and_the_lips_still_close(emotion):
-    text = f"<{emotion.upper()}>Mehmet bey bu sabah vapura binip boğazı geçti, ama bir şey demedi.</{emotion.upper()}>"
+    tag = emotion.upper()
+    text = f"<{tag}>Mehmet bey bu sabah vapura binip boğazı geçti, ama bir şey demedi.</{tag}>"
     result = lip_sync(text, LipSyncOptions(fps=30))
     _TIMELINES[text] = result.timeline
     tracks = result.tracks
