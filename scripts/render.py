@@ -322,21 +322,14 @@ def run_chunk(arguments: argparse.Namespace) -> None:
     )
 
 
-def write_exports(arguments: argparse.Namespace, result, source: str) -> None:
-    """The --export files of a generated animation (the speech WAV named relative to each file)."""
-    import os
-
-    from turkish_lipsync.core.interchange import export_text, write_export
+def write_exports(arguments: argparse.Namespace, context, head) -> None:
+    """The --export files of the head's generated animation (the speech WAV named relative to each file)."""
+    from turkish_lipsync.blender import exports
 
     for export_format, path in arguments.export:
-        sound = ""
-        if result.wav_path:
-            sound = os.path.relpath(result.wav_path, path.resolve().parent)
-        contents, warnings = export_text(
-            export_format, result.timeline, result.tracks, sound_file=sound, text=source
-        )
-        _print_warnings(warnings)
-        print(f"Exported {export_format} to {write_export(path, contents)}", flush=True)
+        written = exports.export_animation(context, head, export_format, path)
+        _print_warnings(written.warnings)
+        print(f"Exported {export_format} to {written.path}", flush=True)
 
 
 def run(arguments: argparse.Namespace) -> None:
@@ -421,7 +414,7 @@ def run(arguments: argparse.Namespace) -> None:
         flush=True,
     )
     if arguments.export:
-        write_exports(arguments, result, source)
+        write_exports(arguments, context, bpy.data.objects[head_name])
     if arguments.gltf is not None:
         from turkish_lipsync.blender.gltf_export import export_gltf
 

@@ -17,6 +17,7 @@ import bpy
 
 from ..core.base.errors import HeadError, TextError
 from ..core.base.model import OWNED_PREFIX, Timeline, Utterance, WeightTracks
+from ..core.interchange.animation_record import AnimationRecord, record_from_json, record_to_json
 from ..core.pipeline import LipSyncOptions, lip_sync
 from . import compat, heads, keyframes, render, sequencer, shapekeys
 from .shapekeys import BuildReport
@@ -192,6 +193,7 @@ def generate(
     # From here on Blender data changes; nothing below raises LipSyncError for bad input.
     progress(0.6, f"Keying {len(tracks.tracks)} shape-key tracks")
     written = keyframes.write_weight_tracks(head_objects(head), tracks, start, action_name)
+    _keep_record(head, source, spoken, start)
     progress(0.85, "Placing the speech in the sequencer")
     strip_name = None
     frame_count = sequencer.frame_count_for(timeline.duration, fps)
@@ -217,6 +219,38 @@ def generate(
         tracks=tracks,
         warnings=spoken.warnings,
     )
+
+
+RECORD_PROPERTY = "tr_lipsync_animation"  # on the action of the head's keys: what Generate made
+
+
+def _keep_record(head: bpy.types.Object, source: str, spoken, start: int) -> None:
+    """The timeline and settings beside the keys, for exports of the animation the head has."""
+    action = head.data.shape_keys.animation_data.action
+    settings = {
+        name: str(value) if isinstance(value, Path) else value
+        for name, value in dataclasses.asdict(spoken.options).items()
+    }
+    record = AnimationRecord(
+        text=source,
+        timeline=spoken.timeline,
+        fps=spoken.tracks.fps,
+        frame_start=start,
+        frame_count=spoken.tracks.frame_count,
+        settings=settings,
+        key_fingerprint=keyframes.key_fingerprint(head_objects(head)),
+        warnings=spoken.warnings,
+    )
+    action[RECORD_PROPERTY] = record_to_json(record)
+
+
+def animation_record(head: bpy.types.Object) -> AnimationRecord | None:
+    """What Generate made on this head, or None where it has no generated animation."""
+    key = getattr(head.data, "shape_keys", None)
+    action = key.animation_data.action if key is not None and key.animation_data else None
+    if action is None or RECORD_PROPERTY not in action:
+        return None
+    return record_from_json(str(action[RECORD_PROPERTY]), f"the action {action.name!r}")
 
 
 # ---------------------------------------------------------------- render
