@@ -247,6 +247,35 @@ def _check_farm_arguments(parser: argparse.ArgumentParser, arguments: argparse.N
     arguments.engine = arguments.engine.upper()
 
 
+def check_paths(arguments: argparse.Namespace) -> None:
+    """No output of this run may replace one of its inputs or another of its outputs (checked first)."""
+    from turkish_lipsync.core.base.files import check_distinct_paths, check_writable
+
+    inputs = {
+        "--jsml": arguments.jsml,
+        "--audio": arguments.audio,
+        "--head": arguments.head,
+        "--cues": arguments.cues,
+        "--mapping": arguments.mapping,
+    }
+    inputs |= {f"--join chunk {number}": chunk for number, chunk in enumerate(arguments.join or (), start=1)}
+    outputs = {"--out": arguments.out, "--save-blend": arguments.save_blend, "--still": arguments.still}
+    if arguments.gltf is not None:
+        outputs |= {
+            "--gltf": arguments.gltf,
+            "the speech WAV beside --gltf": arguments.gltf.with_suffix(".wav"),
+        }
+    for number, (name, path) in enumerate(arguments.export, start=1):
+        outputs[
+            f"--export {name}" if f"--export {name}" not in outputs else f"--export {name} ({number})"
+        ] = path
+    check_distinct_paths(inputs, outputs)
+    chunk_folder = arguments.frames and arguments.out.suffix.lower() not in (".mp4", ".mkv")
+    for name, path in outputs.items():
+        if path is not None and not (name == "--out" and chunk_folder):
+            check_writable(path, f"output of {name}")
+
+
 def script_arguments() -> list[str]:
     """Arguments after '--' inside Blender; all of them with the bpy module."""
     if "--" in sys.argv:
@@ -337,6 +366,7 @@ def run(arguments: argparse.Namespace) -> None:
 
     from turkish_lipsync.blender import heads, pipeline, sequencer
     from turkish_lipsync.core.base.errors import TextError
+    from turkish_lipsync.core.base.files import read_user_text
 
     started = time.perf_counter()
     new_scene = arguments.head is None or arguments.head.suffix.lower() != ".blend"
@@ -356,10 +386,7 @@ def run(arguments: argparse.Namespace) -> None:
         scene.render.resolution_x, scene.render.resolution_y = DEFAULT_RESOLUTION
 
     if arguments.jsml is not None:
-        try:
-            source = arguments.jsml.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as error:
-            raise TextError(f"Cannot read {arguments.jsml}: {error}. Give a UTF-8 text file.") from error
+        source = read_user_text(arguments.jsml, "--jsml text", TextError)
     else:
         source = arguments.text or ""  # with --cues alone, the cue file's own text
 
@@ -461,6 +488,7 @@ def run(arguments: argparse.Namespace) -> None:
 def main(argv: list[str] | None = None) -> int:
     arguments = parse_arguments(script_arguments() if argv is None else argv)
     try:
+        check_paths(arguments)
         if arguments.join:
             run_join(arguments)
         elif arguments.frames:

@@ -16,6 +16,7 @@ from pathlib import Path
 import bpy
 
 from ..core.base.errors import HeadError, TextError
+from ..core.base.files import read_user_text
 from ..core.base.model import OWNED_PREFIX, Timeline, Utterance, WeightTracks
 from ..core.interchange.animation_record import AnimationRecord, record_from_json, record_to_json
 from ..core.pipeline import LipSyncOptions, lip_sync
@@ -127,13 +128,7 @@ def read_source(text_name: str = "", file_path: str = "") -> str:
             raise TextError(f"There is no Text named {text_name!r}: choose a Text in the Lip Sync panel.")
         source = text.as_string()
     elif file_path:
-        path = Path(bpy.path.abspath(file_path))
-        try:
-            source = path.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as error:
-            raise TextError(
-                f"Cannot read the JSML file {path}: {error}. Check the path (UTF-8 text)."
-            ) from error
+        source = read_user_text(Path(bpy.path.abspath(file_path)), "JSML file", TextError)
     else:
         raise TextError("No text to speak: choose a Text datablock or a JSML file in the Lip Sync panel.")
     if not source.strip():
@@ -184,11 +179,8 @@ def generate(
     action_name = action_name_for(spoken.utterance)
     wav_path = None
     if synthesis is not None:
-        from ..core.speech import write_wav
-
         progress(0.45, "Saving the speech audio")
-        wav_path = sequencer.speech_wav_path(action_name, audio_folder, package)
-        write_wav(wav_path, synthesis)
+        wav_path = sequencer.write_speech_wav(action_name, synthesis, audio_folder, package)
 
     # From here on Blender data changes; nothing below raises LipSyncError for bad input.
     progress(0.6, f"Keying {len(tracks.tracks)} shape-key tracks")
