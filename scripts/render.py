@@ -467,6 +467,14 @@ def run(arguments: argparse.Namespace) -> None:
             flush=True,
         )
     if arguments.still is not None:
+        frame = arguments.still_frame
+        if frame is not None and not scene.frame_start <= frame <= scene.frame_end:
+            _print_warnings(
+                (
+                    f"--still-frame {frame} is outside the animation (frames {scene.frame_start}-"
+                    f"{scene.frame_end}): the still shows the face at rest there.",
+                )
+            )
         still = pipeline.render_still(
             context,
             bpy.data.objects[head_name],

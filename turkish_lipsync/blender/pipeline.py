@@ -194,8 +194,7 @@ def generate(
     else:
         sequencer.remove_speech_strip(scene)
         scene.pop(sequencer.SPEECH_PATH_PROPERTY, None)
-        scene.frame_start = start
-        scene.frame_end = start + frame_count - 1
+    range_warnings = sequencer.fit_frame_range(scene, start, frame_count)
     progress(1.0, "Animation generated")
     return GenerateResult(
         action_names=tuple(w.action_name for w in written),
@@ -209,7 +208,7 @@ def generate(
         fps=fps,
         timeline=timeline,
         tracks=tracks,
-        warnings=spoken.warnings,
+        warnings=spoken.warnings + range_warnings,
     )
 
 
