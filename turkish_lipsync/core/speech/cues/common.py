@@ -156,6 +156,11 @@ def ordered(path: Path, cues: list[MouthCue]) -> tuple[MouthCue, ...]:
             raise CueFileError(
                 f"{path}: the cue at {cue.start:.3f} s comes before the one at {previous.start:.3f} s"
             )
+        if cue.start < previous.end - SHORTEST:
+            raise CueFileError(
+                f"{path}: the cue at {cue.start:.3f} s begins before the one before it ends "
+                f"({previous.end:.3f} s): cues may not overlap"
+            )
     return tuple(cues)
 
 
