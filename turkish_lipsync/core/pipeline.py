@@ -17,6 +17,7 @@ from .base.model import Timeline, Utterance, WeightTracks
 from .motion import motion_choices, weight_tracks
 from .motion.living import GazeSetup, LivingOptions, living_tracks
 from .speech.sources import SpeechRequest, speak
+from .text.utterance import unspoken_warning
 
 TIMING_CHOICES = (
     Choice("phone", "Phone", "Key every phone where the speech engine speaks it (most accurate)"),
@@ -178,5 +179,5 @@ def lip_sync(source: str, options: LipSyncOptions | None = None) -> LipSyncResul
         synthesis=speech.synthesis,
         timeline=speech.timeline,
         tracks=tracks,
-        warnings=speech.warnings,
+        warnings=unspoken_warning(utterance) + speech.warnings,
     )
