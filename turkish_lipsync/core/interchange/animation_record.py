@@ -3,8 +3,8 @@
 Blender holds only the keys; the timeline (which letter is spoken when, as which viseme) is not in them. The
 record is written beside the keys when they are made: the text, the timeline, the frame rate and first frame,
 the settings that made it, a fingerprint of the keys as written, the head's and eyes' rotations. An export
-reads it back instead of speaking the text again (which would follow today's settings, and eSpeak's timing varies by milliseconds
-from run to run), and the fingerprint tells when the keys were edited by hand since.
+reads it back instead of speaking the text again (which would follow today's settings, and eSpeak's timing
+varies by milliseconds from run to run), and the fingerprint tells when the keys were edited by hand since.
 """
 
 from __future__ import annotations
