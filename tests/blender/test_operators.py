@@ -13,7 +13,7 @@ from mathutils import Matrix  # noqa: E402
 
 from tests.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync import blender  # noqa: E402
-from turkish_lipsync.blender import compat, heads, landmarks, pipeline, sequencer  # noqa: E402
+from turkish_lipsync.blender import compat, heads, landmarks, living, pipeline, sequencer  # noqa: E402
 from turkish_lipsync.core.base.model import EMOTIONS, emotion_key_name, viseme_key_name  # noqa: E402
 from turkish_lipsync.core.faces.landmarks import LANDMARK_NAMES, LID_LANDMARK_NAMES  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
@@ -143,7 +143,12 @@ def test_regenerate_replaces_ours_and_keeps_the_users_animation():
     assert 0 < len(_our_curves(head)) <= max(first, 60)
     assert head.data.shape_keys.animation_data.action.name == "TR_merhaba"
     assert head.animation_data.action is not None
-    assert [fc.data_path for fc in compat.all_action_fcurves(head.animation_data.action)] == ["location"]
+    # The user's location key stays; beside it only our living motion, marked ours (delta transforms).
+    action = head.animation_data.action
+    ours = set(action.get(living.CURVES_PROPERTY, ()))
+    paths = [fc.data_path for fc in compat.all_action_fcurves(action)]
+    assert [path for path in paths if path not in ours] == ["location"]
+    assert ours == {"delta_location", "delta_rotation_euler"} and len(paths) == 7
     if compat.HAS_AUDIO:
         strips = compat.sequencer_strips(bpy.context.scene)
         assert [s.name for s in strips] == [sequencer.SPEECH_STRIP_NAME]
