@@ -10,7 +10,7 @@ bpy = pytest.importorskip("bpy")
 av = pytest.importorskip("av")
 soundfile = pytest.importorskip("soundfile")
 
-from turkish_lipsync.blender import compat, keyframes, sequencer  # noqa: E402
+from turkish_lipsync.blender import compat, keyframes, living, sequencer  # noqa: E402
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 SCRIPT = REPOSITORY / "scripts" / "render.py"
@@ -48,6 +48,7 @@ def _snapshot() -> dict:
             (fc.data_path, fc.array_index, _points(fc))
             for fc in compat.all_action_fcurves(action)
             if not keyframes.is_our_curve(fc.data_path)
+            and fc.data_path not in action.get(living.CURVES_PROPERTY, ())  # the living face's, marked ours
         )
         if curves:
             actions[action.name] = curves
