@@ -127,3 +127,19 @@ def test_directions_and_rotations_share_one_convention():
     assert head_matrices(np.array([[10.0, 0, 0]]))[0] @ forward == pytest.approx(direction(10.0, 0.0))
     assert head_matrices(np.array([[0, 10.0, 0]]))[0] @ forward == pytest.approx(direction(0.0, 10.0))
     assert (head_matrices(np.array([[0, 0, 10.0]]))[0] @ np.array([1.0, 0, 0]))[1] > 0  # left ear up
+
+
+def test_a_living_table_without_an_entry_is_refused_naming_the_file(monkeypatch):
+    from turkish_lipsync.core.base import data
+    from turkish_lipsync.core.base.errors import DataError
+    from turkish_lipsync.core.motion.living import parameters
+
+    table = data.load_table("living")
+    damaged = {**table, "head": {k: v for k, v in table["head"].items() if k != "nod"}}
+    monkeypatch.setattr(parameters, "load_table", lambda name: damaged)
+    parameters.living_parameters.cache_clear()
+    try:
+        with pytest.raises(DataError, match=r"living\.toml.*\[head\] lacks nod"):
+            parameters.living_parameters()
+    finally:
+        parameters.living_parameters.cache_clear()

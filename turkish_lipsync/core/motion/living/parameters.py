@@ -13,6 +13,20 @@ TABLE = "living"
 SECTIONS = ("gaze", "blinks", "head", "brows", "expression", "eyes")
 SHARES = {"cardinal_share", "phrase_pull_share", "close_share", "hold_share", "blink_suppress_closure"}
 SHARES |= {"gaze_shift_share", "depth", "loudness"}
+# What each section must hold (the modules read these).
+REQUIRED = {
+    "gaze": "contact_mean contact_shape away_fixation_mean away_fixation_shape away_fixations_mean "
+    "amplitude_scale amplitude_min amplitude_max cardinal_share horizontal_limit up_limit down_limit "
+    "duration_base duration_slope phrase_pull phrase_pull_share listening_pause",
+    "blinks": "mean_interval min_interval max_interval min_gap first_after min_duration max_duration "
+    "close_share hold_share blink_suppress_closure pause_pull pause_lead gaze_shift_blink gaze_shift_always "
+    "gaze_shift_share",
+    "head": "pitch_per_semitone nod nod_width posture_yaw posture_roll posture_pitch posture_limit "
+    "posture_ease sway still_pause smoothing limit",
+    "brows": "weight accent_weight accent_rise accent_gap lead rise fall",
+    "expression": "depth tempo loudness",
+    "eyes": "painted_key_degrees",
+}
 
 
 def _number(section: dict, key: str, where: str) -> float:
@@ -33,6 +47,12 @@ def living_parameters() -> dict[str, dict[str, float]]:
     result: dict[str, dict] = {}
     for name in SECTIONS:
         section = require(table, name, dict, TABLE)
+        missing = sorted(set(REQUIRED[name].split()) - set(section))
+        if missing:
+            raise DataError(
+                f"data file {DATA_DIR / (TABLE + '.toml')}: [{name}] lacks {', '.join(missing)}; "
+                "add them or reinstall the extension"
+            )
         result[name] = {
             key: _number(section, key, name) for key, value in section.items() if not isinstance(value, dict)
         }
