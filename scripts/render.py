@@ -4,6 +4,7 @@ Runs inside Blender and with the bpy module:
 
     blender -b -P scripts/render.py -- --text "Merhaba" --out out/merhaba.mp4
     python scripts/render.py --jsml examples/demo.jsml --out out/demo.mp4 --save-blend out/demo.blend
+    python scripts/render.py --audio take.wav --out out/take.mp4   # no text: what the take says is recognised
 
 On any error it prints one line and exits non-zero. Given a .blend with --head, it changes only the TR_* keys,
 their F-curves, the TR_speech strip and the frame range (plus camera and lights only where there are none).
@@ -128,7 +129,10 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
     parser.add_argument("--emotion-strength", type=float, default=defaults.emotion_strength, help="0..1")
     parser.add_argument("--rate", type=float, default=defaults.rate, help="speaking-rate multiplier")
     parser.add_argument(
-        "--audio", type=Path, help="a recording of the same text (WAV, FLAC, OGG) to use instead of eSpeak"
+        "--audio",
+        type=Path,
+        help="a recording of the text (WAV, FLAC, OGG) to use instead of eSpeak; without --text or --jsml, "
+        "what it says is recognised from the audio",
     )
     parser.add_argument(
         "--arkit-keys", action="store_true", help="also keep the 52 ARKit unit keys on the head"
@@ -184,8 +188,11 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
     if arguments.join or arguments.frames:
         _check_farm_arguments(parser, arguments)
         return arguments
-    if arguments.text is None and arguments.jsml is None and arguments.cues is None:
-        parser.error("give the text: --text TEXT or --jsml FILE (or --cues with a Papagayo .pgo)")
+    if all(getattr(arguments, name) is None for name in ("text", "jsml", "cues", "audio")):
+        parser.error(
+            "give the text: --text TEXT or --jsml FILE (or --cues with a Papagayo .pgo, or --audio REC alone "
+            "to recognise what it says)"
+        )
     if arguments.cues is not None and not arguments.cues.is_file():
         parser.error(f"--cues {arguments.cues} does not exist")
     if not arguments.no_render and arguments.out is None:
@@ -368,7 +375,7 @@ def run(arguments: argparse.Namespace) -> None:
         except (OSError, UnicodeDecodeError) as error:
             raise TextError(f"Cannot read {arguments.jsml}: {error}. Give a UTF-8 text file.") from error
     else:
-        source = arguments.text or ""  # with --cues alone, the cue file's own text
+        source = arguments.text or ""  # with --cues alone, the cue file's own text; with --audio, the heard
 
     if arguments.head is None:
         head = None

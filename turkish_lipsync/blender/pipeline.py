@@ -118,8 +118,9 @@ def has_lipsync_keys(head: bpy.types.Object) -> bool:
 # ---------------------------------------------------------------- text
 
 
-def read_source(text_name: str = "", file_path: str = "") -> str:
-    """The JSML source: a Blender Text datablock, else a file."""
+def read_source(text_name: str = "", file_path: str = "", allow_empty: bool = False) -> str:
+    """The JSML source: a Blender Text datablock, else a file; empty only where allowed (a recording's
+    words are recognised)."""
     if text_name:
         text = bpy.data.texts.get(text_name)
         if text is None:
@@ -135,7 +136,7 @@ def read_source(text_name: str = "", file_path: str = "") -> str:
             ) from error
     else:
         raise TextError("No text to speak: choose a Text datablock or a JSML file in the Lip Sync panel.")
-    if not source.strip():
+    if not source.strip() and not allow_empty:
         raise TextError("The text is empty: write some Turkish text (plain or JSML) to speak.")
     return source
 

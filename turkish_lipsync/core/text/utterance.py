@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Iterable
 from dataclasses import replace
 
 from ..base.errors import TextError
@@ -25,11 +26,20 @@ PAUSE_ENDINGS = {
 
 def build_utterance(source: str) -> Utterance:
     """Parse, normalise, syllabify and map every letter to its viseme (thesis 5.2.2-5.2.3)."""
+    return assemble_utterance(source, normalize(parse_jsml(source)))
+
+
+def assemble_utterance(source: str, items: Iterable[SpokenWord | Pause]) -> Utterance:
+    """The utterance of words as spoken and the pauses between them: syllables, letters and visemes.
+
+    build_utterance's last step; a text recognised from audio (speech/recognition) starts here, since it
+    is already spoken Turkish letters and must not be read again as written text (an acronym's letters).
+    """
     words: list[Word] = []
     syllables: list[Syllable] = []
     letters: list[Letter] = []
     pending_pause = 0.0
-    for item in normalize(parse_jsml(source)):
+    for item in items:
         if isinstance(item, Pause):
             pending_pause += item.seconds
             if words and item.kind in PAUSE_ENDINGS and not words[-1].ending:
