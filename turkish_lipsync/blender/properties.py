@@ -143,7 +143,7 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
         name="Own Recording",
         subtype="FILE_PATH",
         description="Your own recording of the same text (WAV, FLAC, OGG): the mouth follows it and it "
-        "becomes the sound (empty: the synthetic voice)",
+        "becomes the sound (empty: the synthetic voice). With no text, what it says is recognised",
     )
     audio_folder: StringProperty(
         name="Audio Folder",
