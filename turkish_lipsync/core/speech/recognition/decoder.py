@@ -21,6 +21,7 @@ PRIOR_WEIGHT = 0.8  # posteriors / priors ** PRIOR_WEIGHT
 LANGUAGE_WEIGHT = 0.5
 INSERTION_COST = 1.0  # natural-log units per new segment
 DURATION_SCALE = 0.7
+EMISSION_BLOCK = 2048  # frames whose per-state scores are laid out at a time
 
 
 @dataclass(frozen=True)
@@ -45,28 +46,27 @@ def decode(log_posteriors: np.ndarray, priors: np.ndarray, transitions: np.ndarr
     firsts = np.concatenate(([0], np.cumsum(lengths)[:-1]))
     lasts = firsts + lengths - 1
     owner = np.repeat(np.arange(classes), lengths)
-    # States fed by the state before them in their chain (every state but the firsts).
-    chained = np.flatnonzero(np.isin(np.arange(lengths.sum()), firsts, invert=True))
-    long_classes = lengths > 1
+    columns = np.arange(classes)
     state = np.full(lengths.sum(), -np.inf)
     state[firsts] = scores[0] + np.log(1.0 / classes)
     entered_from = np.zeros((frames, classes), np.int8)  # class left to enter each class's first state
     stayed = np.zeros((frames, classes), bool)  # whether each class's last state looped
-    for frame in range(1, frames):
-        leaving = state[lasts]
-        options = leaving[:, None] + switch
-        origin = options.argmax(axis=0)
-        entry = options[origin, np.arange(classes)]
-        new = np.empty_like(state)
-        new[chained] = state[chained - 1]
-        new[firsts] = entry
-        arriving = np.where(long_classes, state[lasts - 1], entry)
-        loops = leaving >= arriving
-        new[lasts] = np.where(loops, leaving, arriving)
-        new += scores[frame, owner]
-        state = new
-        entered_from[frame] = origin
-        stayed[frame] = loops
+    new = np.empty_like(state)
+    for begin in range(1, frames, EMISSION_BLOCK):
+        emissions = scores[begin : begin + EMISSION_BLOCK][:, owner]  # per state, a block of frames at a time
+        for offset, emission in enumerate(emissions):
+            leaving = state[lasts]
+            options = leaving[:, None] + switch
+            origin = options.argmax(axis=0)
+            new[1:] = state[:-1]  # every state but a class's first is fed by the one before it
+            new[firsts] = options[origin, columns]
+            arriving = new[lasts]  # from the chain, or (a one-state class) entered from another class
+            loops = leaving >= arriving
+            new[lasts] = np.maximum(leaving, arriving)
+            new += emission
+            state, new = new, state
+            entered_from[begin + offset] = origin
+            stayed[begin + offset] = loops
     return _trace_back(state, entered_from, stayed, lengths, lasts)
 
 

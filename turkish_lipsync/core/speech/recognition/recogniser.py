@@ -17,8 +17,10 @@ from .decoder import Segment, decode
 from .labels import BILABIAL_LETTERS, CLASS_INDEX, CLASSES, FRAME_SECONDS, VOWEL_LETTERS, frame_times
 from .network import load_network
 
-# A bilabial is kept where b, m and p together hold at least this share of its frames' posteriors.
-BILABIAL_SURE = 0.5
+# A bilabial is kept where b, m and p together hold at least this share of its frames' posteriors (and no
+# less than the vowels): on the tuning voices in a reverberant room, 0.5 kept 79 % of the closures, 0.25
+# keeps 85 %, with no more closures on vowels (0.3 %); in noise 95 % and 97 %, none on vowels.
+BILABIAL_SURE = 0.25
 PHRASE_PAUSE = 0.12  # seconds of silence that end a phrase; shorter silences join the letters around them
 BILABIALS = np.array([CLASS_INDEX[letter] for letter in sorted(BILABIAL_LETTERS)])
 VOWELS = np.array([CLASS_INDEX[letter] for letter in sorted(VOWEL_LETTERS)])
