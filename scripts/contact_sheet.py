@@ -22,7 +22,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from turkish_lipsync.blender import compat, heads, shapekeys  # noqa: E402
 from turkish_lipsync.core.base.errors import LipSyncError  # noqa: E402
 from turkish_lipsync.core.base.model import EMOTIONS, emotion_key_name, viseme_key_name  # noqa: E402
-from turkish_lipsync.core.faces.recipes import VISEME_NAMES  # noqa: E402
+from turkish_lipsync.core.base.visemes import VISEME_NAMES  # noqa: E402
 
 TILE_ASPECT = 1.2  # tiles are taller than wide: a face, with a label bar under the chin
 BACKGROUND = (0.35, 0.37, 0.4)

@@ -38,11 +38,11 @@ from scripts.measure_recordings import CONDITIONS, RECORDED_RATE, write_wav  # n
 from scripts.train_recogniser import held_out_sentences, speak  # noqa: E402
 from turkish_lipsync.core.base.errors import AudioError  # noqa: E402
 from turkish_lipsync.core.base.model import Timeline  # noqa: E402
+from turkish_lipsync.core.base.visemes import BILABIAL_VISEMES, VOWEL_VISEMES  # noqa: E402
 from turkish_lipsync.core.speech import synthesize_timeline  # noqa: E402
 from turkish_lipsync.core.speech.recognition import speech_from_audio  # noqa: E402
 from turkish_lipsync.core.speech.recognition.network import load_network  # noqa: E402
 from turkish_lipsync.core.text.utterance import build_utterance  # noqa: E402
-from turkish_lipsync.core.text.visemes import BILABIAL_VISEMES, VOWEL_VISEMES  # noqa: E402
 
 GRID = 0.01  # seconds
 SMOOTHING = 0.06  # seconds

@@ -254,6 +254,35 @@ def _check_farm_arguments(parser: argparse.ArgumentParser, arguments: argparse.N
     arguments.engine = arguments.engine.upper()
 
 
+def check_paths(arguments: argparse.Namespace) -> None:
+    """No output of this run may replace one of its inputs or another of its outputs (checked first)."""
+    from turkish_lipsync.core.base.files import check_distinct_paths, check_writable
+
+    inputs = {
+        "--jsml": arguments.jsml,
+        "--audio": arguments.audio,
+        "--head": arguments.head,
+        "--cues": arguments.cues,
+        "--mapping": arguments.mapping,
+    }
+    inputs |= {f"--join chunk {number}": chunk for number, chunk in enumerate(arguments.join or (), start=1)}
+    outputs = {"--out": arguments.out, "--save-blend": arguments.save_blend, "--still": arguments.still}
+    if arguments.gltf is not None:
+        outputs |= {
+            "--gltf": arguments.gltf,
+            "the speech WAV beside --gltf": arguments.gltf.with_suffix(".wav"),
+        }
+    for number, (name, path) in enumerate(arguments.export, start=1):
+        outputs[
+            f"--export {name}" if f"--export {name}" not in outputs else f"--export {name} ({number})"
+        ] = path
+    check_distinct_paths(inputs, outputs)
+    chunk_folder = arguments.frames and arguments.out.suffix.lower() not in (".mp4", ".mkv")
+    for name, path in outputs.items():
+        if path is not None and not (name == "--out" and chunk_folder):
+            check_writable(path, f"output of {name}")
+
+
 def script_arguments() -> list[str]:
     """Arguments after '--' inside Blender; all of them with the bpy module."""
     if "--" in sys.argv:
@@ -329,21 +358,14 @@ def run_chunk(arguments: argparse.Namespace) -> None:
     )
 
 
-def write_exports(arguments: argparse.Namespace, result, source: str) -> None:
-    """The --export files of a generated animation (the speech WAV named relative to each file)."""
-    import os
-
-    from turkish_lipsync.core.interchange import export_text, write_export
+def write_exports(arguments: argparse.Namespace, context, head) -> None:
+    """The --export files of the head's generated animation (the speech WAV named relative to each file)."""
+    from turkish_lipsync.blender import exports
 
     for export_format, path in arguments.export:
-        sound = ""
-        if result.wav_path:
-            sound = os.path.relpath(result.wav_path, path.resolve().parent)
-        contents, warnings = export_text(
-            export_format, result.timeline, result.tracks, sound_file=sound, text=source
-        )
-        _print_warnings(warnings)
-        print(f"Exported {export_format} to {write_export(path, contents)}", flush=True)
+        written = exports.export_animation(context, head, export_format, path)
+        _print_warnings(written.warnings)
+        print(f"Exported {export_format} to {written.path}", flush=True)
 
 
 def run(arguments: argparse.Namespace) -> None:
@@ -351,6 +373,7 @@ def run(arguments: argparse.Namespace) -> None:
 
     from turkish_lipsync.blender import heads, pipeline, sequencer
     from turkish_lipsync.core.base.errors import TextError
+    from turkish_lipsync.core.base.files import read_user_text
 
     started = time.perf_counter()
     new_scene = arguments.head is None or arguments.head.suffix.lower() != ".blend"
@@ -370,10 +393,7 @@ def run(arguments: argparse.Namespace) -> None:
         scene.render.resolution_x, scene.render.resolution_y = DEFAULT_RESOLUTION
 
     if arguments.jsml is not None:
-        try:
-            source = arguments.jsml.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as error:
-            raise TextError(f"Cannot read {arguments.jsml}: {error}. Give a UTF-8 text file.") from error
+        source = read_user_text(arguments.jsml, "--jsml text", TextError)
     else:
         source = arguments.text or ""  # with --cues alone, the cue file's own text; with --audio, the heard
 
@@ -428,7 +448,7 @@ def run(arguments: argparse.Namespace) -> None:
         flush=True,
     )
     if arguments.export:
-        write_exports(arguments, result, source)
+        write_exports(arguments, context, bpy.data.objects[head_name])
     if arguments.gltf is not None:
         from turkish_lipsync.blender.gltf_export import export_gltf
 
@@ -475,6 +495,7 @@ def run(arguments: argparse.Namespace) -> None:
 def main(argv: list[str] | None = None) -> int:
     arguments = parse_arguments(script_arguments() if argv is None else argv)
     try:
+        check_paths(arguments)
         if arguments.join:
             run_join(arguments)
         elif arguments.frames:

@@ -4,22 +4,42 @@ import numpy as np
 import pytest
 
 from turkish_lipsync.core.base.errors import DataError
-from turkish_lipsync.core.base.model import BLINK_KEYS, BROW_RAISE_KEY, EMOTIONS, emotion_key_name
+from turkish_lipsync.core.base.model import (
+    BLINK_KEYS,
+    BROW_RAISE_KEY,
+    EMOTIONS,
+    emotion_key_name,
+    emotion_release_key_name,
+    viseme_key_name,
+)
 from turkish_lipsync.core.faces.arkit_names import is_mouth_unit
 from turkish_lipsync.core.faces.recipes import VISEME_NAMES, combine_units, key_deltas, load_recipes
 from turkish_lipsync.core.faces.reference import load_reference_head
 
 
-def test_every_key_has_a_recipe():
-    keys = load_recipes().key_recipes()
-    assert len(VISEME_NAMES) == 37
-    assert {f"TR_viseme_{name}" for name in VISEME_NAMES} <= set(keys)
+def test_every_key_moves_the_face_and_a_release_gives_the_lips_back():
+    """Every built key moves the reference head; an emotion plus its mouth release leaves the lips where the
+    rest pose has them (so a closure under the emotion closes) while its eyes and brows keep moving."""
+    head = load_reference_head()
+    deltas = key_deltas(head.units, len(head.vertices))
+    expected = {viseme_key_name(name) for name in VISEME_NAMES if name != "neutral"}
+    expected |= {emotion_key_name(e) for e in EMOTIONS} | {*BLINK_KEYS, BROW_RAISE_KEY}
+    moved = {name for name, delta in deltas.items() if np.abs(delta).max() > 1e-4}
+    assert expected <= moved, sorted(expected - moved)
+    assert np.abs(deltas[viseme_key_name("neutral")]).max() == 0.0
+    lips = [
+        head.landmark_vertices[name]
+        for name in ("upper_lip", "lower_lip", "upper_lip_inner", "lower_lip_inner")
+    ]
+    corners = [head.landmark_vertices["mouth_corner_left"], head.landmark_vertices["mouth_corner_right"]]
+    brows = [head.landmark_vertices["brow_left"], head.landmark_vertices["brow_right"]]
     for emotion in EMOTIONS:
-        assert keys[emotion_key_name(emotion)]
-        release = keys[f"TR_emotion_{emotion}_mouth_release"]
-        mouth = {u: -w for u, w in keys[emotion_key_name(emotion)].items() if is_mouth_unit(u)}
-        assert release == mouth
-    assert {*BLINK_KEYS, BROW_RAISE_KEY} <= set(keys)
+        released = deltas[emotion_key_name(emotion)] + deltas[emotion_release_key_name(emotion)]
+        assert np.abs(deltas[emotion_key_name(emotion)][lips + corners]).max() > 1e-3, emotion
+        assert np.abs(released[lips]).max() < 5e-4, emotion  # the lips back within half a mm (a sneer)
+        assert np.abs(released[corners]).max() < 1e-3, emotion  # cheeks may pull a corner under a mm
+        if emotion != "happy":  # a smile moves cheeks and eyes, not the brows
+            assert np.abs(released[brows]).max() > 5e-4, emotion
 
 
 def _mouth_width(deltas):

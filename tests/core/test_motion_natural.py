@@ -13,12 +13,12 @@ from turkish_lipsync.core.base.model import (
     emotion_release_key_name,
     viseme_key_name,
 )
+from turkish_lipsync.core.base.visemes import BILABIAL_VISEMES, LABIODENTAL_VISEMES
 from turkish_lipsync.core.motion.frames import sampled_weights
 from turkish_lipsync.core.motion.natural import motion_parameters, natural_weight_tracks
 from turkish_lipsync.core.motion.quality import quality_report
 from turkish_lipsync.core.speech.timing import table_timeline
 from turkish_lipsync.core.text.utterance import build_utterance
-from turkish_lipsync.core.text.visemes import BILABIAL_VISEMES, LABIODENTAL_VISEMES
 
 # Sentences the parameters were not tuned on: many m, b, p, f, v, and rounded vowels after consonants.
 HELD_OUT = (

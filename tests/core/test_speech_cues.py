@@ -4,7 +4,7 @@ import json
 
 import pytest
 
-from turkish_lipsync.core.faces.recipes import VISEME_NAMES
+from turkish_lipsync.core.base.visemes import VISEME_NAMES
 from turkish_lipsync.core.speech import synthesize_timeline
 from turkish_lipsync.core.speech.cues import CueFileError, cue_formats, mouth_cues, read_cue_file
 from turkish_lipsync.core.speech.cues.shapes import SHAPES, shape_for_phoneme, shape_for_viseme

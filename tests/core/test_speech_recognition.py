@@ -20,12 +20,12 @@ from scripts.measure_recogniser import (
 from scripts.measure_recordings import RECORDED_RATE, write_wav
 from scripts.train_recogniser import coloured_noise, held_out_sentences, music
 from turkish_lipsync.core.base.errors import AudioError
+from turkish_lipsync.core.base.visemes import BILABIAL_VISEMES, VOWEL_VISEMES
 from turkish_lipsync.core.speech.recognition import speech_from_audio
 from turkish_lipsync.core.speech.recognition.acoustics import FEATURE_COUNT
 from turkish_lipsync.core.speech.recognition.decoder import decode
 from turkish_lipsync.core.speech.recognition.labels import CLASSES
 from turkish_lipsync.core.speech.recognition.network import load_network
-from turkish_lipsync.core.text.visemes import BILABIAL_VISEMES, VOWEL_VISEMES
 
 VOICES = ("m3", "Andrea", "klatt3")
 

@@ -11,9 +11,9 @@ import pytest
 from scripts.measure_recogniser import TEST_VOICES, make_take
 from scripts.train_recogniser import held_out_sentences
 from turkish_lipsync.core.base.model import viseme_key_name
+from turkish_lipsync.core.base.visemes import BILABIAL_VISEMES
 from turkish_lipsync.core.pipeline import LipSyncOptions, lip_sync
 from turkish_lipsync.core.speech.sources import SpeechRequest, timing_source_for
-from turkish_lipsync.core.text.visemes import BILABIAL_VISEMES
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 

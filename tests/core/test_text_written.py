@@ -335,8 +335,8 @@ def test_any_mix_of_digits_signs_and_words_gives_turkish_letters_at_real_indices
 def test_the_timeline_speaks_the_normalised_words_with_their_visemes() -> None:
     """What the normaliser reads is what the timeline times and the visemes shape (table timing, no engine):
     the softened b of "zeynebe" sits on the written p and closes the lips."""
+    from turkish_lipsync.core.base.visemes import BILABIAL_VISEMES
     from turkish_lipsync.core.pipeline import LipSyncOptions, lip_sync
-    from turkish_lipsync.core.text.visemes import BILABIAL_VISEMES
 
     source = "Toplantı 09:00'da, bilet 2.499,90 TL'ye; XIX. yüzyılda Zeynep'e ½ ekmek."
     result = lip_sync(source, LipSyncOptions(timing="table"))

@@ -1,8 +1,9 @@
 import pytest
 
 from turkish_lipsync.core.base.errors import DataError
+from turkish_lipsync.core.base.visemes import viseme_names
 from turkish_lipsync.core.text.utterance import build_utterance
-from turkish_lipsync.core.text.visemes import viseme_for_letter, viseme_names
+from turkish_lipsync.core.text.visemes import viseme_for_letter
 
 THESIS_MODELS = (
     "a bpa cjae dta fvae gkya la ma na ra sza ta e bpe dte gkye le me ne re sze"

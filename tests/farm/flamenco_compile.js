@@ -4,7 +4,8 @@
 // author.Command, frameChunker, path, print, formatTimestampLocal. They are provided here as the Manager
 // defines them, so the authored commands can be checked and then run for real.
 //
-// Usage: node flamenco_compile.js JOB_TYPE.js SETTINGS.json
+// Usage: node flamenco_compile.js JOB_TYPE.js SETTINGS.json   (the tasks it authors)
+//        node flamenco_compile.js JOB_TYPE.js --settings      (the job type's settings)
 "use strict";
 const fs = require("fs");
 const nodePath = require("path");
@@ -40,6 +41,13 @@ function Task(name, type) {
 }
 
 const [jobTypeFile, settingsFile] = process.argv.slice(2);
+if (settingsFile === "--settings") {
+  // The job type's settings as the Manager hands them to the Blender add-on (their eval expressions).
+  const definition = vm.createContext({});
+  vm.runInContext(fs.readFileSync(jobTypeFile, "utf8") + "\nthis.JOB_TYPE = JOB_TYPE;", definition);
+  console.log(JSON.stringify(definition.JOB_TYPE.settings));
+  process.exit(0);
+}
 const job = { settings: JSON.parse(fs.readFileSync(settingsFile, "utf8")), created: new Date(), tasks: [] };
 job.addTask = (task) => job.tasks.push(task);
 const context = {

@@ -93,7 +93,20 @@ def test_frames_with_gaps_are_refused(tmp_path):
     assert result.returncode != 0 and "must be one range START-END" in result.stderr
 
 
-def test_the_speech_setting_reads_the_property_generate_writes():
-    from turkish_lipsync.blender import sequencer
+@pytest.mark.skipif(NODE is None, reason="needs node to read the job type")
+def test_the_speech_setting_finds_the_wav_generate_wrote(tmp_path):
+    """The Flamenco add-on evaluates each setting's `eval` in Blender (C = bpy.context, abspath = Blender's);
+    in a scene saved after Generate the speech setting must name the WAV that Generate wrote."""
+    blend = tmp_path / "shot.blend"
+    _run([sys.executable, str(SCRIPT), "--text", "Ama baba", "--no-render", "--save-blend", str(blend)])
+    (wav,) = (tmp_path / "lipsync_audio").glob("*.wav")
+    import bpy
 
-    assert f"C.scene.get('{sequencer.SPEECH_PATH_PROPERTY}', '')" in JOB_TYPE.read_text(encoding="utf-8")
+    bpy.ops.wm.open_mainfile(filepath=str(blend))
+    result = subprocess.run(
+        [NODE, str(Path(__file__).with_name("flamenco_compile.js")), str(JOB_TYPE), "--settings"],
+        capture_output=True, text=True, timeout=60, check=True,
+    )  # fmt: skip
+    setting = next(s for s in json.loads(result.stdout) if s["key"] == "speech_wav")
+    namespace = {"C": bpy.context, "D": bpy.data, "bpy": bpy, "abspath": bpy.path.abspath}
+    assert Path(eval(setting["eval"], namespace)).resolve() == wav.resolve()

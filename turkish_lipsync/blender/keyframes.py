@@ -7,12 +7,13 @@ call per key, which keeps a minute of speech at 37+ curves well under a second. 
 
 from __future__ import annotations
 
+import hashlib
 from dataclasses import dataclass
 
 import bpy
 import numpy as np
 
-from ..core.base.model import EMOTION_KEY_PREFIX, OWNED_PREFIX, VISEME_KEY_PREFIX, WeightTracks
+from ..core.base.model import EMOTION_KEY_PREFIX, OWNED_PREFIX, VISEME_KEY_PREFIX, Track, WeightTracks
 from . import compat
 
 ACTION_TAG = "turkish_lipsync_utterance"  # custom property on the actions we create
@@ -151,3 +152,65 @@ def remove_weight_tracks(objects) -> int:
         removed += len(ours)
         _remove_our_curves(channels)
     return removed
+
+
+def _key_name_of(data_path: str) -> str:
+    """The shape key a curve of ours animates (the inverse of curve_data_path)."""
+    inner = data_path.removeprefix('key_blocks["').removesuffix('"].value')
+    return inner.replace('\\"', '"').replace("\\\\", "\\")
+
+
+def _our_curves(objects) -> list[bpy.types.FCurve]:
+    curves = []
+    for _obj, key in shape_key_owners(objects):
+        action = key.animation_data.action if key.animation_data else None
+        channels = compat.action_channels(action, key, KEY_ID_TYPE, create=False) if action else None
+        if channels is not None:
+            curves += [fc for fc in channels.fcurves if is_our_curve(fc.data_path)]
+    return curves
+
+
+def key_fingerprint(objects) -> str:
+    """A digest of every key of our curves on the objects' shape keys: it changes when a key is edited."""
+    digest = hashlib.sha1()
+    for fcurve in sorted(_our_curves(objects), key=lambda fc: fc.data_path):
+        count = len(fcurve.keyframe_points)
+        coordinates = np.empty(2 * count, dtype=np.float32)
+        fcurve.keyframe_points.foreach_get("co", coordinates)
+        digest.update(fcurve.data_path.encode("utf-8"))
+        digest.update(coordinates.tobytes())
+    return digest.hexdigest()
+
+
+def read_weight_tracks(objects, start_frame: int, frame_count: int, fps: float) -> WeightTracks:
+    """Our keys' weights as the head has them now, frames counted from start_frame (the inverse of
+    write_weight_tracks): the keys themselves where all curves are linear or constant, else sampled."""
+    curves = {}
+    for fcurve in _our_curves(objects):
+        curves.setdefault(_key_name_of(fcurve.data_path), fcurve)  # the head's curve first, then its parts'
+    interpolations = set()
+    for fcurve in curves.values():
+        count = len(fcurve.keyframe_points)
+        modes = np.empty(count, dtype=np.int32)
+        fcurve.keyframe_points.foreach_get("interpolation", modes)
+        interpolations |= set(modes.tolist())
+    by_value = {value: name for name, value in INTERPOLATION_VALUES.items()}
+    if len(interpolations) <= 1 and interpolations <= {
+        INTERPOLATION_VALUES["LINEAR"],
+        INTERPOLATION_VALUES["CONSTANT"],
+    }:
+        interpolation = by_value[interpolations.pop()] if interpolations else "LINEAR"
+        tracks = []
+        for name, fcurve in curves.items():
+            count = len(fcurve.keyframe_points)
+            coordinates = np.empty(2 * count, dtype=np.float64)
+            fcurve.keyframe_points.foreach_get("co", coordinates)
+            tracks.append(Track(name, coordinates[0::2] - start_frame, coordinates[1::2]))
+    else:
+        interpolation = "LINEAR"
+        frames = np.arange(frame_count, dtype=np.float64)
+        tracks = [
+            Track(name, frames, np.array([fcurve.evaluate(start_frame + f) for f in frames]))
+            for name, fcurve in curves.items()
+        ]
+    return WeightTracks(fps=fps, frame_count=frame_count, interpolation=interpolation, tracks=tuple(tracks))

@@ -415,7 +415,8 @@ def _speech_generated(cls, context) -> bool:
     if not (_in_object_mode(cls, context) and _head_chosen(cls, context)):
         return False
     key = chosen_head(context).data.shape_keys
-    if key is None or key.animation_data is None or key.animation_data.action is None:
+    action = key.animation_data.action if key is not None and key.animation_data else None
+    if action is None or pipeline.RECORD_PROPERTY not in action:
         cls.poll_message_set("Generate the animation first: the head has no speech to export")
         return False
     return True
@@ -430,7 +431,7 @@ class TURKISH_LIPSYNC_OT_export_animation(ReportedOperator, bpy.types.Operator):
 
     @classmethod
     def poll(cls, context) -> bool:
-        if not (_speech_generated(cls, context) and _source_chosen(cls, settings_of(context))):
+        if not _speech_generated(cls, context):
             return False
         chosen = settings_of(context).export_path
         if not chosen:
@@ -444,15 +445,8 @@ class TURKISH_LIPSYNC_OT_export_animation(ReportedOperator, bpy.types.Operator):
     @staticmethod
     def work(context) -> Outcome:
         settings = settings_of(context)
-        configure_speech_engine(context)
-        result = exports.export_animation(
-            context,
-            chosen_head(context),
-            source_of(settings),
-            options_of(settings),
-            settings.export_format,
-            settings.export_path,
-        )
+        path = exports.export_path_for(settings.export_path, settings.export_format)
+        result = exports.export_animation(context, chosen_head(context), settings.export_format, path)
         return f"Exported {result.export_format} to {result.path}", result.warnings
 
 

@@ -16,7 +16,9 @@ from pathlib import Path
 import bpy
 
 from ..core.base.errors import HeadError, TextError
+from ..core.base.files import read_user_text
 from ..core.base.model import OWNED_PREFIX, Timeline, Utterance, WeightTracks
+from ..core.interchange.animation_record import AnimationRecord, record_from_json, record_to_json
 from ..core.pipeline import LipSyncOptions, lip_sync
 from . import compat, heads, keyframes, render, sequencer, shapekeys
 from .shapekeys import BuildReport
@@ -127,13 +129,7 @@ def read_source(text_name: str = "", file_path: str = "", allow_empty: bool = Fa
             raise TextError(f"There is no Text named {text_name!r}: choose a Text in the Lip Sync panel.")
         source = text.as_string()
     elif file_path:
-        path = Path(bpy.path.abspath(file_path))
-        try:
-            source = path.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as error:
-            raise TextError(
-                f"Cannot read the JSML file {path}: {error}. Check the path (UTF-8 text)."
-            ) from error
+        source = read_user_text(Path(bpy.path.abspath(file_path)), "JSML file", TextError)
     else:
         raise TextError("No text to speak: choose a Text datablock or a JSML file in the Lip Sync panel.")
     if not source.strip() and not allow_empty:
@@ -184,15 +180,13 @@ def generate(
     action_name = action_name_for(spoken.utterance)
     wav_path = None
     if synthesis is not None:
-        from ..core.speech import write_wav
-
         progress(0.45, "Saving the speech audio")
-        wav_path = sequencer.speech_wav_path(action_name, audio_folder, package)
-        write_wav(wav_path, synthesis)
+        wav_path = sequencer.write_speech_wav(action_name, synthesis, audio_folder, package)
 
     # From here on Blender data changes; nothing below raises LipSyncError for bad input.
     progress(0.6, f"Keying {len(tracks.tracks)} shape-key tracks")
     written = keyframes.write_weight_tracks(head_objects(head), tracks, start, action_name)
+    _keep_record(head, source, spoken, start)
     progress(0.85, "Placing the speech in the sequencer")
     strip_name = None
     frame_count = sequencer.frame_count_for(timeline.duration, fps)
@@ -218,6 +212,38 @@ def generate(
         tracks=tracks,
         warnings=spoken.warnings,
     )
+
+
+RECORD_PROPERTY = "tr_lipsync_animation"  # on the action of the head's keys: what Generate made
+
+
+def _keep_record(head: bpy.types.Object, source: str, spoken, start: int) -> None:
+    """The timeline and settings beside the keys, for exports of the animation the head has."""
+    action = head.data.shape_keys.animation_data.action
+    settings = {
+        name: str(value) if isinstance(value, Path) else value
+        for name, value in dataclasses.asdict(spoken.options).items()
+    }
+    record = AnimationRecord(
+        text=source,
+        timeline=spoken.timeline,
+        fps=spoken.tracks.fps,
+        frame_start=start,
+        frame_count=spoken.tracks.frame_count,
+        settings=settings,
+        key_fingerprint=keyframes.key_fingerprint(head_objects(head)),
+        warnings=spoken.warnings,
+    )
+    action[RECORD_PROPERTY] = record_to_json(record)
+
+
+def animation_record(head: bpy.types.Object) -> AnimationRecord | None:
+    """What Generate made on this head, or None where it has no generated animation."""
+    key = getattr(head.data, "shape_keys", None)
+    action = key.animation_data.action if key is not None and key.animation_data else None
+    if action is None or RECORD_PROPERTY not in action:
+        return None
+    return record_from_json(str(action[RECORD_PROPERTY]), f"the action {action.name!r}")
 
 
 # ---------------------------------------------------------------- render

@@ -10,6 +10,7 @@ from pathlib import Path
 import bpy
 
 from ..core.base.errors import AudioError
+from ..core.speech.wav import speech_wav_in
 from . import compat
 
 SPEECH_STRIP_NAME = "TR_speech"
@@ -59,8 +60,9 @@ def speech_folder(chosen_folder: str = "", package: str | None = None) -> Path:
     return folder
 
 
-def speech_wav_path(name: str, chosen_folder: str = "", package: str | None = None) -> Path:
-    return speech_folder(chosen_folder, package) / f"{_safe_file_stem(name)}.wav"
+def write_speech_wav(name: str, synthesis, chosen_folder: str = "", package: str | None = None) -> Path:
+    """The speech's WAV in the speech folder, named after the action and the sound (core/speech/wav.py)."""
+    return speech_wav_in(speech_folder(chosen_folder, package), _safe_file_stem(name), synthesis)
 
 
 def blend_relative(path: Path) -> str:

@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 from .base.errors import LipSyncError
+from .base.files import check_distinct_paths, check_writable, read_user_text
 from .base.model import Timeline, WeightTracks
 from .pipeline import (
     FPS_RANGE,
@@ -109,14 +110,16 @@ def read_source(
         if cues is not None or audio is not None:
             return ""  # the cue file's own text, where it has one; else what the recording is heard to say
         raise LipSyncError("give the text to speak: a FILE or --text TEXT (or --audio REC to recognise it)")
-    try:
-        return file.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise LipSyncError(f"{file}: no such file") from None
-    except UnicodeDecodeError as error:
-        raise LipSyncError(f"{file}: not UTF-8 text (byte {error.start}); save it as UTF-8") from None
-    except OSError as error:
-        raise LipSyncError(f"{file}: cannot read it ({error.strerror})") from None
+    return read_user_text(file, "text to speak")
+
+
+def check_paths(args: argparse.Namespace, **outputs: Path | None) -> None:
+    """Before anything is spoken or written: no output may be an input or another output."""
+    inputs = {"FILE": args.file, "--audio": args.audio, "--cues": args.cues}
+    check_distinct_paths(inputs, {f"--{name}": path for name, path in outputs.items()})
+    for name, path in outputs.items():
+        if path is not None:
+            check_writable(path, f"output of --{name}")
 
 
 def options_from(args: argparse.Namespace) -> LipSyncOptions:
@@ -148,6 +151,7 @@ def _run_normalize(args: argparse.Namespace) -> int:
 
 
 def _run_timeline(args: argparse.Namespace) -> int:
+    check_paths(args, wav=args.wav)
     result = _lip_sync(args)
     if args.wav:
         if result.synthesis is None:
@@ -166,6 +170,7 @@ def _run_timeline(args: argparse.Namespace) -> int:
 def _run_export(args: argparse.Namespace) -> int:
     from .interchange import export_text, write_export
 
+    check_paths(args, out=args.out, wav=args.wav)
     result = _lip_sync(args)
     sound_file = ""
     if args.wav:

@@ -16,6 +16,7 @@ from .base.errors import LipSyncError
 from .base.model import Timeline, Utterance, WeightTracks
 from .motion import motion_choices, weight_tracks
 from .speech.sources import SpeechRequest, speak
+from .text.utterance import unspoken_warning
 
 TIMING_CHOICES = (
     Choice("phone", "Phone", "Key every phone where the speech engine speaks it (most accurate)"),
@@ -124,5 +125,5 @@ def lip_sync(source: str, options: LipSyncOptions | None = None) -> LipSyncResul
         synthesis=speech.synthesis,
         timeline=speech.timeline,
         tracks=tracks,
-        warnings=speech.warnings,
+        warnings=unspoken_warning(utterance) + speech.warnings,
     )

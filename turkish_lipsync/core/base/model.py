@@ -121,6 +121,7 @@ class Utterance:
     syllables: tuple[Syllable, ...]
     letters: tuple[Letter, ...]
     final_pause: float = 0.0  # seconds of silence after the last word
+    unspoken: tuple[str, ...] = ()  # stretches of the source spoken as nothing (other scripts, emoji)
 
 
 # ---------------------------------------------------------------- timeline (timing.py, speech/)

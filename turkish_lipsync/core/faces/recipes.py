@@ -23,18 +23,12 @@ from ..base.model import (
     emotion_release_key_name,
     viseme_key_name,
 )
+from ..base.visemes import VISEME_NAMES
 from .arkit_names import ARKIT_UNITS, is_mouth_unit
 
 VISEMES_FILE = DATA_DIR / "visemes.toml"
 EMOTIONS_FILE = DATA_DIR / "emotions.toml"
 
-# The thesis's 36 visual-phoneme models plus the neutral face (Table 5.1).
-VISEME_NAMES: tuple[str, ...] = (
-    "a", "bpa", "cjae", "dta", "fvae", "gkya", "la", "ma", "na", "ra", "sza", "ta",
-    "e", "bpe", "dte", "gkye", "le", "me", "ne", "re", "sze",
-    "I", "Ii", "o", "bpo", "cjo", "do", "fvo", "gkyo", "lo", "mo", "no", "ro", "szto", "oi", "u",
-    "neutral",
-)  # fmt: skip
 EXTRA_KEYS: dict[str, str] = {
     "blink_left": BLINK_KEYS[0],
     "blink_right": BLINK_KEYS[1],

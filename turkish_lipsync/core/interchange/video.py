@@ -111,7 +111,7 @@ def join_videos(chunks: list[Path], out: Path, audio: Path | None = None) -> Joi
                 frames += count
             seconds = float(frames / rate)
             if audio_out is not None:
-                _encode_audio(av, output, audio_out, Path(audio), seconds)
+                _encode_audio(av, output, audio_out, Path(audio), seconds, float(1 / rate), frames)
         os.replace(partial, out)
     finally:
         for container in inputs:
@@ -120,8 +120,11 @@ def join_videos(chunks: list[Path], out: Path, audio: Path | None = None) -> Joi
     return JoinResult(out, frames, seconds, tuple(chunk_frames))
 
 
-def _encode_audio(av, output, stream, audio: Path, seconds: float) -> None:
-    """The audio file as mono AAC, exactly `seconds` long (cut, or padded with silence)."""
+def _encode_audio(av, output, stream, audio: Path, seconds: float, frame_seconds: float, frames: int) -> None:
+    """The audio file as mono AAC, exactly `seconds` long (padded with silence after the speech).
+
+    Speech longer than the video by more than a frame means a chunk is missing: refused, not cut.
+    """
     samples_left = int(round(seconds * AUDIO_RATE))
     resampler = av.AudioResampler(format="fltp", layout="mono", rate=AUDIO_RATE)
     try:
@@ -138,6 +141,13 @@ def _encode_audio(av, output, stream, audio: Path, seconds: float) -> None:
             blocks += [resampled.to_ndarray()[0] for resampled in resampler.resample(frame)]
         blocks += [resampled.to_ndarray()[0] for resampled in resampler.resample(None)]
     samples = np.concatenate(blocks) if blocks else np.zeros(0, dtype=np.float32)
+    speech = samples.size / AUDIO_RATE
+    if speech > seconds + frame_seconds + 0.01:
+        raise VideoError(
+            f"The chunks hold {frames} frames ({seconds:.2f} s) and the speech {audio} lasts {speech:.2f} s: "
+            f"a chunk of the frame range is missing (about {round((speech - seconds) / frame_seconds)} "
+            "frames); join every chunk, in order."
+        )
     samples = np.pad(samples[:samples_left], (0, max(0, samples_left - samples.size)))
     frame = av.AudioFrame.from_ndarray(
         np.ascontiguousarray(samples[None, :], dtype=np.float32), "fltp", "mono"

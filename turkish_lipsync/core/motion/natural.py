@@ -39,7 +39,7 @@ from ..base.model import (
     emotion_release_key_name,
     viseme_key_name,
 )
-from ..text.visemes import BILABIAL_VISEMES, LABIODENTAL_VISEMES, NEUTRAL, viseme_names
+from ..base.visemes import BILABIAL_VISEMES, LABIODENTAL_VISEMES, NEUTRAL, VISEME_NAMES, visemes_of_kind
 from .base import MOTION_MODELS, MotionModel
 from .frames import shape_runs, shown_shapes, sparse_track
 
@@ -112,13 +112,20 @@ def motion_parameters() -> MotionParameters:
             if viseme in classes:
                 raise DataError(f"data file {path}: viseme {viseme!r} is in two classes; keep it in one")
             classes[viseme] = viseme_class
-    missing = sorted(set(viseme_names()) - set(classes))
-    unknown = sorted(set(classes) - set(viseme_names()))
+    missing = sorted(set(VISEME_NAMES) - set(classes))
+    unknown = sorted(set(classes) - set(VISEME_NAMES))
     if missing or unknown:
         raise DataError(
             f"data file {path}: every viseme needs exactly one class "
             f"(missing: {', '.join(missing) or 'none'}; unknown: {', '.join(unknown) or 'none'})"
         )
+    for kind in ("rest", "bilabial", "labiodental"):  # the classes the motion holds to, as the set says
+        named = {viseme for viseme, viseme_class in classes.items() if viseme_class.name == kind}
+        if named != visemes_of_kind(kind):
+            raise DataError(
+                f"data file {path}: [classes.{kind}] must hold the visemes viseme_set.toml calls {kind}: "
+                f"{', '.join(sorted(visemes_of_kind(kind)))}"
+            )
     unknown_emotions = sorted(set(eye_closure) - set(EMOTIONS))
     if unknown_emotions:
         raise DataError(f"data file {path}: [emotions.eye_closure] names unknown emotions {unknown_emotions}")

@@ -32,8 +32,8 @@ from ..base.model import (
     Timeline,
     WeightTracks,
 )
+from ..base.visemes import BILABIAL_VISEMES, LABIODENTAL_VISEMES
 from ..text.syllables import VOWELS
-from ..text.visemes import BILABIAL_VISEMES, LABIODENTAL_VISEMES
 from . import weight_tracks
 from .frames import sampled_weights, shape_runs, shown_shapes
 

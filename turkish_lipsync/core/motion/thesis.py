@@ -9,7 +9,7 @@ import numpy as np
 from ..base.data import DATA_DIR, load_table, require
 from ..base.errors import DataError
 from ..base.model import Timeline, WeightTracks, emotion_key_name, viseme_key_name
-from ..text.visemes import NEUTRAL
+from ..base.visemes import NEUTRAL
 from .base import MOTION_MODELS, MotionModel
 from .frames import sparse_track
 

@@ -3,14 +3,16 @@
 from __future__ import annotations
 
 import dataclasses
+import unicodedata
 from collections.abc import Iterable
 from dataclasses import replace
 
 from ..base.errors import TextError
-from ..base.model import Letter, Pause, SpokenWord, Syllable, Utterance, Word
+from ..base.model import Letter, Pause, SpokenWord, Syllable, TextRun, Utterance, Word
 from .jsml import parse_jsml
 from .normalize import normalize
 from .syllables import VOWELS, syllabify, syllable_vowel
+from .tables import fold_letter
 from .visemes import viseme_for_letter
 
 # The punctuation a pause stands for, as the speech engine reads it.
@@ -26,10 +28,22 @@ PAUSE_ENDINGS = {
 
 def build_utterance(source: str) -> Utterance:
     """Parse, normalise, syllabify and map every letter to its viseme (thesis 5.2.2-5.2.3)."""
-    return assemble_utterance(source, normalize(parse_jsml(source)))
+    items = parse_jsml(source)
+    unspoken = unspoken_characters(items)
+    try:
+        normalized = normalize(items)
+    except TextError as error:
+        if unspoken:
+            raise TextError(
+                f"{error} (left out, as Turkish speech cannot say them: {_quoted(unspoken)})"
+            ) from None
+        raise
+    return assemble_utterance(source, normalized, unspoken)
 
 
-def assemble_utterance(source: str, items: Iterable[SpokenWord | Pause]) -> Utterance:
+def assemble_utterance(
+    source: str, items: Iterable[SpokenWord | Pause], unspoken: tuple[str, ...] = ()
+) -> Utterance:
     """The utterance of words as spoken and the pauses between them: syllables, letters and visemes.
 
     build_utterance's last step; a text recognised from audio (speech/recognition) starts here, since it
@@ -55,6 +69,44 @@ def assemble_utterance(source: str, items: Iterable[SpokenWord | Pause]) -> Utte
         syllables=tuple(syllables),
         letters=tuple(letters),
         final_pause=pending_pause,
+        unspoken=unspoken,
+    )
+
+
+def unspoken_characters(items) -> tuple[str, ...]:
+    """Stretches of the text that are spoken as nothing: letters of other scripts (Cyrillic, Arabic, Han,
+    ...) and pictographs (emoji, symbols), each stretch as written."""
+    found: list[str] = []
+    for item in items:
+        if not isinstance(item, TextRun):
+            continue
+        current = ""
+        for char in item.text + " ":
+            category = unicodedata.category(char)
+            silent = (category.startswith("L") and not fold_letter(char)) or category == "So"
+            # a zero-width joiner, a variation selector, a mark or a skin tone belongs to what it follows
+            joiner = current and (char in "\u200d\ufe0f" or category in ("Mn", "Me", "Sk"))
+            if silent or joiner:
+                current += char
+            elif current:
+                found.append(current)
+                current = ""
+    return tuple(found)
+
+
+def _quoted(stretches: tuple[str, ...], shown: int = 5) -> str:
+    text = ", ".join(repr(stretch) for stretch in stretches[:shown])
+    return text + (f" and {len(stretches) - shown} more" if len(stretches) > shown else "")
+
+
+def unspoken_warning(utterance: Utterance) -> tuple[str, ...]:
+    """The warning for what the text holds that is left silent (none where everything is spoken)."""
+    if not utterance.unspoken:
+        return ()
+    return (
+        f"The text holds characters Turkish speech cannot say; they are left silent: "
+        f"{_quoted(utterance.unspoken)}. Write them out in Turkish (or give a <SAYAS SUB> reading) to "
+        "have them spoken.",
     )
 
 

@@ -1,4 +1,8 @@
-"""Letters to the thesis's 36 vowel-context visemes + neutral (Table 5.1, data in shapekeys/letters.toml)."""
+"""Letters to the thesis's 36 vowel-context visemes + neutral (Table 5.1, data in shapekeys/letters.toml).
+
+The visemes themselves (names, numbers, kinds) are the viseme set's (core/base/visemes.py); this table says
+which letter in which vowel context becomes which of them, and is checked against the set when it loads.
+"""
 
 from __future__ import annotations
 
@@ -7,16 +11,11 @@ from functools import cache
 
 from ..base.data import DATA_DIR, load_table, require
 from ..base.errors import DataError
-
-NEUTRAL = "neutral"
-BILABIAL_VISEMES = frozenset({"bpa", "bpe", "bpo", "ma", "me", "mo"})
-LABIODENTAL_VISEMES = frozenset({"fvae", "fvo"})
-VOWEL_VISEMES = frozenset({"a", "e", "I", "Ii", "o", "oi", "u"})
+from ..base.visemes import NEUTRAL, VISEME_NAMES, visemes_of_kind
 
 
 @dataclass(frozen=True)
 class LetterTable:
-    models: dict[str, int]  # model name -> thesis number
     vowel_groups: dict[str, int]  # vowel -> 0 (a, ı), 1 (e, i), 2 (o, ö, u, ü)
     vowels: dict[str, str]  # vowel -> its model
     consonants: dict[str, tuple[str, str, str]]  # consonant -> model per vowel group
@@ -27,14 +26,11 @@ class LetterTable:
 def letter_table() -> LetterTable:
     table = load_table("letters")
     path = DATA_DIR / "letters.toml"
-    models = require(table, "models", dict, "letters")
     groups = require(table, "vowel_groups", dict, "letters")
     vowels = require(table, "vowels", dict, "letters")
     consonants = require(table, "consonants", dict, "letters")
     vowel_shaped = require(table, "vowel_shaped", list, "letters")
     group_index = {"a": 0, "e": 1, "o": 2}
-    if sorted(models.values()) != list(range(37)):
-        raise DataError(f"{path}: [models] must number the 37 models 0..36 once each")
     for letter, group in groups.items():
         if group not in group_index:
             raise DataError(f"{path}: vowel group of {letter!r} must be a, e or o, not {group!r}")
@@ -42,23 +38,27 @@ def letter_table() -> LetterTable:
         if letter not in groups and letter in vowels:
             raise DataError(f"{path}: vowel {letter!r} has no vowel group")
         for model in row:
-            if model not in models:
-                raise DataError(f"{path}: letter {letter!r} maps to unknown model {model!r}")
+            if model not in VISEME_NAMES:
+                raise DataError(
+                    f"{path}: letter {letter!r} maps to {model!r}, which is not in the viseme set"
+                )
         if letter in consonants and len(row) != 3:
             raise DataError(f"{path}: consonant {letter!r} needs three models (groups a, e, o)")
+    reached = set(vowels.values()) | {model for row in consonants.values() for model in row}
+    unreached = sorted(set(VISEME_NAMES) - reached - {NEUTRAL})
+    if unreached:
+        raise DataError(f"{path}: no letter becomes the viseme(s) {', '.join(unreached)} of the viseme set")
+    for letter, model in vowels.items():
+        if model not in visemes_of_kind("vowel"):
+            raise DataError(
+                f"{path}: vowel {letter!r} maps to {model!r}, which the viseme set calls no vowel"
+            )
     return LetterTable(
-        models=dict(models),
         vowel_groups={v: group_index[g] for v, g in groups.items()},
         vowels=dict(vowels),
         consonants={c: tuple(row) for c, row in consonants.items()},
         vowel_shaped=frozenset(vowel_shaped),
     )
-
-
-def viseme_names() -> tuple[str, ...]:
-    """The 37 model names in the thesis's numbering (0..35, neutral 36)."""
-    models = letter_table().models
-    return tuple(sorted(models, key=models.get))
 
 
 def viseme_for_letter(letter: str, syllable_vowel: str | None) -> str:

@@ -11,7 +11,16 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ...base.model import Timeline
-from .common import CueFileError, CueFormat, CueSource, MouthCue, frame_of, read_text, register
+from .common import (
+    CueFileError,
+    CueFormat,
+    CueSource,
+    MouthCue,
+    check_cue_count,
+    frame_of,
+    read_text,
+    register,
+)
 from .shapes import REST, shape_for_phoneme, shape_for_viseme, shape_table, uses_preston_blair
 
 PAPAGAYO_HEADER = "lipsync version 1"
@@ -116,7 +125,9 @@ class _Lines:
 
 def read_pgo(path: Path) -> PapagayoDocument:
     """The first voice of a Papagayo project: its text, words and phonemes (Preston Blair or Rhubarb)."""
-    lines = _Lines(path, read_text(path))
+    text = read_text(path)
+    check_cue_count(path, text.count("\n"))
+    lines = _Lines(path, text)
     if lines.next("the header").lower() != PAPAGAYO_HEADER:
         raise CueFileError(f"{path}: line 1 must be '{PAPAGAYO_HEADER}': is this a Papagayo project (.pgo)?")
     sound_path = lines.next("the sound file")

@@ -13,6 +13,7 @@ from .common import (
     CueFileError,
     CueFormat,
     CueSource,
+    check_cue_count,
     checked_time,
     cues_from_records,
     mouth_cues,
@@ -38,6 +39,7 @@ class RhubarbJson(CueFormat):
         entries = document.get("mouthCues") if isinstance(document, dict) else None
         if not isinstance(entries, list):
             raise CueFileError(f"{path}: no 'mouthCues' list: is this a Rhubarb JSON file?")
+        check_cue_count(path, len(entries))
         records = []
         for index, entry in enumerate(entries):
             if not isinstance(entry, dict):

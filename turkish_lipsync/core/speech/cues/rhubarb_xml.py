@@ -11,6 +11,7 @@ from .common import (
     CueFileError,
     CueFormat,
     CueSource,
+    check_cue_count,
     checked_time,
     cues_from_records,
     mouth_cues,
@@ -33,6 +34,7 @@ class RhubarbXml(CueFormat):
         text = read_text(path)
         if "<!DOCTYPE" in text or "<!ENTITY" in text:
             raise CueFileError(f"{path}: XML with a DTD or entities is not read; Rhubarb never writes them")
+        check_cue_count(path, text.count("<mouthCue "))
         try:
             root = ElementTree.fromstring(text)
         except ElementTree.ParseError as error:

@@ -1,4 +1,4 @@
-"""Rhubarb's nine mouth shapes and the Turkish visemes each stands for (shapekeys/rhubarb_shapes.toml)."""
+"""Rhubarb's nine mouth shapes (shapekeys/rhubarb_shapes.toml) and the Turkish visemes each stands for."""
 
 from __future__ import annotations
 
@@ -7,16 +7,15 @@ from functools import cache
 
 from ...base.data import DATA_DIR, load_table, require
 from ...base.errors import DataError
-from ...text.visemes import viseme_names
+from ...base.visemes import RHUBARB_SHAPES, rhubarb_shape_of
 
 TABLE = "rhubarb_shapes"
-SHAPES: tuple[str, ...] = ("A", "B", "C", "D", "E", "F", "G", "H", "X")
+SHAPES = RHUBARB_SHAPES
 REST = "X"
 
 
 @dataclass(frozen=True)
 class ShapeTable:
-    viseme_shapes: dict[str, str]  # Turkish viseme -> Rhubarb shape
     preston_blair: dict[str, str]  # Rhubarb shape -> Preston Blair phoneme (Papagayo, Moho)
     from_preston_blair: dict[str, str]  # Preston Blair phoneme (and aliases) -> Rhubarb shape
 
@@ -31,14 +30,6 @@ def shape_table() -> ShapeTable:
     described = require(table, "shapes", dict, TABLE)
     if sorted(described) != sorted(SHAPES):
         raise DataError(f"{_where('shapes', '')}must describe exactly the shapes {', '.join(SHAPES)}")
-    visemes = require(table, "visemes", dict, TABLE)
-    missing = sorted(set(viseme_names()) - set(visemes))
-    unknown = sorted(set(visemes) - set(viseme_names()))
-    if missing or unknown:
-        raise DataError(f"{_where('visemes', '')}missing {missing or 'none'}, unknown {unknown or 'none'}")
-    for viseme, shape in visemes.items():
-        if shape not in SHAPES:
-            raise DataError(f"{_where('visemes', viseme)} = {shape!r}: use one of {', '.join(SHAPES)}")
     preston_blair = require(table, "preston_blair", dict, TABLE)
     if sorted(preston_blair) != sorted(SHAPES):
         raise DataError(f"{_where('preston_blair', '')}must name a phoneme for each of {', '.join(SHAPES)}")
@@ -48,11 +39,11 @@ def shape_table() -> ShapeTable:
             raise DataError(f"{_where('preston_blair_aliases', alias)} = {shape!r}: use one of {SHAPES}")
     backwards = {phoneme.lower(): shape for shape, phoneme in preston_blair.items()}
     backwards.update({alias.lower(): shape for alias, shape in aliases.items()})
-    return ShapeTable(dict(visemes), dict(preston_blair), backwards)
+    return ShapeTable(dict(preston_blair), backwards)
 
 
 def shape_for_viseme(viseme: str) -> str:
-    return shape_table().viseme_shapes[viseme]
+    return rhubarb_shape_of(viseme)
 
 
 def uses_preston_blair(names) -> bool:
