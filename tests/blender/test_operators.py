@@ -1,5 +1,6 @@
 """The operators on the default head and on the shared heads: results, errors, undo, regenerate."""
 
+import json
 import math
 import wave
 from pathlib import Path
@@ -593,3 +594,8 @@ def test_a_recording_with_an_empty_text_is_recognised_keyed_and_placed_as_the_so
         recorded_seconds = handle.getnframes() / handle.getframerate()
     with wave.open(str(sequencer.speech_wav_of(scene)), "rb") as handle:
         assert handle.getnframes() / handle.getframerate() == pytest.approx(recorded_seconds, abs=0.02)
+    # The panel exports what was keyed: the Rhubarb cues close (A) where the heard b, m, p are.
+    settings.export_format, settings.export_path = "rhubarb-json", str(tmp_path / "heard.json")
+    assert bpy.ops.turkish_lipsync.export_animation() == {"FINISHED"}
+    cues = json.loads((tmp_path / "heard.json").read_text())["mouthCues"]
+    assert cues[0]["value"] == "X" and sum(cue["value"] == "A" for cue in cues) >= 0.8 * len(spoken)
