@@ -37,8 +37,8 @@ def build_utterance(source: str) -> Utterance:
     pending_pause = 0.0
     if len(source) > MAX_SOURCE_CHARACTERS:
         raise TextError(
-            f"the text has {len(source):,} characters, more than the {MAX_SOURCE_CHARACTERS:,} (about 20 hours "
-            "of speech) one text may hold: split it into several texts"
+            f"the text has {len(source):,} characters, more than the {MAX_SOURCE_CHARACTERS:,} (about 20 "
+            "hours of speech) one text may hold: split it into several texts"
         )
     items = parse_jsml(source)
     unspoken = unspoken_characters(items)
