@@ -118,6 +118,8 @@ def run_end_to_end(head_kind: str) -> dict:
         wav = Path(folder) / "speech.wav"
         write_wav(wav, synthesis)
         sequencer.place_speech_strip(context.scene, wav, 1, timeline.duration)
+        frame_count = sequencer.frame_count_for(timeline.duration, sequencer.scene_fps(context.scene))
+        sequencer.fit_frame_range(context.scene, 1, frame_count)
     stages["sound_s"] = time.perf_counter() - mark
     total = time.perf_counter() - started
     speech_minutes = timeline.duration / 60

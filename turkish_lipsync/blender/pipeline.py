@@ -17,7 +17,14 @@ import bpy
 
 from ..core.base.errors import HeadError, TextError
 from ..core.base.files import read_user_text
-from ..core.base.model import OWNED_PREFIX, Timeline, Utterance, WeightTracks
+from ..core.base.model import (
+    OWNED_PREFIX,
+    VISEME_KEY_PREFIX,
+    Timeline,
+    Utterance,
+    WeightTracks,
+    viseme_key_name,
+)
 from ..core.interchange.animation_record import AnimationRecord, record_from_json, record_to_json
 from ..core.pipeline import LipSyncOptions, lip_sync
 from . import compat, heads, keyframes, render, sequencer, shapekeys
@@ -114,7 +121,7 @@ def build_keys(
 
 def has_lipsync_keys(head: bpy.types.Object) -> bool:
     key = getattr(head.data, "shape_keys", None)
-    return key is not None and any(block.name.startswith("TR_viseme_") for block in key.key_blocks)
+    return key is not None and any(block.name.startswith(VISEME_KEY_PREFIX) for block in key.key_blocks)
 
 
 # ---------------------------------------------------------------- text
@@ -168,8 +175,8 @@ def generate(
     scene = context.scene
     if not has_lipsync_keys(head):
         raise HeadError(
-            f"The head {head.name!r} has no TR_viseme_* shape keys yet: press 'Build Shape Keys' first "
-            "(or run the script with --head on it)."
+            f"The head {head.name!r} has no {VISEME_KEY_PREFIX}* shape keys yet: press 'Build Shape Keys' "
+            "first (or run the script with --head on it)."
         )
     fps = sequencer.scene_fps(scene)
     start = scene.frame_start if start_frame is None else int(start_frame)
@@ -195,8 +202,7 @@ def generate(
     else:
         sequencer.remove_speech_strip(scene)
         scene.pop(sequencer.SPEECH_PATH_PROPERTY, None)
-        scene.frame_start = start
-        scene.frame_end = start + frame_count - 1
+    range_warnings = sequencer.fit_frame_range(scene, start, frame_count)
     progress(1.0, "Animation generated")
     return GenerateResult(
         action_names=tuple(w.action_name for w in written),
@@ -210,7 +216,7 @@ def generate(
         fps=fps,
         timeline=timeline,
         tracks=tracks,
-        warnings=spoken.warnings,
+        warnings=spoken.warnings + range_warnings,
     )
 
 
@@ -358,7 +364,7 @@ def widest_mouth_frame(head: bpy.types.Object) -> int | None:
     action = key.animation_data.action if key is not None and key.animation_data else None
     if action is None:
         return None
-    wanted = keyframes.curve_data_path("TR_viseme_a")
+    wanted = keyframes.curve_data_path(viseme_key_name("a"))
     for fcurve in compat.all_action_fcurves(action):
         if fcurve.data_path == wanted and len(fcurve.keyframe_points):
             best = max(fcurve.keyframe_points, key=lambda point: point.co[1])

@@ -26,6 +26,7 @@ from ..core.faces.conventions import (
     plan_keys,
     read_user_mapping,
     recognise_convention,
+    unmatched_names,
 )
 from ..core.faces.landmarks import connected_pieces, find_landmarks, hidden_face_share, landmarks_from_motion
 from ..core.faces.recipes import VISEME_NAMES, key_deltas, load_recipes
@@ -418,7 +419,7 @@ def _convention_match(head, source: str, mapping_file, obj_folder) -> Convention
 def _plan_from_convention(head, parts, match: ConventionMatch, shaping: _Shaping):
     """TR keys as weighted sums of the head's own keys; what the convention lacks from the other basis."""
     plans = plan_keys(match, shaping.recipes)
-    warnings: list[str] = []
+    warnings: list[str] = list(unmatched_names(match))
     fallback, unit_sets = None, {}
     if any(plan.units for plan in plans.values()):
         try:

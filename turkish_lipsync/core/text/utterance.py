@@ -15,6 +15,10 @@ from .syllables import VOWELS, syllabify, syllable_vowel
 from .tables import fold_letter
 from .visemes import viseme_for_letter
 
+# Reading a text takes time in proportion to its length (about 20 s for this many characters on one core):
+# longer texts are refused at once instead.
+MAX_SOURCE_CHARACTERS = 1_000_000
+
 # The punctuation a pause stands for, as the speech engine reads it.
 PAUSE_ENDINGS = {
     "comma": ",",
@@ -28,6 +32,11 @@ PAUSE_ENDINGS = {
 
 def build_utterance(source: str) -> Utterance:
     """Parse, normalise, syllabify and map every letter to its viseme (thesis 5.2.2-5.2.3)."""
+    if len(source) > MAX_SOURCE_CHARACTERS:
+        raise TextError(
+            f"the text has {len(source):,} characters, more than the {MAX_SOURCE_CHARACTERS:,} (about 20 "
+            "hours of speech) one text may hold: split it into several texts"
+        )
     items = parse_jsml(source)
     unspoken = unspoken_characters(items)
     try:

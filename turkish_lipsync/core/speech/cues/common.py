@@ -156,10 +156,25 @@ def ordered(path: Path, cues: list[MouthCue]) -> tuple[MouthCue, ...]:
             raise CueFileError(
                 f"{path}: the cue at {cue.start:.3f} s comes before the one at {previous.start:.3f} s"
             )
+        if cue.start < previous.end - SHORTEST:
+            raise CueFileError(
+                f"{path}: the cue at {cue.start:.3f} s begins before the one before it ends "
+                f"({previous.end:.3f} s): cues may not overlap"
+            )
     return tuple(cues)
 
 
-def cues_from_records(path: Path, records: list[tuple[str, object, object, object]]) -> list[MouthCue]:
+def source_from_records(
+    path: Path, records: list[tuple[str, object, object, object]], duration: object, sound_file: str
+) -> CueSource:
+    """A file's cues from its (where, start, end, shape) records, each checked, and its length (the last
+    cue's end where the file does not say)."""
+    cues = ordered(path, _cues_from_records(path, records))
+    length = checked_time(path, "duration", cues[-1].end if duration is None else duration)
+    return CueSource(path, cues, length, sound_file=sound_file)
+
+
+def _cues_from_records(path: Path, records: list[tuple[str, object, object, object]]) -> list[MouthCue]:
     """Cues from (where, start, end, shape) records, each checked (an end before its start is refused)."""
     cues = []
     for where, start, end, shape in records:
