@@ -1,6 +1,6 @@
 """Train the audio-only recogniser's network on speech the project makes itself, and write its weights.
 
-    nice -n 10 /path/to/recogniser-venv/bin/python scripts/train_recogniser.py [--clips 3000] [--epochs 14]
+    nice -n 10 /path/to/recogniser-venv/bin/python scripts/train_recogniser.py [--clips 5000] [--epochs 14]
         [--seed 7] [--cache DIR] [--out turkish_lipsync/core/speech/recognition/phone_network.npz]
 
 Set-up (once, outside the repository; torch is never a dependency of the extension, which runs the
@@ -432,7 +432,7 @@ def export(network, data, out: Path, seed: int, epochs: int) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--clips", type=int, default=3000, help="spoken texts (non-speech clips come on top)")
+    parser.add_argument("--clips", type=int, default=5000, help="spoken texts (non-speech clips come on top)")
     parser.add_argument("--epochs", type=int, default=14)
     parser.add_argument("--seed", type=int, default=7)
     parser.add_argument("--cache", type=Path, default=Path.home() / ".cache" / "turkish_lipsync_recogniser")

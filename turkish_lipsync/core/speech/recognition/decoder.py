@@ -15,8 +15,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .labels import CLASSES
-
 PRIOR_WEIGHT = 0.8  # posteriors / priors ** PRIOR_WEIGHT
 LANGUAGE_WEIGHT = 0.5
 INSERTION_COST = 1.0  # natural-log units per new segment
@@ -86,7 +84,3 @@ def _trace_back(state, entered_from, stayed, lengths, lasts) -> tuple[Segment, .
             break
         label, stop, frame = int(entered_from[first, label]), first, first - 1
     return tuple(reversed(segments))
-
-
-def class_name(segment: Segment) -> str:
-    return CLASSES[segment.label]
