@@ -4,6 +4,7 @@ Runs inside Blender and with the bpy module:
 
     blender -b -P scripts/render.py -- --text "Merhaba" --out out/merhaba.mp4
     python scripts/render.py --jsml examples/demo.jsml --out out/demo.mp4 --save-blend out/demo.blend
+    python scripts/render.py --audio take.wav --out out/take.mp4   # no text: what the take says is recognised
 
 On any error it prints one line and exits non-zero. Given a .blend with --head, it changes only the TR_* keys,
 their F-curves, the TR_speech strip and the frame range (plus camera and lights only where there are none).
@@ -28,6 +29,7 @@ if str(REPOSITORY) not in sys.path:
 
 from turkish_lipsync.core.base.errors import LipSyncError  # noqa: E402  (the core needs no bpy)
 from turkish_lipsync.core.cli import add_living_arguments, living_option_values  # noqa: E402
+from turkish_lipsync.core.faces.key_sources import KEY_SOURCE_CHOICES, RHO_RANGE  # noqa: E402
 from turkish_lipsync.core.pipeline import (  # noqa: E402
     INTERPOLATION_CHOICES,
     MOTION_CHOICES,
@@ -129,7 +131,10 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
     parser.add_argument("--emotion-strength", type=float, default=defaults.emotion_strength, help="0..1")
     parser.add_argument("--rate", type=float, default=defaults.rate, help="speaking-rate multiplier")
     parser.add_argument(
-        "--audio", type=Path, help="a recording of the same text (WAV, FLAC, OGG) to use instead of eSpeak"
+        "--audio",
+        type=Path,
+        help="a recording of the text (WAV, FLAC, OGG) to use instead of eSpeak; without --text or --jsml, "
+        "what it says is recognised from the audio",
     )
     add_living_arguments(parser)
     parser.add_argument(
@@ -139,6 +144,28 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
         "--arkit-keys", action="store_true", help="also keep the 52 ARKit unit keys on the head"
     )
     parser.add_argument("--rebuild-keys", action="store_true", help="rebuild the TR_* keys even if present")
+    parser.add_argument(
+        "--key-source",
+        default="auto",
+        choices=identifiers(KEY_SOURCE_CHOICES),
+        help="what the keys are built from (auto: the head's own visemes or ARKit keys, else a transfer)",
+    )
+    parser.add_argument(
+        "--obj-folder", type=Path, help="with --key-source obj_folder: the thesis's OBJ models (a.obj, ...)"
+    )
+    parser.add_argument(
+        "--empowered",
+        action="store_true",
+        help="store the emotion keys empowered (thesis eq. 5.2), for keying them by hand",
+    )
+    parser.add_argument(
+        "--rho", type=float, default=3.0, help="the empowering constant of eq. 5.2 (the thesis uses 3)"
+    )
+    parser.add_argument(
+        "--audio-folder",
+        type=Path,
+        help="where the speech WAV goes (default: lipsync_audio beside the output)",
+    )
     parser.add_argument("--no-render", action="store_true", help="only animate (and save with --save-blend)")
     parser.add_argument("--samples", type=_positive, help="render samples per pixel (default 16)")
     parser.add_argument(
@@ -189,8 +216,11 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
     if arguments.join or arguments.frames:
         _check_farm_arguments(parser, arguments)
         return arguments
-    if arguments.text is None and arguments.jsml is None and arguments.cues is None:
-        parser.error("give the text: --text TEXT or --jsml FILE (or --cues with a Papagayo .pgo)")
+    if all(getattr(arguments, name) is None for name in ("text", "jsml", "cues", "audio")):
+        parser.error(
+            "give the text: --text TEXT or --jsml FILE (or --cues with a Papagayo .pgo, or --audio REC alone "
+            "to recognise what it says)"
+        )
     if arguments.cues is not None and not arguments.cues.is_file():
         parser.error(f"--cues {arguments.cues} does not exist")
     if not arguments.no_render and arguments.out is None:
@@ -211,6 +241,12 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
         parser.error(f"--gltf {arguments.gltf} must end in .glb")
     if arguments.mapping is not None and not arguments.mapping.is_file():
         parser.error(f"--mapping {arguments.mapping} does not exist")
+    if (arguments.key_source == "obj_folder") != (arguments.obj_folder is not None):
+        parser.error("--key-source obj_folder and --obj-folder FOLDER go together")
+    if arguments.obj_folder is not None and not arguments.obj_folder.is_dir():
+        parser.error(f"--obj-folder {arguments.obj_folder} is not a folder")
+    if not RHO_RANGE[0] <= arguments.rho <= RHO_RANGE[1]:
+        parser.error(f"--rho {arguments.rho} must lie between {RHO_RANGE[0]:g} and {RHO_RANGE[1]:g}")
     arguments.engine = arguments.engine.upper()
     return arguments
 
@@ -226,6 +262,10 @@ def _check_farm_arguments(parser: argparse.ArgumentParser, arguments: argparse.N
         "--mapping": arguments.mapping,
         "--arkit-keys": arguments.arkit_keys,
         "--rebuild-keys": arguments.rebuild_keys,
+        "--key-source": arguments.key_source != "auto",
+        "--obj-folder": arguments.obj_folder,
+        "--empowered": arguments.empowered,
+        "--audio-folder": arguments.audio_folder,
         "--save-blend": arguments.save_blend,
         "--still": arguments.still,
         "--gaze-target": arguments.gaze_target,
@@ -394,7 +434,7 @@ def run(arguments: argparse.Namespace) -> None:
     if arguments.jsml is not None:
         source = read_user_text(arguments.jsml, "--jsml text", TextError)
     else:
-        source = arguments.text or ""  # with --cues alone, the cue file's own text
+        source = arguments.text or ""  # with --cues alone, the cue file's own text; with --audio, the heard
 
     if arguments.head is None:
         head = None
@@ -403,13 +443,23 @@ def run(arguments: argparse.Namespace) -> None:
     else:
         candidates = [obj for obj in scene.objects if obj.type == "MESH" and pipeline.has_lipsync_keys(obj)]
         head = candidates[0] if candidates else heads.find_head(scene.objects)
-    rebuild = arguments.rebuild_keys or arguments.arkit_keys or arguments.mapping is not None
+    rebuild = (
+        arguments.rebuild_keys
+        or arguments.arkit_keys
+        or arguments.mapping is not None
+        or arguments.key_source != "auto"
+        or arguments.empowered
+    )
     if head is None or rebuild or not pipeline.has_lipsync_keys(head):
         report = pipeline.build_keys(
             context,
             head,
             arkit_keys=arguments.arkit_keys,
+            source=arguments.key_source,
+            obj_folder=str(arguments.obj_folder) if arguments.obj_folder else None,
             mapping_file=str(arguments.mapping) if arguments.mapping else None,
+            empowered=arguments.empowered,
+            rho=arguments.rho,
             progress=_print_progress,
         )
         print(f"Built the shape keys on {report.head} from {report.convention or report.source}", flush=True)
@@ -417,7 +467,9 @@ def run(arguments: argparse.Namespace) -> None:
         head = bpy.data.objects[report.head]
     head_name = head.name
 
-    if arguments.save_blend is not None:
+    if arguments.audio_folder is not None:
+        audio_folder = str(arguments.audio_folder.resolve())
+    elif arguments.save_blend is not None:
         audio_folder = str(arguments.save_blend.resolve().parent / "lipsync_audio")
     elif arguments.out is not None:
         audio_folder = str(arguments.out.resolve().parent / "lipsync_audio")

@@ -4,6 +4,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 bpy = pytest.importorskip("bpy")
@@ -178,3 +179,17 @@ def test_a_users_recording_replaces_the_synthetic_voice(tmp_path):
     assert seconds == pytest.approx(recorded_seconds, abs=0.15)
     missing = _run("--text", SENTENCE, "--audio", str(tmp_path / "none.wav"), "--no-render")
     assert missing.returncode != 0 and "--audio" in missing.stderr and "Traceback" not in missing.stderr
+
+
+def test_a_recording_alone_is_recognised(tmp_path):
+    from scripts.measure_recogniser import TEST_VOICES, make_take
+
+    take, truth, lead, _ = make_take(
+        "Bu sabah babam bana mavi bir kalem aldı.", TEST_VOICES["Andrea"], "clean 60 dB", tmp_path,
+        np.random.default_rng(1),
+    )  # fmt: skip
+    result = _run("--audio", str(take), "--no-render", "--save-blend", str(tmp_path / "r.blend"))
+    assert result.returncode == 0, result.stderr
+    generated = next(line for line in result.stdout.splitlines() if line.startswith("Generated"))
+    assert int(generated.split()[1]) >= 0.7 * len(truth.phones)
+    assert "Traceback" not in result.stderr

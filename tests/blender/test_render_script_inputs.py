@@ -96,3 +96,23 @@ def test_two_scenes_saved_in_one_folder_keep_their_own_speech(tmp_path):
     with wave.open(str(sequencer.speech_wav_of(bpy.context.scene))) as handle:
         seconds = handle.getnframes() / handle.getframerate()
     assert abs(seconds * 25 - first_frames) <= 1  # a.blend still plays a speech as long as its animation
+
+
+def _emotion_size(blend: Path) -> float:
+    bpy.ops.wm.open_mainfile(filepath=str(blend))
+    keys = bpy.data.objects["TR_Head"].data.shape_keys.key_blocks
+    basis, happy = np.empty(len(keys[0].data) * 3), np.empty(len(keys[0].data) * 3)
+    keys[0].data.foreach_get("co", basis)
+    keys["TR_emotion_happy"].data.foreach_get("co", happy)
+    return float(np.abs(happy - basis).max())
+
+
+def test_the_panels_build_settings_are_flags_too(tmp_path):
+    """--key-source, --empowered and --rho build the keys as the panel's Head settings do."""
+    plain, empowered = tmp_path / "plain.blend", tmp_path / "empowered.blend"
+    assert _run("--text", "Ama", "--no-render", "--save-blend", plain).returncode == 0
+    result = _run("--text", "Ama", "--no-render", "--save-blend", empowered, "--empowered", "--rho", "2")
+    assert result.returncode == 0, result.stderr
+    assert _emotion_size(empowered) == pytest.approx(2 * _emotion_size(plain), rel=1e-4)
+    _refused(_run("--text", "Ama", "--no-render", "--key-source", "obj_folder"), "go together")
+    _refused(_run("--text", "Ama", "--no-render", "--rho", "50"), "--rho 50.0 must lie between 1 and 10")

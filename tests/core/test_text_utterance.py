@@ -27,3 +27,12 @@ def test_a_text_of_only_other_scripts_says_what_it_left_out():
 )
 def test_a_signed_percentage_keeps_both_words(written, spoken):
     assert spoken_text(written) == spoken
+
+
+def test_a_text_beyond_the_limit_is_refused_at_once(monkeypatch):
+    from turkish_lipsync.core.text import utterance
+
+    monkeypatch.setattr(utterance, "MAX_SOURCE_CHARACTERS", 100)
+    with pytest.raises(TextError, match="101 characters, more than the 100"):
+        build_utterance("a" * 101)
+    assert build_utterance("merhaba " * 12).words  # 96 characters

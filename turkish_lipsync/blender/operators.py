@@ -239,8 +239,9 @@ def options_of(settings) -> LipSyncOptions:
 
 
 def _source_chosen(cls, settings) -> bool:
-    """A text to speak is chosen, or a cue file that may hold its own (a Papagayo project does)."""
-    if settings.cue_file:
+    """A text to speak is chosen, or a cue file that may hold its own (a Papagayo project does), or a
+    recording, whose words are then recognised from the audio."""
+    if settings.cue_file or settings.recording:
         return True
     if settings.source_kind == "TEXT" and settings.text is None:
         cls.poll_message_set("Choose the Text to speak in the Lip Sync panel")
@@ -252,12 +253,13 @@ def _source_chosen(cls, settings) -> bool:
 
 
 def source_of(settings) -> str:
-    """The panel's text; empty when only a cue file is given (its own text is then spoken)."""
+    """The panel's text; empty when only a cue file is given (its own text is then spoken) or only a
+    recording, with no text or an empty one (what it says is then recognised)."""
     text_name = settings.text.name if settings.source_kind == "TEXT" and settings.text else ""
     file_path = settings.file_path if settings.source_kind == "FILE" else ""
-    if settings.cue_file and not (text_name or file_path):
+    if (settings.cue_file or settings.recording) and not (text_name or file_path):
         return ""
-    return pipeline.read_source(text_name, file_path)
+    return pipeline.read_source(text_name, file_path, allow_empty=bool(settings.recording))
 
 
 class TURKISH_LIPSYNC_OT_show_landmarks(ReportedOperator, bpy.types.Operator):

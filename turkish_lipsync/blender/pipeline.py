@@ -17,7 +17,14 @@ import bpy
 
 from ..core.base.errors import HeadError, TextError
 from ..core.base.files import read_user_text
-from ..core.base.model import OWNED_PREFIX, Timeline, Utterance, WeightTracks
+from ..core.base.model import (
+    OWNED_PREFIX,
+    VISEME_KEY_PREFIX,
+    Timeline,
+    Utterance,
+    WeightTracks,
+    viseme_key_name,
+)
 from ..core.interchange.animation_record import AnimationRecord, record_from_json, record_to_json
 from ..core.pipeline import LipSyncOptions, lip_sync
 from . import compat, heads, keyframes, living, render, sequencer, shapekeys
@@ -114,14 +121,15 @@ def build_keys(
 
 def has_lipsync_keys(head: bpy.types.Object) -> bool:
     key = getattr(head.data, "shape_keys", None)
-    return key is not None and any(block.name.startswith("TR_viseme_") for block in key.key_blocks)
+    return key is not None and any(block.name.startswith(VISEME_KEY_PREFIX) for block in key.key_blocks)
 
 
 # ---------------------------------------------------------------- text
 
 
-def read_source(text_name: str = "", file_path: str = "") -> str:
-    """The JSML source: a Blender Text datablock, else a file."""
+def read_source(text_name: str = "", file_path: str = "", allow_empty: bool = False) -> str:
+    """The JSML source: a Blender Text datablock, else a file; empty only where allowed (a recording's
+    words are recognised)."""
     if text_name:
         text = bpy.data.texts.get(text_name)
         if text is None:
@@ -131,7 +139,7 @@ def read_source(text_name: str = "", file_path: str = "") -> str:
         source = read_user_text(Path(bpy.path.abspath(file_path)), "JSML file", TextError)
     else:
         raise TextError("No text to speak: choose a Text datablock or a JSML file in the Lip Sync panel.")
-    if not source.strip():
+    if not source.strip() and not allow_empty:
         raise TextError("The text is empty: write some Turkish text (plain or JSML) to speak.")
     return source
 
@@ -170,8 +178,8 @@ def generate(
     scene = context.scene
     if not has_lipsync_keys(head):
         raise HeadError(
-            f"The head {head.name!r} has no TR_viseme_* shape keys yet: press 'Build Shape Keys' first "
-            "(or run the script with --head on it)."
+            f"The head {head.name!r} has no {VISEME_KEY_PREFIX}* shape keys yet: press 'Build Shape Keys' "
+            "first (or run the script with --head on it)."
         )
     fps = sequencer.scene_fps(scene)
     start = scene.frame_start if start_frame is None else int(start_frame)
@@ -369,7 +377,7 @@ def widest_mouth_frame(head: bpy.types.Object) -> int | None:
     action = key.animation_data.action if key is not None and key.animation_data else None
     if action is None:
         return None
-    wanted = keyframes.curve_data_path("TR_viseme_a")
+    wanted = keyframes.curve_data_path(viseme_key_name("a"))
     for fcurve in compat.all_action_fcurves(action):
         if fcurve.data_path == wanted and len(fcurve.keyframe_points):
             best = max(fcurve.keyframe_points, key=lambda point: point.co[1])

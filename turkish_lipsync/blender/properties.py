@@ -6,6 +6,7 @@ import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
 from ..core.base.choices import Choice
+from ..core.faces.key_sources import KEY_SOURCE_CHOICES, RHO_RANGE
 from ..core.interchange import export_choices
 from ..core.pipeline import (
     AMOUNT_RANGE,
@@ -108,29 +109,7 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
     )
     key_source: EnumProperty(
         name="Shape-Key Source",
-        items=(
-            (
-                "auto",
-                "Auto",
-                "The head's own visemes or ARKit keys, else a transfer from the reference head",
-            ),
-            (
-                "convention",
-                "Own Visemes",
-                "The head's own visemes (Oculus, VRM, Azure, Papagayo) or those a mapping file names",
-            ),
-            ("arkit", "Own ARKit Keys", "Build from the head's own ARKit-named shape keys (jawOpen, ...)"),
-            (
-                "transfer",
-                "Transfer from Reference",
-                "Carry the reference head's face units over, registered with the face landmarks",
-            ),
-            (
-                "obj_folder",
-                "Folder of OBJ Models",
-                "The thesis's way: one homeomorphic OBJ model per viseme (a.obj, bpa.obj, ..., Neutral.obj)",
-            ),
-        ),
+        items=enum_items(KEY_SOURCE_CHOICES),
         default="auto",
         description="What the mouth shapes and emotions are built from",
     )
@@ -154,8 +133,8 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
     rho: FloatProperty(
         name="Empowering Constant",
         default=3.0,
-        min=1.0,
-        max=10.0,
+        min=RHO_RANGE[0],
+        max=RHO_RANGE[1],
         soft_max=5.0,
         description="How many times stronger the empowered emotions are (ρ in the thesis, which uses 3)",
     )
@@ -168,7 +147,7 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
         name="Own Recording",
         subtype="FILE_PATH",
         description="Your own recording of the same text (WAV, FLAC, OGG): the mouth follows it and it "
-        "becomes the sound (empty: the synthetic voice)",
+        "becomes the sound (empty: the synthetic voice). With no text, what it says is recognised",
     )
     audio_folder: StringProperty(
         name="Audio Folder",

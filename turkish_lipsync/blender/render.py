@@ -235,7 +235,7 @@ def mux_audio(video_path: Path, wav_path: Path) -> None:
     silent = video_path.with_name(video_path.stem + ".silent" + video_path.suffix)
     os.replace(video_path, silent)
     try:
-        join_videos([silent], video_path, wav_path)
+        join_videos([silent], video_path, wav_path, whole_speech=False)  # the range rendered, its sound
     except Exception:
         os.replace(silent, video_path)
         raise

@@ -185,9 +185,9 @@ TURKISH = {
     ),
     "Own Recording": "Kendi Kaydınız",
     "Your own recording of the same text (WAV, FLAC, OGG): the mouth follows it and it "
-    "becomes the sound (empty: the synthetic voice)": (
+    "becomes the sound (empty: the synthetic voice). With no text, what it says is recognised": (
         "Aynı metni okuduğunuz kendi kaydınız (WAV, FLAC, OGG): ağız ona uyar ve ses olarak o "
-        "kullanılır (boş: yapay ses)"
+        "kullanılır (boş: yapay ses). Metin yoksa kaydın söyledikleri sesten tanınır"
     ),
     "Audio Folder": "Ses Klasörü",
     "Where the speech WAV is saved (empty: a folder next to the saved .blend file)": (

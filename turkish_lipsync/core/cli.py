@@ -97,7 +97,10 @@ def _add_source_arguments(parser: argparse.ArgumentParser) -> None:
     fps_help = f"frames per second ({FPS_RANGE[0]:g}..{FPS_RANGE[1]:g})"
     parser.add_argument("--fps", type=float, default=defaults.fps, help=fps_help)
     parser.add_argument(
-        "--audio", type=Path, metavar="RECORDING", help="a recording of the same text to align"
+        "--audio",
+        type=Path,
+        metavar="RECORDING",
+        help="a recording of the text to align; without a text, what it says is recognised from the audio",
     )
     add_living_arguments(parser)
     parser.add_argument(
@@ -154,13 +157,15 @@ def _gaze_target(text: str) -> GazeSetup:
     return GazeSetup(target_yaw=yaw, target_pitch=pitch, target_distance=distance[0] if distance else 1.0)
 
 
-def read_source(file: Path | None, text: str | None, cues: Path | None = None) -> str:
+def read_source(
+    file: Path | None, text: str | None, cues: Path | None = None, audio: Path | None = None
+) -> str:
     if text is not None:
         return text
     if file is None:
-        if cues is not None:
-            return ""  # the cue file's own text, where it has one
-        raise LipSyncError("give the text to speak: a FILE or --text TEXT")
+        if cues is not None or audio is not None:
+            return ""  # the cue file's own text, where it has one; else what the recording is heard to say
+        raise LipSyncError("give the text to speak: a FILE or --text TEXT (or --audio REC to recognise it)")
     return read_user_text(file, "text to speak")
 
 
@@ -179,7 +184,7 @@ def options_from(args: argparse.Namespace) -> LipSyncOptions:
 
 
 def _lip_sync(args: argparse.Namespace) -> LipSyncResult:
-    result = lip_sync(read_source(args.file, args.text, args.cues), options_from(args))
+    result = lip_sync(read_source(args.file, args.text, args.cues, args.audio), options_from(args))
     for warning in result.warnings:
         print(f"warning: {warning}", file=sys.stderr)
     return result
@@ -237,7 +242,9 @@ def _run_export(args: argparse.Namespace) -> int:
         result.timeline,
         result.tracks,
         sound_file=sound_file,
-        text=read_source(args.file, args.text, args.cues) if args.export_format == "papagayo-pgo" else "",
+        text=read_source(args.file, args.text, args.cues, args.audio)
+        if args.export_format == "papagayo-pgo"
+        else "",
     )
     for warning in warnings:
         print(f"warning: {warning}", file=sys.stderr)

@@ -151,7 +151,7 @@ def read_arkit_csv(path: Path, fps: float) -> tuple[np.ndarray, np.ndarray]:
 @register_export
 class ArkitCsv(ExportFormat):
     name = "arkit-csv"
-    order = 10  # place in the panel's list
+    order = 10
     suffix = ".csv"
     label = "ARKit CSV"
     description = "52 ARKit weights per frame, Live Link Face layout (Unreal, MetaHuman)"

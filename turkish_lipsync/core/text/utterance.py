@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import unicodedata
+from collections.abc import Iterable
 from dataclasses import replace
 
 from ..base.errors import TextError
@@ -13,6 +14,10 @@ from .normalize import normalize
 from .syllables import VOWELS, syllabify, syllable_vowel
 from .tables import fold_letter
 from .visemes import viseme_for_letter
+
+# Reading a text takes time in proportion to its length (about 20 s for this many characters on one core):
+# longer texts are refused at once instead.
+MAX_SOURCE_CHARACTERS = 1_000_000
 
 # The punctuation a pause stands for, as the speech engine reads it.
 PAUSE_ENDINGS = {
@@ -27,10 +32,11 @@ PAUSE_ENDINGS = {
 
 def build_utterance(source: str) -> Utterance:
     """Parse, normalise, syllabify and map every letter to its viseme (thesis 5.2.2-5.2.3)."""
-    words: list[Word] = []
-    syllables: list[Syllable] = []
-    letters: list[Letter] = []
-    pending_pause = 0.0
+    if len(source) > MAX_SOURCE_CHARACTERS:
+        raise TextError(
+            f"the text has {len(source):,} characters, more than the {MAX_SOURCE_CHARACTERS:,} (about 20 "
+            "hours of speech) one text may hold: split it into several texts"
+        )
     items = parse_jsml(source)
     unspoken = unspoken_characters(items)
     try:
@@ -41,7 +47,22 @@ def build_utterance(source: str) -> Utterance:
                 f"{error} (left out, as Turkish speech cannot say them: {_quoted(unspoken)})"
             ) from None
         raise
-    for item in normalized:
+    return assemble_utterance(source, normalized, unspoken)
+
+
+def assemble_utterance(
+    source: str, items: Iterable[SpokenWord | Pause], unspoken: tuple[str, ...] = ()
+) -> Utterance:
+    """The utterance of words as spoken and the pauses between them: syllables, letters and visemes.
+
+    build_utterance's last step; a text recognised from audio (speech/recognition) starts here, since it
+    is already spoken Turkish letters and must not be read again as written text (an acronym's letters).
+    """
+    words: list[Word] = []
+    syllables: list[Syllable] = []
+    letters: list[Letter] = []
+    pending_pause = 0.0
+    for item in items:
         if isinstance(item, Pause):
             pending_pause += item.seconds
             if words and item.kind in PAUSE_ENDINGS and not words[-1].ending:

@@ -164,7 +164,17 @@ def ordered(path: Path, cues: list[MouthCue]) -> tuple[MouthCue, ...]:
     return tuple(cues)
 
 
-def cues_from_records(path: Path, records: list[tuple[str, object, object, object]]) -> list[MouthCue]:
+def source_from_records(
+    path: Path, records: list[tuple[str, object, object, object]], duration: object, sound_file: str
+) -> CueSource:
+    """A file's cues from its (where, start, end, shape) records, each checked, and its length (the last
+    cue's end where the file does not say)."""
+    cues = ordered(path, _cues_from_records(path, records))
+    length = checked_time(path, "duration", cues[-1].end if duration is None else duration)
+    return CueSource(path, cues, length, sound_file=sound_file)
+
+
+def _cues_from_records(path: Path, records: list[tuple[str, object, object, object]]) -> list[MouthCue]:
     """Cues from (where, start, end, shape) records, each checked (an end before its start is refused)."""
     cues = []
     for where, start, end, shape in records:

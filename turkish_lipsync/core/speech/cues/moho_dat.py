@@ -28,7 +28,7 @@ MOHO_HEADER = "MohoSwitch1"
 @register
 class MohoDat(CueFormat):
     name = "moho-dat"
-    order = 4  # place in the panel's list
+    order = 4
     suffixes = (".dat",)
     label = "Moho Switch Data"
     description = "Preston Blair mouths per frame for Moho and OpenToonz (.dat)"

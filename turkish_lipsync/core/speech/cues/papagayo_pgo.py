@@ -218,7 +218,7 @@ def rest_between(words: tuple[tuple[str, tuple[MouthCue, ...]], ...]) -> tuple[M
 @register
 class PapagayoPgo(CueFormat):
     name = "papagayo-pgo"
-    order = 5  # place in the panel's list
+    order = 5
     suffixes = (".pgo",)
     label = "Papagayo Project"
     description = "Words and mouths per frame for Papagayo-NG (.pgo)"

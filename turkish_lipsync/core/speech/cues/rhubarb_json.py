@@ -14,19 +14,17 @@ from .common import (
     CueFormat,
     CueSource,
     check_cue_count,
-    checked_time,
-    cues_from_records,
     mouth_cues,
-    ordered,
     read_text,
     register,
+    source_from_records,
 )
 
 
 @register
 class RhubarbJson(CueFormat):
     name = "rhubarb-json"
-    order = 2  # place in the panel's list
+    order = 2
     suffixes = (".json",)
     label = "Rhubarb JSON"
     description = "Mouth cues A-H and X as JSON (Godot, Unity, Spine, web players)"
@@ -45,10 +43,10 @@ class RhubarbJson(CueFormat):
             if not isinstance(entry, dict):
                 raise CueFileError(f"{path}: mouthCues[{index}] must be an object with start, end and value")
             records.append((f"mouthCues[{index}]", entry.get("start"), entry.get("end"), entry.get("value")))
-        cues = ordered(path, cues_from_records(path, records))
         metadata = document.get("metadata") if isinstance(document.get("metadata"), dict) else {}
-        duration = checked_time(path, "metadata.duration", metadata.get("duration", cues[-1].end))
-        return CueSource(path, cues, duration, sound_file=str(metadata.get("soundFile", "")))
+        return source_from_records(
+            path, records, metadata.get("duration"), str(metadata.get("soundFile", ""))
+        )
 
     def write(self, timeline: Timeline, fps: float, *, sound_file: str = "", text: str = ""):
         document = {

@@ -24,7 +24,7 @@ from .shapes import REST
 @register
 class RhubarbTsv(CueFormat):
     name = "rhubarb-tsv"
-    order = 1  # place in the panel's list
+    order = 1
     suffixes = (".tsv", ".txt")
     label = "Rhubarb TSV"
     description = "Mouth cues A-H and X with their start times (Rhubarb Lip Sync)"
