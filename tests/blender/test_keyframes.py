@@ -142,3 +142,12 @@ def test_remove_weight_tracks_leaves_other_curves():
     keyframes.write_weight_tracks([head], _tracks(), 1, "TR_a")
     assert keyframes.remove_weight_tracks([head]) == 1
     assert list(_curves(head)) == ['key_blocks["Smile"].value']
+
+
+def test_a_part_gets_no_curve_for_a_key_that_leaves_it_still():
+    head = _mesh_with_keys("Head", ("TR_viseme_a", "TR_viseme_u", "TR_emotion_happy"))
+    teeth = _mesh_with_keys("Teeth", ("TR_viseme_a", "TR_viseme_u"))
+    teeth.data.shape_keys.key_blocks["TR_viseme_u"].data[0].co = (0.0, 0.0, 0.0)  # u leaves the teeth
+    written = keyframes.write_weight_tracks([head, teeth], _tracks(), 1, "TR_a")
+    assert [(w.object_name, w.curve_count) for w in written] == [("Head", 3), ("Teeth", 1)]
+    assert list(_curves(teeth)) == ['key_blocks["TR_viseme_a"].value']

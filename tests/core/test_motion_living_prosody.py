@@ -45,9 +45,10 @@ def test_espeak_speech_agrees_with_praat():
     ours = prosody.at(pitch.xs(), prosody.f0)
     both = np.isfinite(ours) & np.isfinite(praat)
     error = 12 * np.abs(np.log2(ours[both] / praat[both]))
-    # Measured: median 0.06 semitones, 0.1 % of frames off by more than one, 71 % of Praat's voiced frames.
+    # Measured at 25 analysis frames a second: median 0.09 semitones, no frame off by more than one; 58-60 %
+    # of Praat's voiced 10 ms points (each unvoiced frame of ours leaves 40 ms around it without a value).
     assert np.median(error) < 0.2 and (error > 1).mean() < 0.01
-    assert both.sum() / np.isfinite(praat).sum() > 0.6
+    assert both.sum() / np.isfinite(praat).sum() > 0.55
     assert (np.isfinite(ours) & ~np.isfinite(praat)).sum() < 0.02 * np.isfinite(ours).sum()
 
 

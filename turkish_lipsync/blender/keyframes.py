@@ -105,7 +105,7 @@ def shape_key_owners(objects) -> list[tuple[bpy.types.Object, bpy.types.Key]]:
 def write_weight_tracks(
     objects, tracks: WeightTracks, start_frame: float, action_name: str
 ) -> tuple[WrittenAction, ...]:
-    """Key every track on each object whose shape keys include it (head, teeth, tongue follow).
+    """Key every track on the head, and on each part whose keys it moves (teeth, tongue, eyes follow).
 
     Frames in ``tracks`` count from the utterance start at the scene frame rate; they are shifted by
     start_frame. The first object's action is named action_name, the others get their object name appended.
@@ -117,7 +117,12 @@ def write_weight_tracks(
         )
     written = []
     for position, (obj, key) in enumerate(shape_key_owners(objects)):
-        available = [t for t in tracks.tracks if t.name in key.key_blocks and len(t.frames)]
+        # The head keys every track; its parts only the keys that move them (the teeth need no blink).
+        names = {t.name for t in tracks.tracks}
+        wanted = names if position == 0 else moving_keys(key, names)
+        available = [
+            t for t in tracks.tracks if t.name in wanted and t.name in key.key_blocks and len(t.frames)
+        ]
         if not available:
             continue
         name = action_name if position == 0 else f"{action_name}.{obj.name}"
@@ -136,6 +141,28 @@ def write_weight_tracks(
             key_count += _write_curve(channels, track.name, frames, track.values, interpolation)
         written.append(WrittenAction(obj.name, key.name, action.name, len(available), key_count))
     return tuple(written)
+
+
+def moving_keys(key: bpy.types.Key, names: set[str]) -> set[str]:
+    """Those of the named keys that move this mesh at all: a part has every key of the head (so the names
+    line up), but a key that leaves it where it is (the teeth's blink) needs no curve."""
+    blocks = key.key_blocks
+    count = len(blocks[0].data) if len(blocks) else 0
+    reference = {}
+    moving = set()
+    for name in names:
+        block = blocks.get(name)
+        if block is None:
+            continue
+        relative = block.relative_key
+        if relative.name not in reference:
+            reference[relative.name] = np.empty(3 * count, np.float32)
+            relative.data.foreach_get("co", reference[relative.name])
+        coordinates = np.empty(3 * count, np.float32)
+        block.data.foreach_get("co", coordinates)
+        if block != relative and np.any(np.abs(coordinates - reference[relative.name]) > 1e-7):
+            moving.add(name)
+    return moving
 
 
 def remove_weight_tracks(objects) -> int:

@@ -198,11 +198,13 @@ def generate(
         wav_path = sequencer.write_speech_wav(action_name, synthesis, audio_folder, package)
 
     # From here on Blender data changes; nothing below raises LipSyncError for bad input.
-    progress(0.6, f"Keying {len(tracks.tracks)} shape-key tracks")
+    # The head and eyes first: their keying reads the rest pose, which the scene evaluates at once while
+    # the shape keys are not yet animated (after them, that evaluation takes a tenth of a second and more).
+    progress(0.6, "Turning the head and eyes")
+    moved = living.key_living_motion(context, rig, tracks, start)
+    progress(0.7, f"Keying {len(tracks.tracks)} shape-key tracks")
     written = keyframes.write_weight_tracks(objects, tracks, start, action_name)
     _keep_record(head, source, spoken, start)
-    progress(0.8, "Turning the head and eyes")
-    moved = living.key_living_motion(context, rig, tracks, start)
     progress(0.85, "Placing the speech in the sequencer")
     strip_name = None
     frame_count = sequencer.frame_count_for(timeline.duration, fps)

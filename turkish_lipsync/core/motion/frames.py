@@ -56,35 +56,25 @@ def sampled_weights(tracks: WeightTracks) -> tuple[tuple[str, ...], np.ndarray]:
 def decimated_keys(values: np.ndarray, tolerance: float, passes: int = 4) -> np.ndarray:
     """Indices of the frames to key so that linear interpolation between them stays within tolerance of
     every frame's value (smooth motion needs a key every few frames, a saccade every one); first and last
-    always kept. Each pass drops every other key whose value its neighbours reproduce."""
+    always kept. Each pass drops every other key whose neighbours' line stays within tolerance of every
+    frame between them."""
     values = np.asarray(values, np.float64)
     keep = np.arange(values.size)
+    frames = np.arange(values.size)
     for _ in range(passes):
         if keep.size <= 2:
             break
+        # The candidates are the keys at odd positions; the others (anchors) stay, and the spans between
+        # neighbouring anchors, one around each candidate, cover the frames without overlapping.
+        anchors = keep[::2] if keep.size % 2 else np.append(keep[::2], keep[-1])
+        line = np.interp(frames, anchors, values[anchors])
+        off = (np.abs(values - line) > tolerance).astype(np.int8)
+        worst = np.maximum.reduceat(off, anchors[:-1])  # per span between anchors
         candidates = np.arange(1, keep.size - 1, 2)
-        before, here, after = keep[candidates - 1], keep[candidates], keep[candidates + 1]
-        share = (here - before) / (after - before)
-        between = values[before] + (values[after] - values[before]) * share
-        # The frames between the outer keys must also stay close once the middle key is gone.
-        fits = np.abs(values[here] - between) <= tolerance
-        fits &= _spans_fit(values, before, after, tolerance)
+        fits = worst[: candidates.size] == 0
         if not fits.any():
             break
         drop = np.zeros(keep.size, bool)
         drop[candidates[fits]] = True
         keep = keep[~drop]
     return keep
-
-
-def _spans_fit(values: np.ndarray, first: np.ndarray, last: np.ndarray, tolerance: float) -> np.ndarray:
-    """For each span first..last, whether the line between its ends stays within tolerance of every frame."""
-    lengths = last - first + 1
-    owner = np.repeat(np.arange(first.size), lengths)
-    frames = np.repeat(first, lengths) + (
-        np.arange(owner.size) - np.repeat(np.cumsum(lengths) - lengths, lengths)
-    )
-    share = (frames - first[owner]) / np.maximum(last[owner] - first[owner], 1)
-    line = values[first[owner]] + (values[last[owner]] - values[first[owner]]) * share
-    error = np.abs(values[frames] - line) > tolerance
-    return ~np.bincount(owner, weights=error, minlength=first.size).astype(bool)

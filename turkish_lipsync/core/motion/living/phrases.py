@@ -145,33 +145,29 @@ def _pitch_accents(syllables, phrases, prosody: Prosody) -> list[Accent]:
     index = np.minimum(first[:, None] + np.arange(width), semitones.size - 1)
     values = np.where((index < last[:, None]) & finite[index], semitones[index], -np.inf)
     best = values.argmax(axis=1)
-    top = values[np.arange(len(values)), best]
-    peaks = [
-        (float(v), float(i / rate)) if np.isfinite(v) else (np.nan, float(spans[k].mean()))
-        for k, (v, i) in enumerate(zip(top, index[np.arange(len(values)), best], strict=True))
-    ]
-    baselines = []
-    for start, end in phrases:
+    rows = np.arange(len(values))
+    peak = values[rows, best]
+    voiced = np.isfinite(peak)
+    time = np.where(voiced, index[rows, best] / rate, spans.mean(axis=1))
+    if not phrases or not voiced.any():
+        return []
+    baselines = np.full(len(phrases), np.nan)
+    for number, (start, end) in enumerate(phrases):
         window = semitones[int(start * rate) : int(np.ceil(end * rate)) + 1]
         window = window[np.isfinite(window)]
-        baselines.append(float(np.median(window)) if window.size else np.nan)
+        if window.size:
+            baselines[number] = np.median(window)
     phrase_starts = np.array([start for start, _ in phrases])
-    accents = []
-    for index, (peak, time) in enumerate(peaks):
-        if not np.isfinite(peak) or not phrases:
-            continue
-        phrase = int(
-            np.clip(np.searchsorted(phrase_starts, time + 0.05, side="right") - 1, 0, len(phrases) - 1)
-        )
-        start, end = phrases[phrase]
-        if not (start - 0.05 <= time <= end + 0.05) or not np.isfinite(baselines[phrase]):
-            continue
-        rise = peak - baselines[phrase]
-        neighbours = [p for p, _t in peaks[max(0, index - 1) : index + 2] if np.isfinite(p)]
-        if rise >= ACCENT_RISE and peak >= max(neighbours):
-            strength = float(np.clip(rise / ACCENT_FULL, 0.0, 1.0))
-            accents.append(Accent(time, strength, float(rise)))
-    return accents
+    phrase_ends = np.array([end for _, end in phrases])
+    phrase = np.clip(np.searchsorted(phrase_starts, time + 0.05, side="right") - 1, 0, len(phrases) - 1)
+    inside = (phrase_starts[phrase] - 0.05 <= time) & (time <= phrase_ends[phrase] + 0.05)
+    rise = peak - baselines[phrase]
+    # a peak no lower than its voiced neighbours' (a syllable's accent is where its phrase's pitch tops)
+    padded = np.concatenate([[-np.inf], np.where(voiced, peak, -np.inf), [-np.inf]])
+    highest = np.maximum(padded[:-2], padded[2:]) <= peak
+    chosen = voiced & inside & np.isfinite(rise) & (rise >= ACCENT_RISE) & highest
+    strength = np.clip(rise / ACCENT_FULL, 0.0, 1.0)
+    return [Accent(float(time[k]), float(strength[k]), float(rise[k])) for k in np.flatnonzero(chosen)]
 
 
 def _stress_accents(syllables, timeline: Timeline) -> list[Accent]:
