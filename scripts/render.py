@@ -4,6 +4,7 @@ Runs inside Blender and with the bpy module:
 
     blender -b -P scripts/render.py -- --text "Merhaba" --out out/merhaba.mp4
     python scripts/render.py --jsml examples/demo.jsml --out out/demo.mp4 --save-blend out/demo.blend
+    python scripts/render.py --audio take.wav --out out/take.mp4   # no text: what the take says is recognised
 
 On any error it prints one line and exits non-zero. Given a .blend with --head, it changes only the TR_* keys,
 their F-curves, the TR_speech strip and the frame range (plus camera and lights only where there are none).
@@ -27,6 +28,8 @@ if str(REPOSITORY) not in sys.path:
     sys.path.insert(0, str(REPOSITORY))
 
 from turkish_lipsync.core.base.errors import LipSyncError  # noqa: E402  (the core needs no bpy)
+from turkish_lipsync.core.cli import add_living_arguments, living_option_values  # noqa: E402
+from turkish_lipsync.core.faces.key_sources import KEY_SOURCE_CHOICES, RHO_RANGE  # noqa: E402
 from turkish_lipsync.core.pipeline import (  # noqa: E402
     INTERPOLATION_CHOICES,
     MOTION_CHOICES,
@@ -128,12 +131,41 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
     parser.add_argument("--emotion-strength", type=float, default=defaults.emotion_strength, help="0..1")
     parser.add_argument("--rate", type=float, default=defaults.rate, help="speaking-rate multiplier")
     parser.add_argument(
-        "--audio", type=Path, help="a recording of the same text (WAV, FLAC, OGG) to use instead of eSpeak"
+        "--audio",
+        type=Path,
+        help="a recording of the text (WAV, FLAC, OGG) to use instead of eSpeak; without --text or --jsml, "
+        "what it says is recognised from the audio",
+    )
+    add_living_arguments(parser)
+    parser.add_argument(
+        "--gaze-target", metavar="OBJECT", help="the object the eyes seek (default: the scene's camera)"
     )
     parser.add_argument(
         "--arkit-keys", action="store_true", help="also keep the 52 ARKit unit keys on the head"
     )
     parser.add_argument("--rebuild-keys", action="store_true", help="rebuild the TR_* keys even if present")
+    parser.add_argument(
+        "--key-source",
+        default="auto",
+        choices=identifiers(KEY_SOURCE_CHOICES),
+        help="what the keys are built from (auto: the head's own visemes or ARKit keys, else a transfer)",
+    )
+    parser.add_argument(
+        "--obj-folder", type=Path, help="with --key-source obj_folder: the thesis's OBJ models (a.obj, ...)"
+    )
+    parser.add_argument(
+        "--empowered",
+        action="store_true",
+        help="store the emotion keys empowered (thesis eq. 5.2), for keying them by hand",
+    )
+    parser.add_argument(
+        "--rho", type=float, default=3.0, help="the empowering constant of eq. 5.2 (the thesis uses 3)"
+    )
+    parser.add_argument(
+        "--audio-folder",
+        type=Path,
+        help="where the speech WAV goes (default: lipsync_audio beside the output)",
+    )
     parser.add_argument("--no-render", action="store_true", help="only animate (and save with --save-blend)")
     parser.add_argument("--samples", type=_positive, help="render samples per pixel (default 16)")
     parser.add_argument(
@@ -184,8 +216,11 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
     if arguments.join or arguments.frames:
         _check_farm_arguments(parser, arguments)
         return arguments
-    if arguments.text is None and arguments.jsml is None and arguments.cues is None:
-        parser.error("give the text: --text TEXT or --jsml FILE (or --cues with a Papagayo .pgo)")
+    if all(getattr(arguments, name) is None for name in ("text", "jsml", "cues", "audio")):
+        parser.error(
+            "give the text: --text TEXT or --jsml FILE (or --cues with a Papagayo .pgo, or --audio REC alone "
+            "to recognise what it says)"
+        )
     if arguments.cues is not None and not arguments.cues.is_file():
         parser.error(f"--cues {arguments.cues} does not exist")
     if not arguments.no_render and arguments.out is None:
@@ -206,6 +241,12 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
         parser.error(f"--gltf {arguments.gltf} must end in .glb")
     if arguments.mapping is not None and not arguments.mapping.is_file():
         parser.error(f"--mapping {arguments.mapping} does not exist")
+    if (arguments.key_source == "obj_folder") != (arguments.obj_folder is not None):
+        parser.error("--key-source obj_folder and --obj-folder FOLDER go together")
+    if arguments.obj_folder is not None and not arguments.obj_folder.is_dir():
+        parser.error(f"--obj-folder {arguments.obj_folder} is not a folder")
+    if not RHO_RANGE[0] <= arguments.rho <= RHO_RANGE[1]:
+        parser.error(f"--rho {arguments.rho} must lie between {RHO_RANGE[0]:g} and {RHO_RANGE[1]:g}")
     arguments.engine = arguments.engine.upper()
     return arguments
 
@@ -221,8 +262,13 @@ def _check_farm_arguments(parser: argparse.ArgumentParser, arguments: argparse.N
         "--mapping": arguments.mapping,
         "--arkit-keys": arguments.arkit_keys,
         "--rebuild-keys": arguments.rebuild_keys,
+        "--key-source": arguments.key_source != "auto",
+        "--obj-folder": arguments.obj_folder,
+        "--empowered": arguments.empowered,
+        "--audio-folder": arguments.audio_folder,
         "--save-blend": arguments.save_blend,
         "--still": arguments.still,
+        "--gaze-target": arguments.gaze_target,
     }
     used = [flag for flag, value in speech_flags.items() if value]
     mode = "--join" if arguments.join else "--frames"
@@ -245,6 +291,35 @@ def _check_farm_arguments(parser: argparse.ArgumentParser, arguments: argparse.N
     elif arguments.head is not None and not arguments.head.is_file():
         parser.error(f"--head {arguments.head} does not exist")
     arguments.engine = arguments.engine.upper()
+
+
+def check_paths(arguments: argparse.Namespace) -> None:
+    """No output of this run may replace one of its inputs or another of its outputs (checked first)."""
+    from turkish_lipsync.core.base.files import check_distinct_paths, check_writable
+
+    inputs = {
+        "--jsml": arguments.jsml,
+        "--audio": arguments.audio,
+        "--head": arguments.head,
+        "--cues": arguments.cues,
+        "--mapping": arguments.mapping,
+    }
+    inputs |= {f"--join chunk {number}": chunk for number, chunk in enumerate(arguments.join or (), start=1)}
+    outputs = {"--out": arguments.out, "--save-blend": arguments.save_blend, "--still": arguments.still}
+    if arguments.gltf is not None:
+        outputs |= {
+            "--gltf": arguments.gltf,
+            "the speech WAV beside --gltf": arguments.gltf.with_suffix(".wav"),
+        }
+    for number, (name, path) in enumerate(arguments.export, start=1):
+        outputs[
+            f"--export {name}" if f"--export {name}" not in outputs else f"--export {name} ({number})"
+        ] = path
+    check_distinct_paths(inputs, outputs)
+    chunk_folder = arguments.frames and arguments.out.suffix.lower() not in (".mp4", ".mkv")
+    for name, path in outputs.items():
+        if path is not None and not (name == "--out" and chunk_folder):
+            check_writable(path, f"output of {name}")
 
 
 def script_arguments() -> list[str]:
@@ -322,21 +397,14 @@ def run_chunk(arguments: argparse.Namespace) -> None:
     )
 
 
-def write_exports(arguments: argparse.Namespace, result, source: str) -> None:
-    """The --export files of a generated animation (the speech WAV named relative to each file)."""
-    import os
-
-    from turkish_lipsync.core.interchange import export_text, write_export
+def write_exports(arguments: argparse.Namespace, context, head) -> None:
+    """The --export files of the head's generated animation (the speech WAV named relative to each file)."""
+    from turkish_lipsync.blender import exports
 
     for export_format, path in arguments.export:
-        sound = ""
-        if result.wav_path:
-            sound = os.path.relpath(result.wav_path, path.resolve().parent)
-        contents, warnings = export_text(
-            export_format, result.timeline, result.tracks, sound_file=sound, text=source
-        )
-        _print_warnings(warnings)
-        print(f"Exported {export_format} to {write_export(path, contents)}", flush=True)
+        written = exports.export_animation(context, head, export_format, path)
+        _print_warnings(written.warnings)
+        print(f"Exported {export_format} to {written.path}", flush=True)
 
 
 def run(arguments: argparse.Namespace) -> None:
@@ -344,6 +412,7 @@ def run(arguments: argparse.Namespace) -> None:
 
     from turkish_lipsync.blender import heads, pipeline, sequencer
     from turkish_lipsync.core.base.errors import TextError
+    from turkish_lipsync.core.base.files import read_user_text
 
     started = time.perf_counter()
     new_scene = arguments.head is None or arguments.head.suffix.lower() != ".blend"
@@ -363,12 +432,9 @@ def run(arguments: argparse.Namespace) -> None:
         scene.render.resolution_x, scene.render.resolution_y = DEFAULT_RESOLUTION
 
     if arguments.jsml is not None:
-        try:
-            source = arguments.jsml.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as error:
-            raise TextError(f"Cannot read {arguments.jsml}: {error}. Give a UTF-8 text file.") from error
+        source = read_user_text(arguments.jsml, "--jsml text", TextError)
     else:
-        source = arguments.text or ""  # with --cues alone, the cue file's own text
+        source = arguments.text or ""  # with --cues alone, the cue file's own text; with --audio, the heard
 
     if arguments.head is None:
         head = None
@@ -377,13 +443,23 @@ def run(arguments: argparse.Namespace) -> None:
     else:
         candidates = [obj for obj in scene.objects if obj.type == "MESH" and pipeline.has_lipsync_keys(obj)]
         head = candidates[0] if candidates else heads.find_head(scene.objects)
-    rebuild = arguments.rebuild_keys or arguments.arkit_keys or arguments.mapping is not None
+    rebuild = (
+        arguments.rebuild_keys
+        or arguments.arkit_keys
+        or arguments.mapping is not None
+        or arguments.key_source != "auto"
+        or arguments.empowered
+    )
     if head is None or rebuild or not pipeline.has_lipsync_keys(head):
         report = pipeline.build_keys(
             context,
             head,
             arkit_keys=arguments.arkit_keys,
+            source=arguments.key_source,
+            obj_folder=str(arguments.obj_folder) if arguments.obj_folder else None,
             mapping_file=str(arguments.mapping) if arguments.mapping else None,
+            empowered=arguments.empowered,
+            rho=arguments.rho,
             progress=_print_progress,
         )
         print(f"Built the shape keys on {report.head} from {report.convention or report.source}", flush=True)
@@ -391,7 +467,9 @@ def run(arguments: argparse.Namespace) -> None:
         head = bpy.data.objects[report.head]
     head_name = head.name
 
-    if arguments.save_blend is not None:
+    if arguments.audio_folder is not None:
+        audio_folder = str(arguments.audio_folder.resolve())
+    elif arguments.save_blend is not None:
         audio_folder = str(arguments.save_blend.resolve().parent / "lipsync_audio")
     elif arguments.out is not None:
         audio_folder = str(arguments.out.resolve().parent / "lipsync_audio")
@@ -410,9 +488,11 @@ def run(arguments: argparse.Namespace) -> None:
             rate=arguments.rate,
             recording=arguments.audio,
             cues=arguments.cues,
+            **living_option_values(arguments),
         ),
         audio_folder=audio_folder,
         progress=_print_progress,
+        gaze_target=arguments.gaze_target or "",
     )
     _print_warnings(result.warnings)
     print(
@@ -421,7 +501,7 @@ def run(arguments: argparse.Namespace) -> None:
         flush=True,
     )
     if arguments.export:
-        write_exports(arguments, result, source)
+        write_exports(arguments, context, bpy.data.objects[head_name])
     if arguments.gltf is not None:
         from turkish_lipsync.blender.gltf_export import export_gltf
 
@@ -447,6 +527,14 @@ def run(arguments: argparse.Namespace) -> None:
             flush=True,
         )
     if arguments.still is not None:
+        frame = arguments.still_frame
+        if frame is not None and not scene.frame_start <= frame <= scene.frame_end:
+            _print_warnings(
+                (
+                    f"--still-frame {frame} is outside the animation (frames {scene.frame_start}-"
+                    f"{scene.frame_end}): the still shows the face at rest there.",
+                )
+            )
         still = pipeline.render_still(
             context,
             bpy.data.objects[head_name],
@@ -468,6 +556,7 @@ def run(arguments: argparse.Namespace) -> None:
 def main(argv: list[str] | None = None) -> int:
     arguments = parse_arguments(script_arguments() if argv is None else argv)
     try:
+        check_paths(arguments)
         if arguments.join:
             run_join(arguments)
         elif arguments.frames:

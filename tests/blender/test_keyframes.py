@@ -161,3 +161,12 @@ def test_a_users_own_key_named_like_ours_is_never_keyed():
     owned_keys.mark_owned(beside, {"TR_viseme_a": ours.name, "TR_viseme_u": "TR_viseme_u"})
     keyframes.write_weight_tracks([beside], _tracks(), 1, "TR_test")
     assert set(_curves(beside)) == {'key_blocks["TR_viseme_a.001"].value', 'key_blocks["TR_viseme_u"].value'}
+
+
+def test_a_part_gets_no_curve_for_a_key_that_leaves_it_still():
+    head = _mesh_with_keys("Head", ("TR_viseme_a", "TR_viseme_u", "TR_emotion_happy"))
+    teeth = _mesh_with_keys("Teeth", ("TR_viseme_a", "TR_viseme_u"))
+    teeth.data.shape_keys.key_blocks["TR_viseme_u"].data[0].co = (0.0, 0.0, 0.0)  # u leaves the teeth
+    written = keyframes.write_weight_tracks([head, teeth], _tracks(), 1, "TR_a")
+    assert [(w.object_name, w.curve_count) for w in written] == [("Head", 3), ("Teeth", 1)]
+    assert list(_curves(teeth)) == ['key_blocks["TR_viseme_a"].value']

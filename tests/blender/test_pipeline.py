@@ -59,7 +59,7 @@ def _keyed(head) -> dict[str, np.ndarray]:
     return curves
 
 
-@pytest.mark.parametrize("timing, frame_tolerance", [("table", 1e-4), ("phone", 0.25)])
+@pytest.mark.parametrize("timing, frame_tolerance", [("table", 1e-4), ("phone", 0.5)])
 def test_the_command_line_gives_the_tracks_the_panel_writes(reference_head, timing, frame_tolerance):
     settings = bpy.context.scene.turkish_lipsync
     settings.head = reference_head
@@ -78,7 +78,9 @@ def test_the_command_line_gives_the_tracks_the_panel_writes(reference_head, timi
     for name, track in printed["keys"].items():
         frames = np.asarray(track["frames"]) + start
         assert len(frames) == len(keyed[name]), name
-        # eSpeak NG's phone onsets vary by a few milliseconds between runs; table timing is exact.
+        # eSpeak NG's output depends a little on what it spoke before in the process (a sentence's phones
+        # move by up to ~10 ms, measured), so a fresh CLI process and the panel agree to half a frame;
+        # table timing is exact.
         np.testing.assert_allclose(keyed[name][:, 0], frames, atol=frame_tolerance, err_msg=name)
         np.testing.assert_allclose(keyed[name][:, 1], track["values"], atol=1e-5, err_msg=name)
 

@@ -11,7 +11,7 @@ bpy = pytest.importorskip("bpy")
 av = pytest.importorskip("av")
 soundfile = pytest.importorskip("soundfile")
 
-from turkish_lipsync.blender import compat, heads, keyframes, owned_keys, sequencer  # noqa: E402
+from turkish_lipsync.blender import compat, heads, keyframes, living, owned_keys, sequencer  # noqa: E402
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 SCRIPT = REPOSITORY / "scripts" / "render.py"
@@ -50,6 +50,7 @@ def _snapshot() -> dict:
             (fc.data_path, fc.array_index, _points(fc))
             for fc in compat.all_action_fcurves(action)
             if fc.data_path not in ours
+            and fc.data_path not in action.get(living.CURVES_PROPERTY, ())  # the living face's, marked ours
         )
         if curves:
             actions[action.name] = curves
@@ -210,3 +211,17 @@ def test_a_users_own_tr_keys_survive_a_rebuild_and_are_never_keyed(tmp_path):
     paths = {fc.data_path for fc in compat.all_action_fcurves(head.data.shape_keys.animation_data.action)}
     assert 'key_blocks["TR_viseme_a.001"].value' in paths
     assert not paths & {'key_blocks["TR_viseme_a"].value', 'key_blocks["TR_mine"].value'}
+
+
+def test_a_recording_alone_is_recognised(tmp_path):
+    from scripts.measure_recogniser import TEST_VOICES, make_take
+
+    take, truth, lead, _ = make_take(
+        "Bu sabah babam bana mavi bir kalem aldı.", TEST_VOICES["Andrea"], "clean 60 dB", tmp_path,
+        np.random.default_rng(1),
+    )  # fmt: skip
+    result = _run("--audio", str(take), "--no-render", "--save-blend", str(tmp_path / "r.blend"))
+    assert result.returncode == 0, result.stderr
+    generated = next(line for line in result.stdout.splitlines() if line.startswith("Generated"))
+    assert int(generated.split()[1]) >= 0.7 * len(truth.phones)
+    assert "Traceback" not in result.stderr

@@ -8,12 +8,13 @@ TR_viseme_a, and anything else the user animated on the same Key, survive.
 
 from __future__ import annotations
 
+import hashlib
 from dataclasses import dataclass
 
 import bpy
 import numpy as np
 
-from ..core.base.model import EMOTION_KEY_PREFIX, VISEME_KEY_PREFIX, WeightTracks
+from ..core.base.model import EMOTION_KEY_PREFIX, VISEME_KEY_PREFIX, Track, WeightTracks
 from . import compat
 from .owned_keys import owned_keys
 
@@ -110,7 +111,7 @@ def shape_key_owners(objects) -> list[tuple[bpy.types.Object, bpy.types.Key]]:
 def write_weight_tracks(
     objects, tracks: WeightTracks, start_frame: float, action_name: str
 ) -> tuple[WrittenAction, ...]:
-    """Key every track on each object whose shape keys include it (head, teeth, tongue follow).
+    """Key every track on the head, and on each part whose keys it moves (teeth, tongue, eyes follow).
 
     Frames in ``tracks`` count from the utterance start at the scene frame rate; they are shifted by
     start_frame. The first object's action is named action_name, the others get their object name appended.
@@ -123,7 +124,9 @@ def write_weight_tracks(
     written = []
     for position, (obj, key) in enumerate(shape_key_owners(objects)):
         names = owned_keys(obj)  # our key -> the shape key holding it: only those are keyed
-        available = [t for t in tracks.tracks if t.name in names and len(t.frames)]
+        # The head keys every track; its parts only the keys that move them (the teeth need no blink).
+        wanted = set(names) if position == 0 else moving_keys(key, names)
+        available = [t for t in tracks.tracks if t.name in wanted and len(t.frames)]
         if not available:
             continue
         ours = our_curve_paths([obj])
@@ -147,6 +150,29 @@ def write_weight_tracks(
     return tuple(written)
 
 
+def moving_keys(key: bpy.types.Key, names: dict[str, str]) -> set[str]:
+    """Those of our keys (our name -> the shape key holding it) that move this mesh at all: a part has
+    every key of the head (so the names line up), but a key that leaves it where it is (the teeth's
+    blink) needs no curve."""
+    blocks = key.key_blocks
+    count = len(blocks[0].data) if len(blocks) else 0
+    reference = {}
+    moving = set()
+    for name, key_name in names.items():
+        block = blocks.get(key_name)
+        if block is None:
+            continue
+        relative = block.relative_key
+        if relative.name not in reference:
+            reference[relative.name] = np.empty(3 * count, np.float32)
+            relative.data.foreach_get("co", reference[relative.name])
+        coordinates = np.empty(3 * count, np.float32)
+        block.data.foreach_get("co", coordinates)
+        if block != relative and np.any(np.abs(coordinates - reference[relative.name]) > 1e-7):
+            moving.add(name)
+    return moving
+
+
 def remove_weight_tracks(objects) -> int:
     """Remove our F-curves from the objects' shape keys; returns how many were removed."""
     removed = 0
@@ -159,3 +185,62 @@ def remove_weight_tracks(objects) -> int:
             continue
         removed += _remove_our_curves(channels, our_curve_paths([obj]))
     return removed
+
+
+def _our_curves(objects) -> list[tuple[str, bpy.types.FCurve]]:
+    """(our key's name, its curve) of every curve of our keys on the objects' shape keys."""
+    curves = []
+    for obj, key in shape_key_owners(objects):
+        action = key.animation_data.action if key.animation_data else None
+        channels = compat.action_channels(action, key, KEY_ID_TYPE, create=False) if action else None
+        if channels is None:
+            continue
+        ours = {curve_data_path(key_name): name for name, key_name in owned_keys(obj).items()}
+        curves += [(ours[fc.data_path], fc) for fc in channels.fcurves if fc.data_path in ours]
+    return curves
+
+
+def key_fingerprint(objects) -> str:
+    """A digest of every key of our curves on the objects' shape keys: it changes when a key is edited."""
+    digest = hashlib.sha1()
+    for _name, fcurve in sorted(_our_curves(objects), key=lambda pair: pair[1].data_path):
+        count = len(fcurve.keyframe_points)
+        coordinates = np.empty(2 * count, dtype=np.float32)
+        fcurve.keyframe_points.foreach_get("co", coordinates)
+        digest.update(fcurve.data_path.encode("utf-8"))
+        digest.update(coordinates.tobytes())
+    return digest.hexdigest()
+
+
+def read_weight_tracks(objects, start_frame: int, frame_count: int, fps: float) -> WeightTracks:
+    """Our keys' weights as the head has them now, frames counted from start_frame (the inverse of
+    write_weight_tracks): the keys themselves where all curves are linear or constant, else sampled."""
+    curves = {}
+    for name, fcurve in _our_curves(objects):
+        curves.setdefault(name, fcurve)  # the head's curve first, then its parts'
+    interpolations = set()
+    for fcurve in curves.values():
+        count = len(fcurve.keyframe_points)
+        modes = np.empty(count, dtype=np.int32)
+        fcurve.keyframe_points.foreach_get("interpolation", modes)
+        interpolations |= set(modes.tolist())
+    by_value = {value: name for name, value in INTERPOLATION_VALUES.items()}
+    if len(interpolations) <= 1 and interpolations <= {
+        INTERPOLATION_VALUES["LINEAR"],
+        INTERPOLATION_VALUES["CONSTANT"],
+    }:
+        interpolation = by_value[interpolations.pop()] if interpolations else "LINEAR"
+        tracks = []
+        for name, fcurve in curves.items():
+            count = len(fcurve.keyframe_points)
+            coordinates = np.empty(2 * count, dtype=np.float64)
+            fcurve.keyframe_points.foreach_get("co", coordinates)
+            tracks.append(Track(name, coordinates[0::2] - start_frame, coordinates[1::2]))
+    else:
+        interpolation = "LINEAR"
+        frames = np.arange(frame_count, dtype=np.float64)
+        tracks = [
+            Track(name, frames, np.array([fcurve.evaluate(start_frame + f) for f in frames]))
+            for name, fcurve in curves.items()
+        ]
+    return WeightTracks(fps=fps, frame_count=frame_count, interpolation=interpolation, tracks=tuple(tracks))

@@ -16,6 +16,7 @@ from ..core.faces.reference import load_reference_head
 from ..core.pipeline import LipSyncOptions
 from . import exports, gltf_export, landmarks, mesh, pipeline, shapekeys
 from .preferences import ADDON_PACKAGE, configure_speech_engine
+from .properties import LAYER_VALUES
 
 # What an operator's work returns: the line to report, and the warnings the user must see.
 Outcome = tuple[str, tuple[str, ...]]
@@ -216,6 +217,7 @@ class TURKISH_LIPSYNC_OT_generate(ReportedOperator, bpy.types.Operator):
                 audio_folder=settings.audio_folder,
                 package=ADDON_PACKAGE,
                 progress=progress,
+                gaze_target=settings.gaze_target.name if settings.gaze_target else "",
             )
         settings.head = head
         message = (
@@ -229,12 +231,17 @@ def options_of(settings) -> LipSyncOptions:
     """The core's options from the panel's settings (the frame rate is the scene's, set by generate)."""
     recording = Path(bpy.path.abspath(settings.recording)) if settings.recording else None
     cues = Path(bpy.path.abspath(settings.cue_file)) if settings.cue_file else None
-    return LipSyncOptions.from_attributes(settings, recording=recording, cues=cues)
+    layers = {
+        layer: LAYER_VALUES[getattr(settings, f"{layer}_layer")]
+        for layer in ("gaze", "blinks", "head_motion", "expression")
+    }
+    return LipSyncOptions.from_attributes(settings, recording=recording, cues=cues, **layers)
 
 
 def _source_chosen(cls, settings) -> bool:
-    """A text to speak is chosen, or a cue file that may hold its own (a Papagayo project does)."""
-    if settings.cue_file:
+    """A text to speak is chosen, or a cue file that may hold its own (a Papagayo project does), or a
+    recording, whose words are then recognised from the audio."""
+    if settings.cue_file or settings.recording:
         return True
     if settings.source_kind == "TEXT" and settings.text is None:
         cls.poll_message_set("Choose the Text to speak in the Lip Sync panel")
@@ -246,12 +253,13 @@ def _source_chosen(cls, settings) -> bool:
 
 
 def source_of(settings) -> str:
-    """The panel's text; empty when only a cue file is given (its own text is then spoken)."""
+    """The panel's text; empty when only a cue file is given (its own text is then spoken) or only a
+    recording, with no text or an empty one (what it says is then recognised)."""
     text_name = settings.text.name if settings.source_kind == "TEXT" and settings.text else ""
     file_path = settings.file_path if settings.source_kind == "FILE" else ""
-    if settings.cue_file and not (text_name or file_path):
+    if (settings.cue_file or settings.recording) and not (text_name or file_path):
         return ""
-    return pipeline.read_source(text_name, file_path)
+    return pipeline.read_source(text_name, file_path, allow_empty=bool(settings.recording))
 
 
 class TURKISH_LIPSYNC_OT_show_landmarks(ReportedOperator, bpy.types.Operator):
@@ -413,7 +421,8 @@ def _speech_generated(cls, context) -> bool:
     if not (_in_object_mode(cls, context) and _head_chosen(cls, context)):
         return False
     key = chosen_head(context).data.shape_keys
-    if key is None or key.animation_data is None or key.animation_data.action is None:
+    action = key.animation_data.action if key is not None and key.animation_data else None
+    if action is None or pipeline.RECORD_PROPERTY not in action:
         cls.poll_message_set("Generate the animation first: the head has no speech to export")
         return False
     return True
@@ -428,7 +437,7 @@ class TURKISH_LIPSYNC_OT_export_animation(ReportedOperator, bpy.types.Operator):
 
     @classmethod
     def poll(cls, context) -> bool:
-        if not (_speech_generated(cls, context) and _source_chosen(cls, settings_of(context))):
+        if not _speech_generated(cls, context):
             return False
         chosen = settings_of(context).export_path
         if not chosen:
@@ -442,15 +451,8 @@ class TURKISH_LIPSYNC_OT_export_animation(ReportedOperator, bpy.types.Operator):
     @staticmethod
     def work(context) -> Outcome:
         settings = settings_of(context)
-        configure_speech_engine(context)
-        result = exports.export_animation(
-            context,
-            chosen_head(context),
-            source_of(settings),
-            options_of(settings),
-            settings.export_format,
-            settings.export_path,
-        )
+        path = exports.export_path_for(settings.export_path, settings.export_format)
+        result = exports.export_animation(context, chosen_head(context), settings.export_format, path)
         return f"Exported {result.export_format} to {result.path}", result.warnings
 
 

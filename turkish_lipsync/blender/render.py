@@ -236,7 +236,7 @@ def mux_audio(video_path: Path, wav_path: Path) -> None:
     silent = video_path.with_name(video_path.stem + ".silent" + video_path.suffix)
     os.replace(video_path, silent)
     try:
-        join_videos([silent], video_path, wav_path)
+        join_videos([silent], video_path, wav_path, whole_speech=False)  # the range rendered, its sound
     except Exception:
         os.replace(silent, video_path)
         raise
@@ -293,11 +293,9 @@ def _ensure_object(scene: bpy.types.Scene, name: str, data) -> bpy.types.Object:
     return obj
 
 
-def frame_face(scene: bpy.types.Scene, head_objects) -> dict[str, bool]:
-    """Add a camera and three-point lights on the face where the scene has none; re-aim ours.
-
-    The user's own camera and lights are never moved. Returns which were added or re-aimed.
-    """
+def camera_placement(scene: bpy.types.Scene, head_objects) -> tuple[Vector, float, float, float]:
+    """(centre of the framed head, camera distance, sensor width, framed size) of the camera frame_face
+    adds (in front of the face, toward -Y)."""
     low, high = face_bounds(head_objects)
     face_height = float(high[2] - low[2])
     # Faces look along -Y (X across, Z up): the whole head from its crown to the top of the neck.
@@ -315,7 +313,15 @@ def frame_face(scene: bpy.types.Scene, head_objects) -> dict[str, bool]:
     half_horizontal = half_wide if aspect >= 1 else math.atan(math.tan(half_wide) * aspect)
     half_vertical = math.atan(math.tan(half_wide) / aspect) if aspect >= 1 else half_wide
     distance = max(width / 2 / math.tan(half_horizontal), height / 2 / math.tan(half_vertical)) + depth / 2
-    distance = max(distance, 1e-3)
+    return centre, max(distance, 1e-3), sensor, max(width, height)
+
+
+def frame_face(scene: bpy.types.Scene, head_objects) -> dict[str, bool]:
+    """Add a camera and three-point lights on the face where the scene has none; re-aim ours.
+
+    The user's own camera and lights are never moved. Returns which were added or re-aimed.
+    """
+    centre, distance, sensor, size = camera_placement(scene, head_objects)
     done = {"camera": False, "lights": False}
 
     camera = scene.camera
@@ -342,7 +348,7 @@ def frame_face(scene: bpy.types.Scene, head_objects) -> dict[str, bool]:
         )
         for name, direction, power in placement:
             light_data = bpy.data.lights.get(name) or bpy.data.lights.new(name, type="AREA")
-            light_data.size = max(width, height) * 1.2
+            light_data.size = size * 1.2
             # Area light power falls with the square of the distance: scale it with the framing.
             light_data.energy = 15.0 * power * distance**2
             light = _ensure_object(scene, name, light_data)

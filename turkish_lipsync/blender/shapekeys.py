@@ -31,6 +31,7 @@ from ..core.faces.conventions import (
     plan_keys,
     read_user_mapping,
     recognise_convention,
+    unmatched_names,
 )
 from ..core.faces.hidden import hidden_face_share
 from ..core.faces.landmark_fallbacks import landmarks_from_motion
@@ -39,6 +40,7 @@ from ..core.faces.recipes import key_deltas, load_recipes
 from ..core.faces.reference import ReferenceHead, load_reference_head, reference_vertices_at
 from ..core.faces.topology import connected_pieces
 from . import mesh
+from .eye_keys import plan_look_keys
 from .heads import find_head_parts, reference_part_of
 from .landmarks import read_landmark_markers
 from .owned_keys import LEGACY_ARKIT_PROPERTY, free_name, mark_owned, owned_keys
@@ -315,6 +317,9 @@ def build_shape_keys(
             _plan_arkit_keys(objects, unit_sets, planned)
         warnings = _hidden_face_warnings(head, parts, landmarks) if used_source != "arkit" else []
         key_sources = dict.fromkeys(planned[head.name], used_source)
+    looks = plan_look_keys(head, parts, planned, unit_sets, own_key_names(head))
+    key_sources.update(looks.sources)
+    warnings.extend(looks.warnings)
     missing = (
         () if used_source in ("obj_folder", "convention") else missing_units(unit_sets.get(head.name, {}))
     )
@@ -370,7 +375,7 @@ def _convention_match(head, source: str, mapping_file, obj_folder) -> Convention
 def _plan_from_convention(head, parts, match: ConventionMatch, shaping: _Shaping):
     """TR keys as weighted sums of the head's own keys; what the convention lacks from the other basis."""
     plans = plan_keys(match, shaping.recipes)
-    warnings: list[str] = []
+    warnings: list[str] = list(unmatched_names(match))
     fallback, unit_sets = None, {}
     if any(plan.units for plan in plans.values()):
         try:

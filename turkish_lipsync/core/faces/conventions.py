@@ -202,6 +202,29 @@ def plan_keys(match: ConventionMatch, recipes: Recipes) -> dict[str, KeyPlan]:
     return plans
 
 
+def unmatched_names(match: ConventionMatch) -> tuple[str, ...]:
+    """Warnings for what a user's own mapping names but the head lacks (a misspelt or missing key): each
+    such viseme or expression falls back to its ARKit recipe, and the user must hear which."""
+    convention = match.convention
+    if not convention.exact:
+        return ()
+    missing = sorted(name for name in convention.spellings if name not in match.shapes)
+    expressions = sorted(name for name in convention.expressions if name not in match.expressions)
+    warnings = []
+    if missing:
+        warnings.append(
+            f"{convention.title} names keys the head does not have: {', '.join(map(repr, missing))}; the "
+            "visemes that use only them are built from their ARKit recipe. Check the spelling (names are "
+            "compared exactly)."
+        )
+    if expressions:
+        warnings.append(
+            f"{convention.title} maps {', '.join(expressions)} to keys the head does not have; they are "
+            "built from their ARKit recipe."
+        )
+    return tuple(warnings)
+
+
 def mouth_weights(mouth_shapes: Iterable[np.ndarray], vertex_count: int) -> np.ndarray:
     """(N,) 0..1: how much each vertex is mouth, by how far the head's own mouth shapes move it."""
     motion = np.zeros(vertex_count, dtype=np.float32)

@@ -32,15 +32,22 @@ def frame_count(sample_count: int) -> int:
     return max(1, 1 + (sample_count - 1) // HOP)
 
 
-def mel_energies(samples: np.ndarray, warp: float = 1.0, top_hertz: float = TOP_HERTZ) -> np.ndarray:
-    """Mel band energies (frames x MEL_BANDS, float32) of 16 kHz samples; warp > 1 lowers the formants.
+def mel_energies(
+    samples: np.ndarray,
+    warp: float = 1.0,
+    top_hertz: float = TOP_HERTZ,
+    bands: int = MEL_BANDS,
+    low_hertz: float = LOW_HERTZ,
+) -> np.ndarray:
+    """Mel band energies (frames x bands, float32) of 16 kHz samples; warp > 1 lowers the formants.
 
-    top_hertz: highest frequency described (both signals of an alignment must use the same one).
+    top_hertz: highest frequency described (both signals of an alignment must use the same one); the
+    recogniser (recognition/acoustics.py) describes more bands from lower down, where nasals murmur.
     """
-    filters = _mel_filters(warp, top_hertz)
+    filters = _mel_filters(warp, top_hertz, bands, low_hertz)
     taper = np.hanning(WINDOW).astype(np.float32)
     count = frame_count(samples.size)
-    energies = np.empty((count, MEL_BANDS), np.float32)
+    energies = np.empty((count, bands), np.float32)
     for begin in range(0, count, _BLOCK):
         frames = np.arange(begin, min(begin + _BLOCK, count))
         piece = samples[begin * HOP : frames[-1] * HOP + WINDOW].astype(np.float32)
@@ -94,14 +101,14 @@ def cepstra(energies: np.ndarray, level: np.ndarray, floor: np.ndarray, speech: 
     return features.astype(np.float32)
 
 
-def _mel_filters(warp: float, top_hertz: float) -> np.ndarray:
+def _mel_filters(warp: float, top_hertz: float, bands: int, low_hertz: float) -> np.ndarray:
     def to_mel(hertz):
         return 2595 * np.log10(1 + np.asarray(hertz) / 700)
 
     def to_hertz(mel):
         return 700 * (10 ** (np.asarray(mel) / 2595) - 1)
 
-    edges = to_hertz(np.linspace(to_mel(LOW_HERTZ), to_mel(top_hertz), MEL_BANDS + 2)) * warp
+    edges = to_hertz(np.linspace(to_mel(low_hertz), to_mel(top_hertz), bands + 2)) * warp
     bins = np.fft.rfftfreq(FFT_SIZE, 1 / ANALYSIS_RATE)
     lower, centre, upper = edges[:-2, None], edges[1:-1, None], edges[2:, None]
     rising = (bins[None, :] - lower) / (centre - lower)

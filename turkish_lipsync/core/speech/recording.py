@@ -240,7 +240,7 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
     native, native_rate = read_audio(path)
     # The user's audio is kept at its own rate (up to 48 kHz) as 16-bit PCM, the float copy dropped at once.
     output_rate = min(native_rate, MAX_OUTPUT_RATE)
-    output = _resampled_pcm(native, native_rate, output_rate)
+    output = resampled_pcm(native, native_rate, output_rate)
     del native
     recorded = resample(output, output_rate, ANALYSIS_RATE, 1 / 32768)
     # A telephone-quality recording has nothing above its Nyquist frequency: describe both up to there.
@@ -281,7 +281,7 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
     return RecordingAlignment(warp, synthesis, phrases, warnings)
 
 
-def _resampled_pcm(samples: np.ndarray, source_rate: int, target_rate: int) -> np.ndarray:
+def resampled_pcm(samples: np.ndarray, source_rate: int, target_rate: int) -> np.ndarray:
     """16-bit PCM at the target rate, made block by block (a long take has no float copy to spare)."""
     return np.concatenate(
         [
