@@ -18,7 +18,7 @@ import numpy as np
 from ..base.model import EYE_SIDES, LOOK_KEY_DEGREES
 from ..motion.living.rotations import direction
 from .arkit_names import arkit_unit_for_key
-from .landmarks import connected_pieces
+from .topology import connected_pieces
 
 ROUNDNESS = 0.12  # an eyeball's vertices lie within this share of its radius from the fitted sphere
 CORNEA_REACH = 1.2  # pieces within this many radii of an eyeball's centre are its cornea or iris

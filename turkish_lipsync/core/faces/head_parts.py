@@ -23,8 +23,9 @@ import numpy as np
 
 from .closest import nearest_vertices
 from .depth import DepthMap
+from .eyes import sphere_fit
 from .landmarks import face_frame
-from .topology import connected_pieces, edge_graph, fit_sphere, geodesic_distance, triangulate
+from .topology import connected_pieces, edge_graph, geodesic_distance, triangulate
 
 # Vertices this close (a share of the mesh's size) are one place: pieces touching there are one.
 WELD_DISTANCE = 1e-6
@@ -309,12 +310,8 @@ def _hugs_a_ball(points: np.ndarray, eye_width: float) -> bool:
     over an eye whose eyeball is not in the mesh); lash cards curl the other way, or round no ball."""
     if len(points) < 10:
         return False
-    centre, radius, residual = fit_sphere(points)
-    return (
-        0.3 * eye_width < radius < 1.0 * eye_width
-        and residual < 0.03 * radius
-        and centre[1] > points[:, 1].mean()
-    )
+    centre, radius, spread = sphere_fit(points)
+    return 0.3 * eye_width < radius < 1.0 * eye_width and spread < 0.08 and centre[1] > points[:, 1].mean()
 
 
 def _open_rim(triangles: np.ndarray, indices: np.ndarray) -> np.ndarray:

@@ -6,7 +6,7 @@ import numpy as np
 
 from .depth import DepthMap
 from .landmarks import face_frame
-from .topology import connected_pieces, round_pieces, triangulate
+from .topology import connected_pieces, round_triangles, triangulate
 
 # piece hides the skin where it stands this share of that height in front of it.
 HIDDEN_FACE_ROWS = 120
@@ -40,7 +40,7 @@ def hidden_face_share(vertices: np.ndarray, polygons, landmarks) -> float:
     corners = upright[triangles][:, :, [0, 2]]
     over = np.all(corners.max(1) >= low, axis=1) & np.all(corners.min(1) <= high, axis=1)
     others = triangles[over & ~on_skin]
-    others = others[~round_pieces(upright, others)]
+    others = others[~round_triangles(upright, others)]
     if len(others) == 0 or not np.any(over & on_skin):
         return 0.0
     skin = DepthMap(upright, triangles[over & on_skin], height / HIDDEN_FACE_ROWS)

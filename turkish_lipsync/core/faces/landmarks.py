@@ -17,7 +17,7 @@ from ..base.errors import HeadError, LipSyncError
 from .depth import DepthMap
 from .face_reader import FaceReader
 from .reference import load_reference_head
-from .topology import biggest_pieces, largest_piece, round_pieces, triangulate
+from .topology import biggest_pieces, largest_piece, round_triangles, triangulate
 
 # Slices (of 200, from the top) where find_head_region looks for no neck yet.
 CROWN_SLICES = 10
@@ -369,7 +369,7 @@ def _landmarks_on_piece(
     depth = DepthMap(vertices, skin_triangles, size / DEPTH_MAP_ROWS)
     # Eyeballs (and anything else not of the skin) seen in front of it: the eye openings, where there are.
     other_triangles = triangles[~keep[triangles].any(1)]
-    other_triangles = other_triangles[round_pieces(vertices, other_triangles)]
+    other_triangles = other_triangles[round_triangles(vertices, other_triangles)]
     others = DepthMap(vertices, other_triangles, depth.pixel, like=depth) if len(other_triangles) else None
     points = FaceReader(depth, size, others).landmarks()
     check_proportions(points)

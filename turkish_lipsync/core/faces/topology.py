@@ -104,7 +104,7 @@ def biggest_pieces(vertex_count: int, triangles: np.ndarray, among: np.ndarray |
     ]
 
 
-def round_pieces(vertices: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+def round_triangles(vertices: np.ndarray, triangles: np.ndarray) -> np.ndarray:
     """Which triangles belong to closed pieces about as deep and tall as wide (eyeballs: their box's
     shortest side ROUND_EXTENT of its longest or more, at most OPEN_RIM_SHARE of their vertices on an open
     rim), not to flat or cupped ones (lashes, corneas, clothing, an eye-occlusion shell over the eyeball,
@@ -130,18 +130,6 @@ def round_pieces(vertices: np.ndarray, triangles: np.ndarray) -> np.ndarray:
     with np.errstate(invalid="ignore", divide="ignore"):
         round_label = (extent.min(1) > ROUND_EXTENT * extent.max(1)) & (rim <= OPEN_RIM_SHARE * size)
     return round_label[labels[triangles[:, 0]]]
-
-
-def fit_sphere(points: np.ndarray) -> tuple[np.ndarray, float, float]:
-    """(centre, radius, RMS residual) of the sphere best through points (an algebraic least-squares fit:
-    |p|^2 = 2 p.c + (r^2 - |c|^2) is linear in the centre c and one more unknown)."""
-    points = np.asarray(points, np.float64)
-    design = np.hstack((2 * points, np.ones((len(points), 1))))
-    solution, *_ = np.linalg.lstsq(design, (points**2).sum(1), rcond=None)
-    centre = solution[:3]
-    radius = float(np.sqrt(max(solution[3] + centre @ centre, 0.0)))
-    residual = float(np.sqrt(np.mean((np.linalg.norm(points - centre, axis=1) - radius) ** 2)))
-    return centre, radius, residual
 
 
 def edge_graph(vertex_count: int, triangles: np.ndarray, vertices: np.ndarray):

@@ -17,6 +17,7 @@ import numpy as np
 
 from .carry import TransferJob, carry_by_closest_point, carry_rigidly
 from .closest import triangles_around
+from .eyes import sphere_fit
 from .head_parts import RIDER_KINDS, HeadParts, find_parts
 from .jaw import carry_mouth_pieces, follow_the_jaw
 from .landmarks import find_landmarks
@@ -32,7 +33,7 @@ from .lids import (
 from .parts import OPPOSITE_PART, PART_LABELS, FaceParts, find_face_parts
 from .registration import place_reference
 from .riders import carry_riders, keep_under_the_skin
-from .topology import edge_graph, fit_sphere, triangulate
+from .topology import edge_graph, triangulate
 
 # A lash or eye shell this close to the reference's own lashes (eye widths) takes their motion; from
 # OWN_LASHES[1] on it rides its own lids (a head's lashes are rarely where the reference's are).
@@ -192,7 +193,7 @@ def _eye_centres(job: TransferJob, parts: HeadParts) -> dict[str, np.ndarray]:
         if ball is not None:
             centres[side] = job.vertices[ball].mean(0)
         elif shells:
-            centres[side] = fit_sphere(job.vertices[max(shells, key=len)])[0]
+            centres[side] = sphere_fit(job.vertices[max(shells, key=len)])[0]
         elif f"{side}_eye" in job.reference.parts:
             centres[side] = job.placement.placed[job.reference.parts[f"{side}_eye"]].mean(0)
     return centres
