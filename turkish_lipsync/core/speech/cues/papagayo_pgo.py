@@ -10,6 +10,8 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from ...base.model import Timeline
 from .common import (
     CueFileError,
@@ -188,19 +190,16 @@ def read_pgo(path: Path) -> PapagayoDocument:
 
 
 def spoken_words(document: PapagayoDocument) -> tuple[tuple[str, tuple[MouthCue, ...]], ...]:
-    """Each word's text and cues, a word that begins on the last frame of the word before it (its span is
-    inclusive) starting where that one ends, so no two cues overlap."""
-    words = []
-    time = 0.0
-    for word in document.words:
-        cues = []
-        for cue in document.word_cues(word):
-            start = max(cue.start, time)
-            if cue.end > start:
-                cues.append(MouthCue(start, cue.end, cue.shape))
-                time = cue.end
-        words.append((word.text, tuple(cues)))
-    return tuple(words)
+    """Each word's text and cues, no two cues overlapping: a word whose last frame is the next word's first
+    (spans are inclusive, so both claim it) ends where the next one begins."""
+    words = [(word.text, list(document.word_cues(word))) for word in document.words]
+    following = np.inf  # where the next word's first cue begins
+    for _, cues in reversed(words):
+        kept = [MouthCue(c.start, min(c.end, following), c.shape) for c in cues if c.start < following]
+        if cues:
+            following = min(following, cues[0].start)
+        cues[:] = kept
+    return tuple((text, tuple(cues)) for text, cues in words)
 
 
 def rest_between(words: tuple[tuple[str, tuple[MouthCue, ...]], ...]) -> tuple[MouthCue, ...]:
