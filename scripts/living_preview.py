@@ -1,6 +1,7 @@
-"""A contact strip of the default head speaking with gaze, blinks and head motion: docs/living_face.png.
+"""A contact strip of a head speaking with gaze, blinks and head motion: docs/living_face.png.
 
     .venv/bin/python scripts/living_preview.py [--out docs/living_face.png] [--size 240] [--samples 8]
+        [--head PATH [--object NAME]]   (default: the default head)
 
 Generates a few sentences at 25 fps on the default head, picks frames that show eye contact, a look away,
 a blink and the head turned, renders them with Cycles on the CPU and lays them side by side, labelled
@@ -19,7 +20,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from turkish_lipsync.blender import pipeline, render  # noqa: E402
+from turkish_lipsync.blender import heads, pipeline, render  # noqa: E402
 from turkish_lipsync.core.base.model import BLINK_KEYS  # noqa: E402
 from turkish_lipsync.core.pipeline import LipSyncOptions  # noqa: E402
 
@@ -48,13 +49,19 @@ def main() -> int:
     parser.add_argument("--out", type=Path, default=Path("docs/living_face.png"))
     parser.add_argument("--size", type=int, default=240)
     parser.add_argument("--samples", type=int, default=8)
+    parser.add_argument("--head", type=Path, help="a head file (.glb .obj .fbx .blend) instead of ours")
+    parser.add_argument("--object", help="the head's object where the file holds several meshes")
     args = parser.parse_args()
     bpy.ops.wm.read_factory_settings(use_empty=True)
     context = bpy.context
     scene = context.scene
     scene.render.fps = 25
     scene.render.resolution_x = scene.render.resolution_y = args.size
-    head = bpy.data.objects[pipeline.build_keys(context, None).head]
+    head = None
+    if args.head is not None:
+        imported = heads.import_head(args.head)
+        head = bpy.data.objects[args.object] if args.object else heads.find_head(imported)
+    head = bpy.data.objects[pipeline.build_keys(context, head).head]
     render.frame_face(scene, pipeline.head_objects(head))
     tiles = []
     with tempfile.TemporaryDirectory() as folder:

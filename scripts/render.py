@@ -145,6 +145,11 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
     )
     parser.add_argument("--rebuild-keys", action="store_true", help="rebuild the TR_* keys even if present")
     parser.add_argument(
+        "--own-keys-at-rest",
+        action="store_true",
+        help="set the head's own shape keys that hold a value (and are not animated) to 0 before speaking",
+    )
+    parser.add_argument(
         "--key-source",
         default="auto",
         choices=identifiers(KEY_SOURCE_CHOICES),
@@ -262,6 +267,7 @@ def _check_farm_arguments(parser: argparse.ArgumentParser, arguments: argparse.N
         "--mapping": arguments.mapping,
         "--arkit-keys": arguments.arkit_keys,
         "--rebuild-keys": arguments.rebuild_keys,
+        "--own-keys-at-rest": arguments.own_keys_at_rest,
         "--key-source": arguments.key_source != "auto",
         "--obj-folder": arguments.obj_folder,
         "--empowered": arguments.empowered,
@@ -476,6 +482,9 @@ def run(arguments: argparse.Namespace) -> None:
     else:
         audio_folder = ""
 
+    if arguments.own_keys_at_rest:
+        cleared = pipeline.put_own_keys_at_rest(bpy.data.objects[head_name])
+        print(f"Set {cleared} of the head's own shape keys to 0", flush=True)
     result = pipeline.generate(
         context,
         bpy.data.objects[head_name],

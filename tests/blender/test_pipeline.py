@@ -168,3 +168,24 @@ def test_a_cancelled_render_leaves_the_scene_as_it_was_and_no_partial_video(refe
     assert scene.render.image_settings.file_format == before_format
     assert set(bpy.data.objects.keys()) == before_objects
     assert not out.exists()
+
+
+def test_own_keys_held_at_a_value_are_warned_and_put_at_rest_only_when_asked(reference_head):
+    """A head that arrives with its own keys on (Vitruvian's file holds all 148 at 1): the speech would play
+    on a deformed face. Generate says so; the keys change only when asked, animated ones never."""
+    from turkish_lipsync.blender import pipeline
+
+    block = reference_head.shape_key_add(name="Grin", from_mix=False)
+    block.data[0].co.z += 0.01
+    block.value = 0.8
+    animated = reference_head.shape_key_add(name="Wink", from_mix=False)
+    animated.value = 0.5
+    animated.keyframe_insert("value", frame=1)
+    result = pipeline.generate(bpy.context, reference_head, "Ama", LipSyncOptions(timing="table"))
+    (warning,) = [w for w in result.warnings if "own shape keys hold a value" in w]
+    assert warning.startswith("1 of") and "Grin 0.80" in warning and "Wink" not in warning
+    assert block.value == pytest.approx(0.8)
+    assert pipeline.put_own_keys_at_rest(reference_head) == 1 and block.value == 0.0
+    assert animated.value == pytest.approx(0.5)
+    result = pipeline.generate(bpy.context, reference_head, "Ama", LipSyncOptions(timing="table"))
+    assert not [w for w in result.warnings if "own shape keys hold a value" in w]

@@ -231,11 +231,53 @@ def generate(
         warnings=spoken.warnings
         + range_warnings
         + moved.warnings
+        + own_keys_held_warning(head)
         + ((target_warning,) if target_warning and options.living().gaze > 0 else ()),
     )
 
 
 RECORD_PROPERTY = "tr_lipsync_animation"  # on the action of the head's keys: what Generate made
+
+
+def own_keys_held(head: bpy.types.Object) -> list[tuple[str, float]]:
+    """The head's own shape keys (not ours) held at a value, not animated: the face speaks on top of them."""
+    key = getattr(head.data, "shape_keys", None)
+    if key is None:
+        return []
+    ours = set(owned_keys(head).values())
+    action = key.animation_data.action if key.animation_data else None
+    animated = {fc.data_path for fc in compat.all_action_fcurves(action)} if action is not None else set()
+    return [
+        (block.name, block.value)
+        for block in key.key_blocks
+        if block != key.reference_key
+        and block.name not in ours
+        and abs(block.value) > 1e-4
+        and not block.mute
+        and keyframes.curve_data_path(block.name) not in animated
+    ]
+
+
+def own_keys_held_warning(head: bpy.types.Object) -> tuple[str, ...]:
+    held = own_keys_held(head)
+    if not held:
+        return ()
+    shown = ", ".join(f"{name} {value:.2f}" for name, value in held[:4])
+    more = f" and {len(held) - 4} more" if len(held) > 4 else ""
+    return (
+        f"{len(held)} of {head.name!r}'s own shape keys hold a value ({shown}{more}): the speech plays on "
+        "top of them, which can deform the face. Set them to 0 (Shape Keys > Clear Shape Key Values, or "
+        "render.py --own-keys-at-rest) unless you mean them.",
+    )
+
+
+def put_own_keys_at_rest(head: bpy.types.Object) -> int:
+    """The head's own held keys set to 0 (asked for: render.py --own-keys-at-rest); returns how many."""
+    held = own_keys_held(head)
+    blocks = head.data.shape_keys.key_blocks if held else {}
+    for name, _value in held:
+        blocks[name].value = 0.0
+    return len(held)
 
 
 def _keep_record(head: bpy.types.Object, source: str, spoken, start: int) -> None:
