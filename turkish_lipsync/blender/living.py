@@ -96,8 +96,8 @@ def rig_and_target(
         elif scene.camera is not None:
             point = np.array(scene.camera.matrix_world.translation)
         else:
-            centre, distance, _sensor, _size = render.camera_placement(scene, head_objects)
-            point = np.array(centre) + np.array([0.0, -distance, 0.0])
+            centre, distance, _sensor, _size = render.camera_placement(scene, head_objects, rig.frame)
+            point = np.array(centre) + rig.frame[:, 2] * distance
     return rig, point
 
 

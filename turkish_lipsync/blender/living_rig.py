@@ -120,7 +120,7 @@ def find_rig(head: bpy.types.Object, parts: list[bpy.types.Object] | None = None
         turn_by = "keys" if len(found) >= 2 else "none"
     found = _pair(found, centre)
     eye_middle = np.mean([point for point, _ in found], axis=0) if found else centre
-    frame = _frame(eye_middle, centre)
+    frame = _frame(eye_middle, centre, size)
     eyes = {}
     for point, names in found:
         side = "left" if (point - centre) @ frame[:, 0] > 0 else "right"
@@ -157,14 +157,14 @@ def find_rig(head: bpy.types.Object, parts: list[bpy.types.Object] | None = None
     )
 
 
-def _frame(eye_middle: np.ndarray, centre: np.ndarray) -> np.ndarray:
+def _frame(eye_middle: np.ndarray, centre: np.ndarray, size: float) -> np.ndarray:
     """Left, up, forward as columns: up is the world's Z, forward the horizontal way from the head's
-    centre to its eyes (-Y when that is unclear)."""
+    centre to its eyes (-Y where the eyes sit less than 2 % of the head's size off its centre)."""
     up = np.array([0.0, 0.0, 1.0])
     forward = eye_middle - centre
     forward[2] = 0.0
     length = np.linalg.norm(forward)
-    forward = forward / length if length > 1e-9 else np.array([0.0, -1.0, 0.0])
+    forward = forward / length if length > 0.02 * size else np.array([0.0, -1.0, 0.0])
     left = np.cross(up, forward)
     return np.column_stack([left, up, forward])
 

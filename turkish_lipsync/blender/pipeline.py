@@ -28,6 +28,7 @@ from ..core.base.model import (
 from ..core.interchange.animation_record import AnimationRecord, record_from_json, record_to_json
 from ..core.pipeline import LipSyncOptions, lip_sync
 from . import compat, heads, keyframes, living, render, sequencer, shapekeys
+from .living_rig import find_rig
 from .owned_keys import owned_keys
 from .shapekeys import BuildReport
 
@@ -313,6 +314,13 @@ def animation_record(head: bpy.types.Object) -> AnimationRecord | None:
 # ---------------------------------------------------------------- render
 
 
+def frame_head(scene: bpy.types.Scene, head: bpy.types.Object | None) -> dict[str, bool]:
+    """Our camera and lights in front of the head's face, whichever way it looks (render.frame_face)."""
+    if head is None:
+        return render.frame_face(scene, [])
+    return render.frame_face(scene, head_objects(head), find_rig(head).frame)
+
+
 @dataclass(frozen=True, eq=False)
 class PreparedRender:
     """A scene set up to render the video, and what to undo if the render is cancelled."""
@@ -345,9 +353,9 @@ def prepare_render(
         raise render.RenderError(f"Cannot create the folder {path.parent}: {error.strerror}.") from error
     chosen = render.choose_engine(engine)
     settings = render.SceneSettings.of(scene)
-    framed = render.frame_face(scene, head_objects(head) if head is not None else [])
-    render.configure_engine(scene, chosen, samples)
     render.configure_output(scene, path, resolution)
+    framed = frame_head(scene, head)
+    render.configure_engine(scene, chosen, samples)
     return PreparedRender(
         path=path,
         engine=chosen,
@@ -448,10 +456,10 @@ def render_still(
     path = Path(bpy.path.abspath(out_path))
     path.parent.mkdir(parents=True, exist_ok=True)
     chosen = render.choose_engine(engine)
-    render.frame_face(scene, head_objects(head) if head is not None else [])
-    render.configure_engine(scene, chosen, samples)
     if resolution is not None:
         scene.render.resolution_x, scene.render.resolution_y = resolution
+    frame_head(scene, head)
+    render.configure_engine(scene, chosen, samples)
     settings = scene.render.image_settings
     saved = (scene.render.filepath, settings.file_format, scene.frame_current)
     if frame is None:
