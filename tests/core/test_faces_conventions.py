@@ -25,7 +25,7 @@ from turkish_lipsync.core.faces.conventions import (
     recognise_convention,
     unmatched_names,
 )
-from turkish_lipsync.core.faces.recipes import VISEME_NAMES, load_recipes
+from turkish_lipsync.core.faces.recipes import VISEME_NAMES, empower, load_recipes
 
 OCULUS = ("sil", "PP", "FF", "TH", "DD", "kk", "CH", "SS", "nn", "RR", "aa", "E", "ih", "oh", "ou")
 
@@ -158,7 +158,7 @@ def test_deltas_sum_own_shapes_and_release_own_emotions_where_the_mouth_moves():
     azure = _by_name()["azure"]
     match = match_convention(list(own), azure)
     plans = plan_keys(match, load_recipes())
-    deltas = convention_key_deltas(plans, own, {}, count, empowered=True, rho=3.0)
+    deltas = empower(convention_key_deltas(plans, own, {}, count), 3.0)
     np.testing.assert_allclose(deltas[viseme_key_name("o")], 0.9 * own["ow_08"])
     np.testing.assert_allclose(deltas[emotion_key_name("happy")], 3.0 * own["Happy"], rtol=1e-6)
     release = deltas[emotion_release_key_name("happy")]

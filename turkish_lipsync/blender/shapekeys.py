@@ -15,6 +15,7 @@ import numpy as np
 
 from ..core.base.data import load_table
 from ..core.base.errors import HeadError, LipSyncError
+from ..core.base.model import viseme_key_name
 from ..core.faces import head_parts, obj_folder, transfer
 from ..core.faces.arkit_names import (
     ARKIT_UNITS,
@@ -36,7 +37,7 @@ from ..core.faces.conventions import (
 from ..core.faces.hidden import hidden_face_share
 from ..core.faces.landmark_fallbacks import landmarks_from_motion
 from ..core.faces.landmarks import find_landmarks
-from ..core.faces.recipes import key_deltas, load_recipes
+from ..core.faces.recipes import empower, key_deltas, load_recipes
 from ..core.faces.reference import ReferenceHead, load_reference_head, reference_vertices_at
 from ..core.faces.topology import connected_pieces
 from . import mesh
@@ -208,7 +209,7 @@ def head_landmarks(
                     return next(iter(found.values())).astype(np.float64) @ linear.T
             return None
 
-        mouth = own("jawOpen", "TR_viseme_a")
+        mouth = own("jawOpen", viseme_key_name("a"))
         if mouth is None:
             raise
         try:
@@ -298,21 +299,21 @@ def build_shape_keys(
         )
     parts = _mesh_parts(head, parts)
     objects = [head, *parts]
-    shaping = _Shaping(load_recipes(), empowered, rho)
+    recipes = load_recipes()
 
     # Compute every array first: nothing is written until all of them exist and are sound.
     match = _convention_match(head, source, mapping_file, obj_folder)
     convention = match.convention.title if match is not None else ""
     if match is not None:
         used_source = "convention"
-        planned, unit_sets, warnings, key_sources = _plan_from_convention(head, parts, match, shaping)
+        planned, unit_sets, warnings, key_sources = _plan_from_convention(head, parts, match, recipes)
     elif source == "obj_folder" or (source == "auto" and obj_folder is not None):
         used_source, planned, unit_sets, warnings, key_sources = _plan_from_obj_folder(
-            head, parts, obj_folder, shaping
+            head, parts, obj_folder, recipes
         )
     else:
         used_source, unit_sets, landmarks = _unit_sets(head, parts, source, load_reference_head())
-        planned = {obj.name: shaping.keys(unit_sets.get(obj.name, {}), obj) for obj in objects}
+        planned = {obj.name: _keys(unit_sets.get(obj.name, {}), obj, recipes) for obj in objects}
         if arkit_keys:
             _plan_arkit_keys(objects, unit_sets, planned)
         warnings = _hidden_face_warnings(head, parts, landmarks) if used_source != "arkit" else []
@@ -325,6 +326,8 @@ def build_shape_keys(
     )
     if missing:
         warnings.append(missing_units_warning(head.name, missing))
+    if empowered:  # the emotions stored for keying by hand, thesis eq. 5.2
+        planned = {name: empower(keys, rho) for name, keys in planned.items()}
     _check_planned(objects, planned)
 
     for obj in objects:
@@ -372,9 +375,9 @@ def _convention_match(head, source: str, mapping_file, obj_folder) -> Convention
     return match
 
 
-def _plan_from_convention(head, parts, match: ConventionMatch, shaping: _Shaping):
+def _plan_from_convention(head, parts, match: ConventionMatch, recipes):
     """TR keys as weighted sums of the head's own keys; what the convention lacks from the other basis."""
-    plans = plan_keys(match, shaping.recipes)
+    plans = plan_keys(match, recipes)
     warnings: list[str] = list(unmatched_names(match))
     fallback, unit_sets = None, {}
     if any(plan.units for plan in plans.values()):
@@ -392,31 +395,18 @@ def _plan_from_convention(head, parts, match: ConventionMatch, shaping: _Shaping
     for obj in [head, *parts]:
         own = own_key_deltas(obj, own_names)
         planned[obj.name] = convention_key_deltas(
-            plans,
-            own,
-            unit_sets.get(obj.name, {}),
-            len(obj.data.vertices),
-            empowered=shaping.empowered,
-            rho=shaping.rho,
+            plans, own, unit_sets.get(obj.name, {}), len(obj.data.vertices)
         )
     key_sources = {key: plan.describe(fallback) for key, plan in plans.items()}
     return planned, unit_sets, warnings, key_sources
 
 
-@dataclass(frozen=True)
-class _Shaping:
-    """How the recipes turn ARKit units into the TR keys of one build."""
-
-    recipes: object
-    empowered: bool
-    rho: float
-
-    def keys(self, units: dict[str, np.ndarray], obj: bpy.types.Object) -> dict[str, np.ndarray]:
-        count = len(obj.data.vertices)
-        return key_deltas(units, count, recipes=self.recipes, empowered=self.empowered, rho=self.rho)
+def _keys(units: dict[str, np.ndarray], obj: bpy.types.Object, recipes) -> dict[str, np.ndarray]:
+    """The TR keys of obj from its ARKit units, by the recipes."""
+    return key_deltas(units, len(obj.data.vertices), recipes=recipes)
 
 
-def _plan_from_obj_folder(head, parts, obj_folder, shaping: _Shaping):
+def _plan_from_obj_folder(head, parts, obj_folder, recipes):
     """Visemes (and emotions) from the thesis's OBJ models; blinks and brows from an ARKit basis if any."""
     obj_keys = obj_folder_keys(head, obj_folder)
     warnings: list[str] = []
@@ -426,12 +416,10 @@ def _plan_from_obj_folder(head, parts, obj_folder, shaping: _Shaping):
         basis, unit_sets = "nothing", {}
         warnings.append(f"No ARKit basis on {head.name!r} for blinks and brows, so they stay still: {error}")
     planned = {
-        obj.name: shaping.keys(unit_sets[obj.name], obj) if unit_sets.get(obj.name) else {}
+        obj.name: _keys(unit_sets[obj.name], obj, recipes) if unit_sets.get(obj.name) else {}
         for obj in [head, *parts]
     }
-    emotion_scale = np.float32(shaping.rho) if shaping.empowered else np.float32(1)
-    for key_name, deltas in obj_keys.items():
-        planned[head.name][key_name] = deltas * (emotion_scale if key_name.startswith("TR_emotion_") else 1)
+    planned[head.name].update(obj_keys)
     for part in parts:  # the models move the head only; parts keep the visemes' names at rest
         for key_name in obj_keys:
             planned[part.name].setdefault(key_name, np.zeros((len(part.data.vertices), 3), np.float32))

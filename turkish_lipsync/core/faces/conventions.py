@@ -18,7 +18,13 @@ import numpy as np
 
 from ..base.data import DATA_DIR, read_toml_file
 from ..base.errors import DataError
-from ..base.model import EMOTIONS, emotion_key_name, emotion_release_key_name, viseme_key_name
+from ..base.model import (
+    EMOTIONS,
+    VISEME_KEY_PREFIX,
+    emotion_key_name,
+    emotion_release_key_name,
+    viseme_key_name,
+)
 from .recipes import EXTRA_KEYS, VISEME_NAMES, Recipes, combine_units, expand_units
 
 CONVENTIONS_DIR = DATA_DIR / "conventions"
@@ -241,17 +247,14 @@ def convention_key_deltas(
     own_shapes: Mapping[str, np.ndarray],
     units: Mapping[str, np.ndarray],
     vertex_count: int,
-    *,
-    empowered: bool = False,
-    rho: float = 3.0,
 ) -> dict[str, np.ndarray]:
     """(N, 3) deltas of every planned key: own shapes (missing ones count as 0) plus fallback units.
 
     An own emotion's mouth release is that emotion's motion where the head's own visemes move the face,
-    negated; emotions (and their releases) are empowered as in recipes.key_deltas (thesis eq. 5.2).
+    negated.
     """
     viseme_shapes = {
-        name for key, plan in plans.items() if key.startswith("TR_viseme_") for name in plan.shapes
+        name for key, plan in plans.items() if key.startswith(VISEME_KEY_PREFIX) for name in plan.shapes
     }
     mouth = mouth_weights((own_shapes[name] for name in viseme_shapes if name in own_shapes), vertex_count)
     result: dict[str, np.ndarray] = {}
@@ -263,8 +266,6 @@ def convention_key_deltas(
         for name, weight in plan.release_of.items():
             if name in own_shapes:
                 deltas -= np.float32(weight) * own_shapes[name] * mouth[:, None]
-        if empowered and key_name.startswith("TR_emotion_"):
-            deltas *= np.float32(rho)
         result[key_name] = deltas
     return result
 
