@@ -165,3 +165,45 @@ def test_the_command_line_on_random_files_never_changes_them(tmp_path):
         errors = [line for line in err.getvalue().splitlines() if line.startswith("error:")]
         assert (status == 2) == bool(errors) and len(errors) <= 1, err.getvalue()
         assert {path: hashlib.sha256(path.read_bytes()).digest() for path in (script, cues)} == before
+
+
+def _random_mesh(rng: np.random.Generator, kind: int) -> tuple[np.ndarray, np.ndarray]:
+    """A mesh within the budget (3,000 vertices, 4,000 triangles): random, degenerate, or a real head
+    damaged (flattened, scattered, duplicated)."""
+    from turkish_lipsync.core.faces.reference import load_reference_head
+
+    if kind == 0:  # random triangles among random points (a head of nothing: the 13 GB case)
+        count = int(rng.integers(4, 3000))
+        return rng.normal(size=(count, 3)), rng.integers(0, count, size=(int(rng.integers(1, 4000)), 3))
+    if kind == 1:  # everything on one plane, or one point
+        count = int(rng.integers(4, 500))
+        points = rng.normal(size=(count, 3)) * np.array([1.0, 0.0, 1.0]) * rng.choice([1.0, 0.0])
+        return points, rng.integers(0, count, size=(count, 3))
+    head = load_reference_head()
+    keep = np.sort(rng.choice(len(head.vertices), size=min(3000, len(head.vertices)), replace=False))
+    remap = np.full(len(head.vertices), -1)
+    remap[keep] = np.arange(keep.size)
+    triangles = remap[head.triangles()]
+    triangles = triangles[(triangles >= 0).all(axis=1)][:4000]
+    vertices = head.vertices[keep] * rng.uniform(1e-3, 1e3)
+    if kind == 3:
+        vertices = vertices + rng.normal(scale=0.02, size=vertices.shape) * np.abs(vertices).max()
+    if kind == 4:
+        vertices = vertices[:, [0, 2, 1]] * np.array([1.0, -1.0, 1.0])  # another up axis
+    return vertices, triangles
+
+
+def test_random_meshes_give_landmarks_or_one_clear_error():
+    from turkish_lipsync.core.faces.landmarks import find_landmarks
+
+    rng = np.random.default_rng(23)
+    for kind in (0, 0, 1, 2, 3, 4):  # each kind of mesh; about 8 s each, the search tries every view
+        vertices, triangles = _random_mesh(rng, kind)
+        with watchdog(120):
+            try:
+                found = find_landmarks(vertices, triangles)
+            except LipSyncError as error:
+                assert str(error) and "\n" not in str(error).strip()
+                continue
+        points = np.array(list(found.values()))
+        assert np.isfinite(points).all()

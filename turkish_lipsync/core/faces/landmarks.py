@@ -127,7 +127,18 @@ def find_landmarks(vertices: np.ndarray, polygons) -> dict[str, np.ndarray]:
     triangles = triangulate(polygons)
     if triangles.size and (triangles.min() < 0 or triangles.max() >= len(vertices)):
         raise HeadError("The head mesh has polygons that refer to missing vertices; clean up the mesh.")
-    return _search_views(vertices, triangles)
+    found = _search_views(vertices, triangles)
+    # A lid's margin read off a degenerate eye may be undefined: it is left out, as where none shows.
+    found = {
+        name: point for name, point in found.items() if np.isfinite(point).all() or name in LANDMARK_NAMES
+    }
+    undefined = [name for name, point in found.items() if not np.isfinite(point).all()]
+    if undefined:
+        raise HeadError(
+            f"The face's {', '.join(undefined)} could not be placed on this mesh; place the markers with "
+            "Show Landmarks, or clean up the mesh."
+        )
+    return found
 
 
 def axis_rotation(axis: int, degrees: float) -> np.ndarray:
@@ -265,13 +276,18 @@ def _fit_template(template, found) -> tuple[np.ndarray, float]:
     names = [name for name in LANDMARK_NAMES if name in found and not name.startswith("brow")]
     source = np.array([template[name] for name in names])
     target = np.array([found[name] for name in names])
+    size = float(np.linalg.norm(np.ptp(target, axis=0))) if len(target) else 0.0
+    if len(target) < 4 or not np.isfinite(target).all() or size <= 0:
+        return np.eye(3), np.inf  # landmarks that cannot be a face (a degenerate mesh): no pose
     design = np.hstack((source, np.ones((len(source), 1))))
-    affine, *_ = np.linalg.lstsq(design, target, rcond=None)
-    # The pose: the rotation of the affine fit (its polar part), which a face's other proportions (a
-    # longer chin, a wider jaw) leave alone, where a similarity fit turns to meet them.
-    u, _, vt = np.linalg.svd(affine[:3].T)
+    try:
+        affine, *_ = np.linalg.lstsq(design, target, rcond=None)
+        # The pose: the rotation of the affine fit (its polar part), which a face's other proportions (a
+        # longer chin, a wider jaw) leave alone, where a similarity fit turns to meet them.
+        u, _, vt = np.linalg.svd(affine[:3].T)
+    except np.linalg.LinAlgError:
+        return np.eye(3), np.inf
     rotation = u @ np.diag([1.0, 1.0, np.sign(np.linalg.det(u @ vt))]) @ vt
-    size = float(np.linalg.norm(np.ptp(target, axis=0)))
     return rotation, float(np.linalg.norm(design @ affine - target, axis=1).max()) / size
 
 
