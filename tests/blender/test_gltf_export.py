@@ -54,7 +54,8 @@ def exported(tmp_path_factory):
 def test_the_glb_and_the_wav_beside_it(exported):
     result, generated, frames, _, _, selection = exported
     assert result.path.endswith("speech.glb")
-    assert result.morph_targets == 52  # 37 visemes, 6 emotions + 6 releases, 2 blinks, a brow raise
+    # 37 visemes, 6 emotions + 6 releases, 2 blinks, a brow raise, 8 look keys (each eye four ways)
+    assert result.morph_targets == 60
     assert result.animated_nodes >= 2  # the head and at least the teeth and tongue that follow the jaw
     assert (result.frame_start, result.frame_end) == (frames.start, frames.stop - 1)
     with open(generated.wav_path, "rb") as spoken, open(result.wav_path, "rb") as beside:
@@ -130,3 +131,20 @@ def test_render_script_refuses_a_gltf_path_without_glb():
     )  # fmt: skip
     assert completed.returncode != 0
     assert "must end in .glb" in completed.stderr
+
+
+def test_the_head_and_eyes_turn_as_node_animation(exported):
+    """The living layers' rotations travel as node animation: the head and both eye objects, turned as the
+    scene turns them (the head's yaw over the take is what the tracks say, within the sampling)."""
+    result, generated, _frames, _, _, _ = exported
+    document = gltf_export.read_glb_document(result.path)
+    names = [node.get("name") for node in document["nodes"]]
+    turned = {
+        names[channel["target"]["node"]]
+        for animation in document["animations"]
+        for channel in animation["channels"]
+        if channel["target"]["path"] == "rotation"
+    }
+    assert {"TR_Head", "TR_Head_EyeLeft", "TR_Head_EyeRight"} <= turned
+    motion = generated.tracks.head_and_eyes
+    assert np.abs(motion.head).max() > 0.5 and np.abs(motion.left_eye[:, 0]).max() > 0.5

@@ -5,19 +5,23 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from turkish_lipsync.blender import compat, keyframes  # noqa: E402
+from turkish_lipsync.blender import compat, keyframes, owned_keys  # noqa: E402
 from turkish_lipsync.core.base.model import Track, WeightTracks  # noqa: E402
 
 
-def _mesh_with_keys(name: str, key_names: tuple[str, ...]) -> bpy.types.Object:
+def _mesh_with_keys(name: str, key_names: tuple[str, ...], users: tuple[str, ...] = ()) -> bpy.types.Object:
+    """A mesh with shape keys: ours (key_names starting with TR_, marked as a build marks them) and the
+    user's (the rest, and users: keys of the user's own that carry our names)."""
     mesh = bpy.data.meshes.new(name)
     mesh.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [], [(0, 1, 2)])
     obj = bpy.data.objects.new(name, mesh)
     bpy.context.scene.collection.objects.link(obj)
     obj.shape_key_add(name="Basis")
-    for key_name in key_names:
+    for key_name in (*users, *key_names):
         block = obj.shape_key_add(name=key_name)
         block.data[0].co = (0.0, 0.0, 1.0)
+    ours = [key_name for key_name in key_names if key_name.startswith("TR_")]
+    owned_keys.mark_owned(obj, {key_name: obj.data.shape_keys.key_blocks[key_name].name for key_name in ours})
     return obj
 
 
@@ -142,3 +146,27 @@ def test_remove_weight_tracks_leaves_other_curves():
     keyframes.write_weight_tracks([head], _tracks(), 1, "TR_a")
     assert keyframes.remove_weight_tracks([head]) == 1
     assert list(_curves(head)) == ['key_blocks["Smile"].value']
+
+
+def test_a_users_own_key_named_like_ours_is_never_keyed():
+    """A user's sculpt called TR_viseme_a is theirs: no curve of ours drives it, nothing resets it; with
+    our own a beside it (built as TR_viseme_a.001), the track keys ours."""
+    alone = _mesh_with_keys("Sculpted", (), users=("TR_viseme_a", "TR_viseme_u"))
+    alone.data.shape_keys.key_blocks["TR_viseme_a"].value = 0.7
+    assert keyframes.write_weight_tracks([alone], _tracks(), 1, "TR_test") == ()
+    assert alone.data.shape_keys.animation_data is None
+    assert alone.data.shape_keys.key_blocks["TR_viseme_a"].value == pytest.approx(0.7)
+    beside = _mesh_with_keys("Beside", ("TR_viseme_u",), users=("TR_viseme_a",))
+    ours = beside.shape_key_add(name="TR_viseme_a.001")
+    owned_keys.mark_owned(beside, {"TR_viseme_a": ours.name, "TR_viseme_u": "TR_viseme_u"})
+    keyframes.write_weight_tracks([beside], _tracks(), 1, "TR_test")
+    assert set(_curves(beside)) == {'key_blocks["TR_viseme_a.001"].value', 'key_blocks["TR_viseme_u"].value'}
+
+
+def test_a_part_gets_no_curve_for_a_key_that_leaves_it_still():
+    head = _mesh_with_keys("Head", ("TR_viseme_a", "TR_viseme_u", "TR_emotion_happy"))
+    teeth = _mesh_with_keys("Teeth", ("TR_viseme_a", "TR_viseme_u"))
+    teeth.data.shape_keys.key_blocks["TR_viseme_u"].data[0].co = (0.0, 0.0, 0.0)  # u leaves the teeth
+    written = keyframes.write_weight_tracks([head, teeth], _tracks(), 1, "TR_a")
+    assert [(w.object_name, w.curve_count) for w in written] == [("Head", 3), ("Teeth", 1)]
+    assert list(_curves(teeth)) == ['key_blocks["TR_viseme_a"].value']

@@ -1,5 +1,6 @@
 """The operators on the default head and on the shared heads: results, errors, undo, regenerate."""
 
+import json
 import math
 import wave
 from pathlib import Path
@@ -13,7 +14,7 @@ from mathutils import Matrix  # noqa: E402
 
 from tests.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync import blender  # noqa: E402
-from turkish_lipsync.blender import compat, heads, landmarks, pipeline, sequencer  # noqa: E402
+from turkish_lipsync.blender import compat, heads, landmarks, living, pipeline, sequencer  # noqa: E402
 from turkish_lipsync.core.base.model import EMOTIONS, emotion_key_name, viseme_key_name  # noqa: E402
 from turkish_lipsync.core.faces.landmarks import LANDMARK_NAMES, LID_LANDMARK_NAMES  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
@@ -125,8 +126,12 @@ def test_generate_keys_the_tracks_of_the_speech_on_head_and_teeth():
         got = [key_blocks[name].value for name in names]
         np.testing.assert_allclose(got, expected[row], atol=0.1, err_msg=timeline.phones[row].letter)
 
-    teeth = [obj for obj in pipeline.head_objects(head)[1:] if obj.data.shape_keys is not None]
-    assert teeth and all(_our_curves(obj) for obj in teeth)
+    # Teeth, tongue and lashes move with the speech; the eyes, which no key moves (they turn as objects),
+    # carry no shape-key curve.
+    parts = {obj.name: obj for obj in pipeline.head_objects(head)[1:] if obj.data.shape_keys is not None}
+    moved = {name for name, obj in parts.items() if _our_curves(obj)}
+    assert {"TR_Head_LowerTeeth", "TR_Head_Tongue", "TR_Head_EyelashesLeft"} <= moved
+    assert not moved & {"TR_Head_EyeLeft", "TR_Head_EyeRight"}
 
 
 def test_regenerate_replaces_ours_and_keeps_the_users_animation():
@@ -143,7 +148,12 @@ def test_regenerate_replaces_ours_and_keeps_the_users_animation():
     assert 0 < len(_our_curves(head)) <= max(first, 60)
     assert head.data.shape_keys.animation_data.action.name == "TR_merhaba"
     assert head.animation_data.action is not None
-    assert [fc.data_path for fc in compat.all_action_fcurves(head.animation_data.action)] == ["location"]
+    # The user's location key stays; beside it only our living motion, marked ours (delta transforms).
+    action = head.animation_data.action
+    ours = set(action.get(living.CURVES_PROPERTY, ()))
+    paths = [fc.data_path for fc in compat.all_action_fcurves(action)]
+    assert [path for path in paths if path not in ours] == ["location"]
+    assert ours == {"delta_location", "delta_rotation_euler"} and len(paths) == 7
     if compat.HAS_AUDIO:
         strips = compat.sequencer_strips(bpy.context.scene)
         assert [s.name for s in strips] == [sequencer.SPEECH_STRIP_NAME]
@@ -553,3 +563,48 @@ def test_undo_takes_the_landmark_markers_back():
     head = bpy.data.objects["TR_Head"]
     assert _markers(head) == {}
     assert not [obj for obj in bpy.data.objects if obj.name.startswith(landmarks.MARKER_PREFIX)]
+
+
+def test_a_recording_with_an_empty_text_is_recognised_keyed_and_placed_as_the_sound(tmp_path):
+    """No script: the panel's recording and an empty Text still animate the mouth, closing on b, m, p."""
+    from scripts.measure_recogniser import TEST_VOICES, make_take
+
+    head = _default_head_with_keys()
+    settings = _settings()
+    settings.audio_folder = str(tmp_path)
+    text = "Bu sabah babam bana mavi bir kalem aldı."
+    take, truth, lead, _ = make_take(
+        text, TEST_VOICES["m3"], "30 dB, leading noise", tmp_path, np.random.default_rng(3)
+    )
+    settings.recording = str(take)
+    settings.source_kind = "TEXT"
+    settings.text = None
+    assert bpy.ops.turkish_lipsync.generate.poll()
+    _speak("")
+    assert bpy.ops.turkish_lipsync.generate.poll()
+    assert bpy.ops.turkish_lipsync.generate() == {"FINISHED"}
+    scene = bpy.context.scene
+    blocks = head.data.shape_keys.key_blocks
+    bilabials = [viseme_key_name(v) for v in ("bpa", "bpe", "bpo", "ma", "me", "mo")]
+    # Each b, m, p the variant spoke: the lips close (some bilabial key near full weight) within its span.
+    closed = 0
+    spoken = [phone for phone in truth.phones if phone.letter in "bmp"]
+    for phone in spoken:
+        frames = range(int((phone.start + lead) * 25) - 1, int((phone.end + lead) * 25) + 3)
+        peak = 0.0
+        for frame in frames:
+            scene.frame_set(scene.frame_start + frame)
+            peak = max(peak, max(blocks[name].value for name in bilabials))
+        closed += peak > 0.9
+    assert closed >= 0.8 * len(spoken)
+    # Nothing moves in the noise before the voice; the sound is the recording.
+    assert _first_open_mouth_frame(head) > 1 + (lead - 0.15) * 25
+    with wave.open(str(take), "rb") as handle:
+        recorded_seconds = handle.getnframes() / handle.getframerate()
+    with wave.open(str(sequencer.speech_wav_of(scene)), "rb") as handle:
+        assert handle.getnframes() / handle.getframerate() == pytest.approx(recorded_seconds, abs=0.02)
+    # The panel exports what was keyed: the Rhubarb cues close (A) where the heard b, m, p are.
+    settings.export_format, settings.export_path = "rhubarb-json", str(tmp_path / "heard.json")
+    assert bpy.ops.turkish_lipsync.export_animation() == {"FINISHED"}
+    cues = json.loads((tmp_path / "heard.json").read_text())["mouthCues"]
+    assert cues[0]["value"] == "X" and sum(cue["value"] == "A" for cue in cues) >= 0.8 * len(spoken)

@@ -11,7 +11,8 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from turkish_lipsync import blender  # noqa: E402
-from turkish_lipsync.blender import compat, heads, keyframes, shapekeys  # noqa: E402
+from turkish_lipsync.blender import compat, heads, keyframes, owned_keys, shapekeys  # noqa: E402
+from turkish_lipsync.core.faces.arkit_names import ARKIT_UNITS  # noqa: E402
 from turkish_lipsync.core.pipeline import LipSyncOptions, lip_sync  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -58,7 +59,7 @@ def _keyed(head) -> dict[str, np.ndarray]:
     return curves
 
 
-@pytest.mark.parametrize("timing, frame_tolerance", [("table", 1e-4), ("phone", 0.25)])
+@pytest.mark.parametrize("timing, frame_tolerance", [("table", 1e-4), ("phone", 0.5)])
 def test_the_command_line_gives_the_tracks_the_panel_writes(reference_head, timing, frame_tolerance):
     settings = bpy.context.scene.turkish_lipsync
     settings.head = reference_head
@@ -77,7 +78,9 @@ def test_the_command_line_gives_the_tracks_the_panel_writes(reference_head, timi
     for name, track in printed["keys"].items():
         frames = np.asarray(track["frames"]) + start
         assert len(frames) == len(keyed[name]), name
-        # eSpeak NG's phone onsets vary by a few milliseconds between runs; table timing is exact.
+        # eSpeak NG's output depends a little on what it spoke before in the process (a sentence's phones
+        # move by up to ~10 ms, measured), so a fresh CLI process and the panel agree to half a frame;
+        # table timing is exact.
         np.testing.assert_allclose(keyed[name][:, 0], frames, atol=frame_tolerance, err_msg=name)
         np.testing.assert_allclose(keyed[name][:, 1], track["values"], atol=1e-5, err_msg=name)
 
@@ -122,7 +125,7 @@ def test_a_head_lacking_units_is_warned_by_the_build_and_the_operator(capfd):
     shapekeys.build_shape_keys(head, parts=[], arkit_keys=True)
     head["tr_reference_part"] = "not the reference"
     head.location.x += 1.0  # away from the reference's place: only its own ARKit keys count
-    del head.data[shapekeys.BUILT_ARKIT_PROPERTY]
+    owned_keys.disown(head, ARKIT_UNITS)  # our ARKit keys, handed over as if an artist had made them
     for name in ("mouthRollUpper", "mouthRollLower", "cheekPuff", "browInnerUp"):
         head.shape_key_remove(head.data.shape_keys.key_blocks[name])
     report = shapekeys.build_shape_keys(head, parts=[])
@@ -165,3 +168,24 @@ def test_a_cancelled_render_leaves_the_scene_as_it_was_and_no_partial_video(refe
     assert scene.render.image_settings.file_format == before_format
     assert set(bpy.data.objects.keys()) == before_objects
     assert not out.exists()
+
+
+def test_own_keys_held_at_a_value_are_warned_and_put_at_rest_only_when_asked(reference_head):
+    """A head that arrives with its own keys on (Vitruvian's file holds all 148 at 1): the speech would play
+    on a deformed face. Generate says so; the keys change only when asked, animated ones never."""
+    from turkish_lipsync.blender import pipeline
+
+    block = reference_head.shape_key_add(name="Grin", from_mix=False)
+    block.data[0].co.z += 0.01
+    block.value = 0.8
+    animated = reference_head.shape_key_add(name="Wink", from_mix=False)
+    animated.value = 0.5
+    animated.keyframe_insert("value", frame=1)
+    result = pipeline.generate(bpy.context, reference_head, "Ama", LipSyncOptions(timing="table"))
+    (warning,) = [w for w in result.warnings if "own shape keys hold a value" in w]
+    assert warning.startswith("1 of") and "Grin 0.80" in warning and "Wink" not in warning
+    assert block.value == pytest.approx(0.8)
+    assert pipeline.put_own_keys_at_rest(reference_head) == 1 and block.value == 0.0
+    assert animated.value == pytest.approx(0.5)
+    result = pipeline.generate(bpy.context, reference_head, "Ama", LipSyncOptions(timing="table"))
+    assert not [w for w in result.warnings if "own shape keys hold a value" in w]

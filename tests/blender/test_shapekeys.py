@@ -5,8 +5,9 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
+from tests.blender.evaluated import evaluated_world  # noqa: E402
 from tests.heads_on_disk import HEADS  # noqa: E402
-from turkish_lipsync.blender import heads, shapekeys  # noqa: E402
+from turkish_lipsync.blender import heads, owned_keys, shapekeys  # noqa: E402
 from turkish_lipsync.core.base.errors import HeadError  # noqa: E402
 from turkish_lipsync.core.base.model import (  # noqa: E402
     EMOTIONS,
@@ -14,6 +15,7 @@ from turkish_lipsync.core.base.model import (  # noqa: E402
     emotion_release_key_name,
     viseme_key_name,
 )
+from turkish_lipsync.core.faces.arkit_names import ARKIT_UNITS  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
 
 
@@ -25,23 +27,12 @@ def default_head():
     return objects, report
 
 
-def _evaluated(obj):
-    depsgraph = bpy.context.evaluated_depsgraph_get()
-    evaluated = obj.evaluated_get(depsgraph)
-    mesh = evaluated.to_mesh()
-    flat = np.empty(len(mesh.vertices) * 3, np.float32)
-    mesh.vertices.foreach_get("co", flat)
-    evaluated.to_mesh_clear()
-    matrix = np.array(obj.matrix_world)
-    return flat.reshape(-1, 3) @ matrix[:3, :3].T + matrix[:3, 3]
-
-
 def _pose(objects, key):
     for obj in objects.values():
         for block in obj.data.shape_keys.key_blocks[1:]:
             block.value = 1.0 if block.name == key else 0.0
     bpy.context.view_layer.update()
-    return _evaluated(objects["head"]), _evaluated(objects["upper_teeth"])
+    return evaluated_world(objects["head"]), evaluated_world(objects["upper_teeth"])
 
 
 class Measures:
@@ -79,10 +70,13 @@ class Measures:
 def test_default_head_gets_every_key(default_head):
     objects, report = default_head
     assert report.source == "reference"
-    assert len(report.keys) == 37 + 6 + 6 + 3
+    assert len(report.keys) == 37 + 6 + 6 + 3 + 8  # and the eight look keys (each eye, four ways)
     for obj in objects.values():
         names = [block.name for block in obj.data.shape_keys.key_blocks]
-        assert set(report.keys) <= set(names)
+        # Eyes of their own turn as objects: they carry no look keys (the lids' do).
+        turns_itself = obj.get("tr_reference_part") in ("left_eye", "right_eye")
+        expected = {key for key in report.keys if not (key.startswith("TR_eye_") and turns_itself)}
+        assert expected <= set(names)
 
 
 def test_bilabials_close_the_lips(default_head):
@@ -122,9 +116,9 @@ def test_open_and_rounded_vowels(default_head):
 def test_lower_teeth_follow_the_jaw(default_head):
     objects, _ = default_head
     _pose(objects, "")
-    rest = _evaluated(objects["lower_teeth"])
+    rest = evaluated_world(objects["lower_teeth"])
     _pose(objects, "TR_viseme_a")
-    assert (_evaluated(objects["lower_teeth"])[:, 2] - rest[:, 2]).mean() < -0.005
+    assert (evaluated_world(objects["lower_teeth"])[:, 2] - rest[:, 2]).mean() < -0.005
 
 
 def test_rebuild_keeps_the_users_keys_values_and_animation():
@@ -144,7 +138,7 @@ def test_rebuild_keeps_the_users_keys_values_and_animation():
     assert blocks["TR_viseme_a"].value == pytest.approx(0.7)  # a rebuilt key keeps its value
     assert "jawOpen" not in blocks  # the ARKit keys it wrote before are gone when not asked for
     assert head.data.shape_keys.animation_data.action is not None
-    assert len(report.keys) == 52
+    assert len(report.keys) == 60  # 52 and the eight look keys
 
 
 def test_head_with_its_own_arkit_keys_under_other_spellings():
@@ -156,7 +150,7 @@ def test_head_with_its_own_arkit_keys_under_other_spellings():
     expected = {b.name: np.array([v.co[:] for v in b.data]) for b in head.data.shape_keys.key_blocks}
     copy = head.copy()
     copy.data = head.data.copy()
-    del copy.data[shapekeys.BUILT_ARKIT_PROPERTY]
+    owned_keys.disown(copy, ARKIT_UNITS)  # our ARKit keys, handed over as if an artist had made them
     copy["tr_reference_part"] = "not the reference"
     copy.location.x += 1.0  # moved away: no longer recognised by position either
     bpy.context.scene.collection.objects.link(copy)
@@ -204,7 +198,9 @@ def test_shared_heads_build_or_are_refused_cleanly(relative):
             block.name.startswith("TR_") for block in head.data.shape_keys.key_blocks
         )
         return
-    assert len(report.keys) == 52
+    looks = [key for key in report.keys if key.startswith("TR_eye_")]
+    assert len(report.keys) - len(looks) == 52
+    assert len(looks) in (0, 8)  # the eight look keys where the head has eyes (the MediaPipe mask has none)
     names = {block.name for block in head.data.shape_keys.key_blocks}
     assert "TR_viseme_a" in names and "TR_emotion_sad_mouth_release" in names
 
@@ -238,7 +234,7 @@ def test_a_fresh_build_rests_at_zero_so_the_face_stays_neutral():
     basis = np.array([v.co for v in objects["head"].data.shape_keys.reference_key.data])
     matrix = np.array(objects["head"].matrix_world)
     rest = basis @ matrix[:3, :3].T + matrix[:3, 3]
-    np.testing.assert_allclose(_evaluated(objects["head"]), rest, atol=1e-6)
+    np.testing.assert_allclose(evaluated_world(objects["head"]), rest, atol=1e-6)
 
 
 @pytest.fixture
@@ -278,6 +274,6 @@ def test_bilabials_close_under_every_emotion_with_its_mouth_release(fresh_defaul
                 for block in obj.data.shape_keys.key_blocks[1:]:
                     block.value = keys.get(block.name, 0.0)
             bpy.context.view_layer.update()
-            skin = _evaluated(objects["head"])
+            skin = evaluated_world(objects["head"])
             assert measures.lip_distance(skin) < 1e-3, (viseme, emotion)
             assert measures.lip_gap(skin) < 1e-3, (viseme, emotion)

@@ -89,3 +89,25 @@ def test_rhubarb_cues_need_the_text(tmp_path):
     )
     result = run("timeline", "--cues", str(out))
     assert result.returncode == 2 and "holds no text" in result.stderr
+
+
+def test_an_output_that_is_an_input_is_refused_and_nothing_changes(tmp_path):
+    script = tmp_path / "speech.jsml"
+    script.write_text("Merhaba, benim adım Erdem.", encoding="utf-8")
+    take = tmp_path / "take.wav"
+    assert run("timeline", str(script), "--wav", str(take)).returncode == 0
+    before = {path: path.read_bytes() for path in (script, take)}
+    cases = [
+        (("export", str(script), "--audio", str(take), "--wav", str(take)), "--wav"),
+        (
+            ("export", str(script), "--out", str(tmp_path / "x"), "--wav", str(tmp_path / "x")),
+            "another output",
+        ),
+        (("export", str(script), "--out", str(script)), "--out"),
+        (("timeline", str(script), "--wav", str(script)), "same file as FILE"),
+    ]
+    for arguments, message in cases:
+        result = run(*arguments, "--format", "rhubarb-tsv" if arguments[0] == "export" else "tsv")
+        assert result.returncode == 2 and message in result.stderr, result.stderr
+        assert len(result.stderr.strip().splitlines()) == 1
+    assert {path: path.read_bytes() for path in (script, take)} == before

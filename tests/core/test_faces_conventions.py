@@ -23,8 +23,9 @@ from turkish_lipsync.core.faces.conventions import (
     plan_keys,
     read_user_mapping,
     recognise_convention,
+    unmatched_names,
 )
-from turkish_lipsync.core.faces.recipes import VISEME_NAMES, load_recipes
+from turkish_lipsync.core.faces.recipes import VISEME_NAMES, empower, load_recipes
 
 OCULUS = ("sil", "PP", "FF", "TH", "DD", "kk", "CH", "SS", "nn", "RR", "aa", "E", "ih", "oh", "ou")
 
@@ -157,7 +158,7 @@ def test_deltas_sum_own_shapes_and_release_own_emotions_where_the_mouth_moves():
     azure = _by_name()["azure"]
     match = match_convention(list(own), azure)
     plans = plan_keys(match, load_recipes())
-    deltas = convention_key_deltas(plans, own, {}, count, empowered=True, rho=3.0)
+    deltas = empower(convention_key_deltas(plans, own, {}, count), 3.0)
     np.testing.assert_allclose(deltas[viseme_key_name("o")], 0.9 * own["ow_08"])
     np.testing.assert_allclose(deltas[emotion_key_name("happy")], 3.0 * own["Happy"], rtol=1e-6)
     release = deltas[emotion_release_key_name("happy")]
@@ -183,6 +184,24 @@ def test_user_mapping_names_the_heads_keys_exactly(tmp_path):
     assert plans[viseme_key_name("bpa")].describe("arkit") == "own keys: Lips Shut 1 + arkit (press)"
     assert dict(plans[emotion_key_name("happy")].shapes) == {"Grin": 1.0}
     assert plans[viseme_key_name("e")].units  # not mapped: the ARKit recipe
+    assert unmatched_names(match) == ()
+
+
+def test_a_mapping_naming_keys_the_head_lacks_says_which(tmp_path):
+    path = tmp_path / "mine.toml"
+    path.write_text(
+        '[visemes.a]\nshapes = { "Mouth Open" = 0.8 }\n[visemes.bpa]\nshapes = { "Lips Shutt" = 1.0 }\n'
+        '[expressions]\nhappy = "Grin"\n',
+        encoding="utf-8",
+    )
+    match = match_convention(["Mouth Open", "Lips Shut"], read_user_mapping(path))
+    spelling, expressions = unmatched_names(match)
+    assert "'Lips Shutt'" in spelling and "Mouth Open" not in spelling
+    assert "happy" in expressions
+    # the misspelt viseme falls back to its ARKit recipe, the others keep the head's keys
+    plans = plan_keys(match, load_recipes())
+    assert plans[viseme_key_name("bpa")].units and not plans[viseme_key_name("bpa")].shapes
+    assert dict(plans[viseme_key_name("a")].shapes) == {"Mouth Open": 0.8}
 
 
 @pytest.mark.parametrize(

@@ -13,7 +13,7 @@ from turkish_lipsync.core.base.model import (
     viseme_key_name,
 )
 from turkish_lipsync.core.faces.arkit_names import is_mouth_unit
-from turkish_lipsync.core.faces.recipes import VISEME_NAMES, combine_units, key_deltas, load_recipes
+from turkish_lipsync.core.faces.recipes import VISEME_NAMES, combine_units, empower, key_deltas, load_recipes
 from turkish_lipsync.core.faces.reference import load_reference_head
 
 
@@ -63,7 +63,7 @@ def test_vowel_context_changes_the_consonant():
 def test_empowered_emotions_scale_by_rho():
     head = load_reference_head()
     plain = key_deltas(head.units, len(head.vertices))
-    empowered = key_deltas(head.units, len(head.vertices), empowered=True, rho=3.0)
+    empowered = empower(plain, 3.0)
     np.testing.assert_allclose(empowered["TR_emotion_angry"], 3 * plain["TR_emotion_angry"], atol=1e-6)
     np.testing.assert_allclose(empowered["TR_viseme_a"], plain["TR_viseme_a"])
     # The release cancels the mouth units and keeps the rest (cheeks, eyes) of the emotion.
@@ -72,6 +72,8 @@ def test_empowered_emotions_scale_by_rho():
     np.testing.assert_allclose(
         total, 3 * combine_units(upper_face, head.units, len(head.vertices)), atol=1e-6
     )
+    with pytest.raises(DataError, match="rho must be positive"):
+        empower(plain, 0.0)
 
 
 def test_bad_recipe_files_name_the_file(tmp_path):

@@ -6,12 +6,13 @@ import numpy as np
 import pytest
 
 from turkish_lipsync.core.base.errors import DataError
-from turkish_lipsync.core.faces import reference
+from turkish_lipsync.core.faces import reference, reference_build
 from turkish_lipsync.core.faces.arkit_names import ARKIT_UNITS
-from turkish_lipsync.core.faces.landmarks import find_landmarks, triangulate
+from turkish_lipsync.core.faces.landmarks import find_landmarks
 from turkish_lipsync.core.faces.measure import edge_stretch
-from turkish_lipsync.core.faces.parts import PART_LABELS, edge_graph, find_face_parts, opening_gap
+from turkish_lipsync.core.faces.parts import PART_LABELS, find_face_parts, opening_gap
 from turkish_lipsync.core.faces.reference import load_reference_head
+from turkish_lipsync.core.faces.topology import edge_graph, triangulate
 
 
 def test_reference_head_is_a_head_in_metres_facing_minus_y():
@@ -138,7 +139,7 @@ def _copy_head_data(target_folder, fingerprint=None):
         arrays = {name: stored[name] for name in stored.files}
     if fingerprint is not None:
         arrays["fingerprint"] = np.array(fingerprint)
-    return reference.write_head_data(target_folder / reference.HEAD_DATA_NAME, arrays)
+    return reference_build.write_head_data(target_folder / reference.HEAD_DATA_NAME, arrays)
 
 
 def test_head_data_comes_from_the_extension_then_the_build_folder(tmp_path, monkeypatch):
@@ -146,7 +147,7 @@ def test_head_data_comes_from_the_extension_then_the_build_folder(tmp_path, monk
     built = _copy_head_data(tmp_path / "build" / "head_data")
     monkeypatch.setattr(reference, "BUNDLED_HEAD_DATA", bundled.parent)
     monkeypatch.setattr(reference, "BUILT_HEAD_DATA", built.parent)
-    settings = reference.read_settings()
+    settings = reference_build.read_settings()
     arrays, source = reference._head_arrays(settings)
     assert source == bundled and len(arrays["vertices"]) == len(load_reference_head().vertices)
     bundled.unlink()
@@ -154,11 +155,11 @@ def test_head_data_comes_from_the_extension_then_the_build_folder(tmp_path, monk
 
 
 def test_stale_head_data_is_skipped_in_a_checkout_and_refused_in_the_extension(tmp_path, monkeypatch):
-    settings = reference.read_settings()
+    settings = reference_build.read_settings()
     built = _copy_head_data(tmp_path / "build" / "head_data", fingerprint="stale")
     cache = tmp_path / "cache" / "turkish_lipsync"
     cached = _copy_head_data(cache)
-    fingerprint, version = reference.settings_fingerprint(settings), importlib.metadata.version("anny")
+    fingerprint, version = reference_build.settings_fingerprint(settings), importlib.metadata.version("anny")
     cached = cached.rename(cache / f"reference_head_{fingerprint}_{version}.npz")
     monkeypatch.setattr(reference, "BUNDLED_HEAD_DATA", tmp_path / "head_data")
     monkeypatch.setattr(reference, "BUILT_HEAD_DATA", built.parent)

@@ -8,11 +8,13 @@ from tests.heads_on_disk import HEADS, read_obj
 from turkish_lipsync.core.base.errors import HeadError
 from turkish_lipsync.core.faces.arkit_names import ARKIT_UNITS
 from turkish_lipsync.core.faces.closest import closest_points
-from turkish_lipsync.core.faces.landmarks import axis_rotation, find_landmarks, triangulate
+from turkish_lipsync.core.faces.head_parts import find_parts
+from turkish_lipsync.core.faces.landmarks import axis_rotation, find_landmarks
 from turkish_lipsync.core.faces.measure import displacement_cosine
 from turkish_lipsync.core.faces.reference import load_reference_head
 from turkish_lipsync.core.faces.registration import LandmarkWarp, rigid_fit, similarity_fit
-from turkish_lipsync.core.faces.transfer import find_parts, transfer_units
+from turkish_lipsync.core.faces.topology import triangulate
+from turkish_lipsync.core.faces.transfer import transfer_units
 
 
 def relative_error(found: np.ndarray, expected: np.ndarray) -> float:
@@ -44,8 +46,15 @@ def test_transfer_onto_the_reference_itself_gives_back_its_units(reference):
 def test_parts_are_found_from_geometry(reference):
     landmarks = find_landmarks(reference.vertices, reference.polygons)
     parts = find_parts(reference.vertices, reference.polygons, landmarks)
-    assert set(parts) == set(reference.parts) - {"skin"}
-    for name, indices in parts.items():
+    np.testing.assert_array_equal(parts.skin, reference.parts["skin"])
+    found = {
+        "upper_teeth": parts.indices("upper_teeth"),
+        "lower_teeth": parts.indices("lower_teeth"),
+        "tongue": parts.indices("tongue"),
+        **{f"{side}_eye": parts.indices("eyeball", "cornea", side=side) for side in ("left", "right")},
+        **{f"{side}_eyelashes": parts.indices("lashes", side=side) for side in ("left", "right")},
+    }
+    for name, indices in found.items():
         assert np.array_equal(indices, np.sort(reference.parts[name])), name
 
 

@@ -107,3 +107,12 @@ def test_chunks_of_another_size_are_refused(tmp_path):
 def test_a_missing_chunk_is_named(tmp_path):
     with pytest.raises(VideoError, match="missing.mp4"):
         join_videos([tmp_path / "missing.mp4"], tmp_path / "out.mp4")
+
+
+def test_chunks_that_do_not_cover_the_speech_are_refused(tmp_path, speech):
+    """The speech lasts 30 frames; a join of chunks 1-10 and 21-30 (the middle one missing) would cut it."""
+    _encode(tmp_path / "a.mp4", range(10))
+    _encode(tmp_path / "c.mp4", range(20, 30))
+    with pytest.raises(VideoError, match=r"chunks hold 20 frames .* lasts 1.20 s: a chunk .* is missing"):
+        join_videos([tmp_path / "a.mp4", tmp_path / "c.mp4"], tmp_path / "out.mp4", speech)
+    assert not (tmp_path / "out.mp4").exists()

@@ -6,8 +6,6 @@ import numpy as np
 import pytest
 
 from turkish_lipsync.core.base.model import (
-    BLINK_KEYS,
-    BROW_RAISE_KEY,
     EMOTIONS,
     emotion_key_name,
     emotion_release_key_name,
@@ -15,7 +13,7 @@ from turkish_lipsync.core.base.model import (
 )
 from turkish_lipsync.core.base.visemes import BILABIAL_VISEMES, LABIODENTAL_VISEMES
 from turkish_lipsync.core.motion.frames import sampled_weights
-from turkish_lipsync.core.motion.natural import motion_parameters, natural_weight_tracks
+from turkish_lipsync.core.motion.natural import natural_weight_tracks
 from turkish_lipsync.core.motion.quality import quality_report
 from turkish_lipsync.core.speech.timing import table_timeline
 from turkish_lipsync.core.text.utterance import build_utterance
@@ -141,41 +139,6 @@ def test_emotion_weight_and_strength_scale_the_emotion_and_neighbouring_words_cr
     assert np.abs(np.diff(sad)).max() < 0.05 and np.abs(np.diff(surprised)).max() < 0.1
 
 
-def test_blinks_are_seeded_brief_spaced_and_left_out_while_an_emotion_narrows_the_eyes():
-    text = " ".join(HELD_OUT)
-    timeline = timeline_of(text, "60%")
-    first = natural_weight_tracks(timeline, 30, seed=3)
-    again = natural_weight_tracks(timeline, 30, seed=3)
-    other = natural_weight_tracks(timeline, 30, seed=4)
-    assert first.extra["blinks"] == again.extra["blinks"] != other.extra["blinks"]
-    spans = first.extra["blinks"]
-    assert len(spans) >= 2
-    settings = motion_parameters().blinks
-    for start, end in spans:
-        assert settings["min_duration"] - 2 / 30 <= end - start <= settings["max_duration"] + 2 / 30
-    starts = [start for start, _ in spans]
-    assert min(np.diff(starts)) >= settings["min_interval"] - 1 / 30
-    names, values = sampled_weights(first)
-    left, right = values[:, names.index(BLINK_KEYS[0])], values[:, names.index(BLINK_KEYS[1])]
-    assert np.array_equal(left, right) and left.max() == pytest.approx(1.0)
-
-    happy = timeline_of(text, "60%", "happy")  # happy narrows the eyes (shapekeys/motion.toml)
-    assert natural_weight_tracks(happy, 30, seed=3).extra["blinks"] == ()
-    assert natural_weight_tracks(timeline, 30, blinks=False).track(BLINK_KEYS[0]) is None
-
-
-def test_the_brows_rise_on_emphasised_words_only():
-    timeline = table_timeline(build_utterance("Bunu <EMP>mutlaka</EMP> bitirmeliyiz, dedi."))
-    tracks = natural_weight_tracks(timeline, 25)
-    names, values = sampled_weights(tracks)
-    brow = values[:, names.index(BROW_RAISE_KEY)]
-    start, end = timeline.emphases[0]
-    assert brow[round((start + end) / 2 * 25)] == pytest.approx(motion_parameters().brow_raise["weight"])
-    assert brow[0] == 0 and brow[-1] == 0
-    assert natural_weight_tracks(timeline, 25, brow_raise=False).track(BROW_RAISE_KEY) is None
-    assert natural_weight_tracks(timeline_of("Bunu bitirmeliyiz."), 25).track(BROW_RAISE_KEY) is None
-
-
 def test_tracks_are_sparse_integer_frame_keys_that_reproduce_every_frame():
     timeline = timeline_of("Mehmet bey bu sabah erkenden vapura binip boğazı geçti.", emotion="angry")
     tracks = natural_weight_tracks(timeline, 30)
@@ -230,6 +193,6 @@ def test_real_engine_timelines_keep_every_closure(rate):
 def test_a_timeline_without_phones_rests():
     from turkish_lipsync.core.base.model import Timeline
 
-    tracks = natural_weight_tracks(Timeline((), (), (), (), 1.0, "table"), 24, blinks=False)
+    tracks = natural_weight_tracks(Timeline((), (), (), (), 1.0, "table"), 24)
     assert [t.name for t in tracks.tracks] == [viseme_key_name("neutral")]
     assert np.all(tracks.tracks[0].values == 1.0)

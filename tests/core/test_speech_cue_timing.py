@@ -96,3 +96,67 @@ def test_a_stretch_too_long_to_align_asks_for_punctuation(tmp_path):
     path.write_text("".join(f"{i * 0.05:.2f}\t{'ABCD'[i % 4]}\n" for i in range(2000)) + "100.00\tX\n")
     with pytest.raises(CueFileError, match="put punctuation where the speaker pauses"):
         timeline_from_cues(build_utterance(text), read_cue_file(path))
+
+
+def _naive_pairing(gaps, pauses):
+    """The pairing as first written: bridge the shortest rest, or join the shortest pause, one at a time.
+    Returns the first original run of each paired run and the first original phrase of each phrase."""
+    runs, gaps = [[i] for i in range(len(gaps) + 1)], list(gaps)
+    while len(runs) > len(pauses) + 1:
+        i = int(np.argmin(gaps))
+        runs[i : i + 2] = [runs[i] + runs[i + 1]]
+        del gaps[i]
+    phrases, pauses = [[i] for i in range(len(pauses) + 1)], list(pauses)
+    while len(phrases) > len(runs):
+        i = int(np.argmin(pauses))
+        phrases[i : i + 2] = [phrases[i] + phrases[i + 1]]
+        del pauses[i]
+    return [run[0] for run in runs], [phrase[0] for phrase in phrases]
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_pairing_in_one_pass_pairs_as_the_shortest_first_rule_does(seed):
+    """Bridging one rest leaves the other rests as they were, so bridging the k shortest at once pairs the
+    same stretches as bridging the shortest k times over (which took quadratic time on a long file)."""
+    from turkish_lipsync.core.speech.cue_timing import _pair_stretches
+    from turkish_lipsync.core.speech.cues import MouthCue
+
+    rng = np.random.default_rng(seed)
+    marks = rng.choice([", ", "; ", ". "], size=int(rng.integers(1, 9)))
+    text = "".join(f"ev{mark}" for mark in marks) + "ev."
+    utterance = build_utterance(text)
+    starts = [w.first_letter for w in utterance.words if w.pause_before > 0 or w.first_letter == 0]
+    pauses = [w.pause_before for w in utterance.words[1:] if w.pause_before > 0]
+    gaps = rng.choice([0.1, 0.2, 0.3, 0.4, 0.5], size=int(rng.integers(0, 14)))
+    runs, time = [], 0.0
+    for gap in [0.0, *gaps]:
+        time += gap
+        runs.append([MouthCue(time, time + 0.1, "B")])
+        time += 0.1
+    phrases, paired = _pair_stretches(utterance, [list(run) for run in runs])
+    first_runs, first_phrases = _naive_pairing(gaps, pauses)
+    assert [run[0].start for run in paired] == [runs[i][0].start for i in first_runs]
+    assert [phrase.start for phrase in phrases] == [starts[i] for i in first_phrases]
+
+
+def test_a_file_of_too_many_cues_is_refused_before_it_is_read(tmp_path, monkeypatch):
+    from turkish_lipsync.core.speech.cues import common
+
+    monkeypatch.setattr(common, "MAX_CUES", 1000)
+    path = tmp_path / "huge.tsv"
+    path.write_text("".join(f"{i * 0.05:.2f}\tB\n" for i in range(1001)))
+    with pytest.raises(CueFileError, match="1,001 mouth cues are more than the 1,000"):
+        read_cue_file(path)
+
+
+def test_a_cue_file_of_another_length_is_warned_and_of_far_more_cues_refused(tmp_path):
+    from turkish_lipsync.core.speech.cue_timing import speech_from_cues
+
+    long = tmp_path / "long.tsv"  # 17 minutes of speech for four words
+    long.write_text("0.00\tB\n1020.00\tX\n", encoding="utf-8")
+    _, speech = speech_from_cues("merhaba benim adım erdem", long)
+    assert any("speaks for 1020.0 s, and the text takes about" in w for w in speech.warnings)
+    busy = tmp_path / "busy.tsv"  # 300 mouth changes for 21 letters
+    busy.write_text("".join(f"{i * 0.1:.2f}\t{'AB'[i % 2]}\n" for i in range(300)) + "30.00\tX\n")
+    with pytest.raises(CueFileError, match="holds 300 mouth changes for a text of 21 letters"):
+        speech_from_cues("merhaba benim adım erdem", busy)

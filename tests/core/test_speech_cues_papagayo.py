@@ -73,3 +73,18 @@ def test_pgo_at_a_fractional_rate_says_papagayo_plays_it_off(timeline):
     assert text.splitlines()[2] == "30"
     assert len(warnings) == 1 and "0.1%" in warnings[0]
     assert cue_formats()["papagayo-pgo"].write(timeline, 25.0)[1] == ()
+
+
+@pytest.mark.parametrize(
+    ("lines", "message"),
+    [
+        ("MohoSwitch1\n1 rest\n12 AI\n8 E\n20 rest\n", "line 4: frame 8 does not come after frame 12"),
+        ("MohoSwitch1\n0 AI\n5 rest\n", "line 2: frame 0: Moho counts frames from 1"),
+        ("MohoSwitch1\n", "holds no mouth changes"),
+    ],
+)
+def test_moho_data_out_of_order_is_refused_with_its_line(tmp_path, lines, message):
+    path = tmp_path / "speech.dat"
+    path.write_text(lines, encoding="utf-8")
+    with pytest.raises(CueFileError, match=message):
+        read_cue_file(path, FPS)

@@ -99,13 +99,13 @@ def action_channels(
     return None if channelbag is None else Channels(channelbag.fcurves, channelbag.groups)
 
 
-def new_fcurve(channels: Channels, data_path: str, group_name: str):
+def new_fcurve(channels: Channels, data_path: str, group_name: str, index: int = 0):
     """A new F-curve filed under group_name (the keyword differs per version)."""
     if not HAS_LAYERED_ACTIONS:
-        return channels.fcurves.new(data_path, index=0, action_group=group_name)
+        return channels.fcurves.new(data_path, index=index, action_group=group_name)
     if FCURVE_NEW_TAKES_GROUP_NAME:
-        return channels.fcurves.new(data_path, index=0, group_name=group_name)
-    fcurve = channels.fcurves.new(data_path, index=0)
+        return channels.fcurves.new(data_path, index=index, group_name=group_name)
+    fcurve = channels.fcurves.new(data_path, index=index)
     group = channels.groups.get(group_name) or channels.groups.new(group_name)
     fcurve.group = group
     return fcurve

@@ -1,4 +1,9 @@
-"""The head's speech for the tools around Blender: Rhubarb cues, Moho switch data, Papagayo, ARKit CSV."""
+"""The head's speech for the tools around Blender: Rhubarb cues, Moho switch data, Papagayo, ARKit CSV.
+
+Exports describe the animation the head has: the timeline Generate kept with the keys (its record), and the
+weights as the keys hold them now. Keys edited by hand since Generate are exported as they are, with a
+warning that the mouth cues still follow the timeline Generate made.
+"""
 
 from __future__ import annotations
 
@@ -11,8 +16,7 @@ import bpy
 
 from ..core.base.errors import LipSyncError
 from ..core.interchange import export_format_named, export_text, write_export
-from ..core.pipeline import LipSyncOptions, lip_sync
-from . import pipeline, sequencer
+from . import keyframes, pipeline, sequencer
 
 
 @dataclass(frozen=True)
@@ -28,40 +32,31 @@ def export_path_for(chosen: str, export_format: str) -> Path:
 
 
 def export_animation(
-    context: bpy.types.Context,
-    head: bpy.types.Object,
-    source: str,
-    options: LipSyncOptions,
-    export_format: str,
-    chosen_path: str,
+    context: bpy.types.Context, head: bpy.types.Object, export_format: str, path: Path
 ) -> ExportResult:
-    """The head's speech in one export format, as Generate Animation made it.
-
-    Blender keeps only the keys, so the timeline is computed again from the same text and settings; the
-    head's action must have been generated from this text (its name says so), or the export would describe
-    another animation.
-    """
-    scene = context.scene
-    fps = sequencer.scene_fps(scene)
-    spoken = lip_sync(source, dataclasses.replace(options, fps=fps))
-    keys = head.data.shape_keys
-    action = keys.animation_data.action if keys is not None and keys.animation_data else None
-    expected = pipeline.action_name_for(spoken.utterance)
-    if action is None or not (action.name == expected or action.name.startswith(expected + ".")):
-        current = repr(action.name) if action is not None else "none"
+    """The head's generated animation in one export format, written to path."""
+    record = pipeline.animation_record(head)
+    if record is None:
         raise LipSyncError(
-            f"The head's animation ({current}) was not generated from this text ({expected!r}): press "
-            "Generate Animation, then export."
+            f"The head {head.name!r} has no generated animation to export: press Generate Animation first."
         )
-    path = export_path_for(chosen_path, export_format)
-    wav = sequencer.speech_wav_of(scene)
+    objects = pipeline.head_objects(head)
+    tracks = keyframes.read_weight_tracks(objects, record.frame_start, record.frame_count, record.fps)
+    tracks = dataclasses.replace(tracks, head_and_eyes=record.head_and_eyes)
+    warnings: tuple[str, ...] = ()
+    if keyframes.key_fingerprint(objects) != record.key_fingerprint:
+        warnings = (
+            f"The keys of {head.name!r} were changed after Generate Animation: the weights are exported as "
+            "the keys are now, the mouth cues and words as Generate timed them.",
+        )
+    wav = sequencer.speech_wav_of(context.scene)
     sound = ""
     if wav is not None:
         try:
             sound = os.path.relpath(wav, path.parent)
         except ValueError:  # another drive on Windows
             sound = str(wav)
-    contents, warnings = export_text(
-        export_format, spoken.timeline, spoken.tracks, sound_file=sound, text=source
+    contents, format_warnings = export_text(
+        export_format, record.timeline, tracks, sound_file=sound, text=record.text
     )
-    return ExportResult(write_export(path, contents), export_format, spoken.warnings + warnings)
+    return ExportResult(write_export(path, contents), export_format, warnings + format_warnings)

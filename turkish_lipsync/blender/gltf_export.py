@@ -16,6 +16,8 @@ from pathlib import Path
 import bpy
 
 from ..core.base.errors import LipSyncError
+from ..core.base.files import check_writable
+from ..core.speech.wav import is_our_wav
 from . import compat, sequencer
 from .heads import find_head_parts
 
@@ -60,12 +62,8 @@ def export_gltf(context: bpy.types.Context, head: bpy.types.Object, filepath: st
         raise LipSyncError(
             f"{head.name!r} has no shape-key animation to export; press 'Generate Animation' first."
         )
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-    except OSError as error:
-        raise LipSyncError(
-            f"Cannot create the folder {path.parent}: {error}. Choose another place."
-        ) from error
+    check_writable(path, "glTF file")
+    speech = _speech_to_copy(context.scene, path)
     objects = [head, *find_head_parts(head)]
     _export_selected(context, objects, path)
     document = read_glb_document(path)
@@ -81,7 +79,7 @@ def export_gltf(context: bpy.types.Context, head: bpy.types.Object, filepath: st
             f"Blender's glTF exporter wrote {path} without the speech's morph-weight animation; "
             "check that the head's shape keys are animated and export again."
         )
-    wav_path = _copy_speech_beside(context.scene, path)
+    wav_path = _copy_speech_beside(speech, path)
     targets = max((len(p.get("targets", [])) for p in head_mesh.get("primitives", [])), default=0)
     return GltfExport(
         path=str(path),
@@ -125,11 +123,26 @@ def _export_selected(context: bpy.types.Context, objects: list[bpy.types.Object]
         compat.survive_gltf_export_at_exit()
 
 
-def _copy_speech_beside(scene: bpy.types.Scene, path: Path) -> Path | None:
+def _speech_to_copy(scene: bpy.types.Scene, path: Path) -> Path | None:
+    """The scene's speech WAV to copy beside the .glb, checked before anything is written: a WAV beside it
+    that we did not write (a user's own recording of that name) is never overwritten."""
     source = sequencer.speech_wav_of(scene)
     if source is None or not source.is_file():
         return None
     target = path.with_suffix(".wav")
-    if target.resolve() != source.resolve():
+    if target.exists() and not target.samefile(source) and not is_our_wav(target):
+        raise LipSyncError(
+            f"{target} exists and was not written by this extension (a recording of yours?); the glTF's "
+            f"speech WAV would replace it: give the glTF another name than {path.name}."
+        )
+    check_writable(target, "speech WAV beside the glTF")
+    return source
+
+
+def _copy_speech_beside(source: Path | None, path: Path) -> Path | None:
+    if source is None:
+        return None
+    target = path.with_suffix(".wav")
+    if not (target.exists() and target.samefile(source)):
         shutil.copyfile(source, target)
     return target

@@ -209,18 +209,19 @@ def has_mouth_shapes(obj: bpy.types.Object) -> bool:
 
 
 def find_head_parts(head: bpy.types.Object, objects=None) -> list[bpy.types.Object]:
-    """Meshes of the head's mouth and eyes: its mesh children, or small meshes inside its bounds."""
+    """Meshes of the head's mouth and eyes: its mesh children, and small meshes inside its bounds that
+    are nobody's children (teeth or lashes a user imported beside a head whose eyes are parented)."""
     children = [child for child in head.children if child.type == "MESH"]
-    if children:
-        return children
     if objects is None:
         objects = head.users_collection[0].objects if head.users_collection else []
     lower, upper = mesh.world_bounds(head)
     size = float(np.max(upper - lower))
-    parts = []
+    parts = list(children)
     for obj in objects:
-        if obj is head or obj.type != "MESH" or len(obj.data.vertices) == 0:
+        if obj is head or obj in parts or obj.type != "MESH" or len(obj.data.vertices) == 0:
             continue
+        if obj.parent is not None and obj.parent.type == "MESH":
+            continue  # a part of another mesh
         obj_lower, obj_upper = mesh.world_bounds(obj)
         centre = (obj_lower + obj_upper) / 2
         inside = bool(np.all(centre > lower) and np.all(centre < upper))

@@ -35,6 +35,15 @@ def triangles(obj: bpy.types.Object) -> np.ndarray:
     return flat.reshape(-1, 3)
 
 
+def triangle_materials(obj: bpy.types.Object) -> np.ndarray:
+    """(T,) int32 material slot of each loop triangle (the order triangles() gives)."""
+    mesh = obj.data
+    mesh.calc_loop_triangles()
+    materials = np.empty(len(mesh.loop_triangles), dtype=np.int32)
+    mesh.loop_triangles.foreach_get("material_index", materials)
+    return materials
+
+
 def world_matrix(obj: bpy.types.Object) -> np.ndarray:
     return np.array(obj.matrix_world, dtype=np.float64)
 

@@ -11,11 +11,12 @@ import bpy
 import numpy as np
 
 from ..core.base.errors import HeadError, LipSyncError
-from ..core.faces.landmarks import landmark_layout_in_box
+from ..core.faces.landmark_fallbacks import landmark_layout_in_box
 from ..core.faces.reference import load_reference_head
 from ..core.pipeline import LipSyncOptions
 from . import exports, gltf_export, landmarks, mesh, pipeline, shapekeys
 from .preferences import ADDON_PACKAGE, configure_speech_engine
+from .properties import LAYER_VALUES
 
 # What an operator's work returns: the line to report, and the warnings the user must see.
 Outcome = tuple[str, tuple[str, ...]]
@@ -68,7 +69,26 @@ def run_reported(operator: bpy.types.Operator, work: Callable[[], Outcome]) -> s
     return {"FINISHED"}
 
 
-class ReportedOperator:
+# A requirement of an operator: None where it is met, else why the operator cannot run (shown on its button).
+Requirement = Callable[[bpy.types.Context], "str | None"]
+
+
+class CheckedOperator:
+    """An operator that runs when all its requirements are met, and otherwise says which is not."""
+
+    requirements: tuple[Requirement, ...] = ()
+
+    @classmethod
+    def poll(cls, context) -> bool:
+        for requirement in cls.requirements:
+            reason = requirement(context)
+            if reason:
+                cls.poll_message_set(reason)
+                return False
+        return True
+
+
+class ReportedOperator(CheckedOperator):
     """An operator whose execute runs its work(context) through run_reported."""
 
     def execute(self, context):
@@ -87,18 +107,57 @@ def chosen_head(context: bpy.types.Context) -> bpy.types.Object | None:
     return head
 
 
-def _in_object_mode(cls, context) -> bool:
-    if context.mode != "OBJECT":
-        cls.poll_message_set("Switch to Object Mode first")
-        return False
-    return True
+def object_mode(context) -> str | None:
+    return "Switch to Object Mode first" if context.mode != "OBJECT" else None
 
 
-def _head_chosen(cls, context) -> bool:
-    if chosen_head(context) is None:
-        cls.poll_message_set("Choose the head object in the Lip Sync panel")
-        return False
-    return True
+def head_chosen(context) -> str | None:
+    return "Choose the head object in the Lip Sync panel" if chosen_head(context) is None else None
+
+
+def key_source_ready(context) -> str | None:
+    settings = settings_of(context)
+    if settings.key_source == "obj_folder" and not settings.obj_folder:
+        return "Choose the folder of OBJ models in the Lip Sync panel"
+    if settings.key_source == "arkit" and chosen_head(context) is None:
+        return "Choose a head with its own ARKit shape keys (the reference head has none)"
+    if settings.key_source == "convention" and chosen_head(context) is None:
+        return "Choose a head with visemes of its own (the reference head has none)"
+    return None
+
+
+def keys_built(context) -> str | None:
+    if not pipeline.has_lipsync_keys(chosen_head(context)):
+        return "The head has no lip-sync shape keys yet: build them first"
+    return None
+
+
+def source_chosen(context) -> str | None:
+    """A text to speak is chosen, or a cue file that may hold its own (a Papagayo project does), or a
+    recording, whose words are then recognised from the audio."""
+    settings = settings_of(context)
+    if settings.cue_file or settings.recording:
+        return None
+    if settings.source_kind == "TEXT" and settings.text is None:
+        return "Choose the Text to speak in the Lip Sync panel"
+    if settings.source_kind == "FILE" and not settings.file_path:
+        return "Choose the JSML file to speak in the Lip Sync panel"
+    return None
+
+
+def timing_follows_recording(context) -> str | None:
+    settings = settings_of(context)
+    if settings.recording and settings.timing == "table" and not settings.cue_file:
+        return "Table timing cannot follow a recording: choose Phone or Word timing"
+    return None
+
+
+def speech_generated(context) -> str | None:
+    key = chosen_head(context).data.shape_keys
+    action = key.animation_data.action if key is not None and key.animation_data else None
+    if action is None or pipeline.RECORD_PROPERTY not in action:
+        return "Generate the animation first: the head has no speech to export"
+    return None
 
 
 def head_landmarks(head: bpy.types.Object) -> tuple[dict[str, np.ndarray], tuple[str, ...]]:
@@ -134,22 +193,7 @@ class TURKISH_LIPSYNC_OT_build_shape_keys(ReportedOperator, bpy.types.Operator):
     bl_idname = "turkish_lipsync.build_shape_keys"
     bl_label = "Build Shape Keys"
     bl_options = {"REGISTER", "UNDO"}
-
-    @classmethod
-    def poll(cls, context) -> bool:
-        if not _in_object_mode(cls, context):
-            return False
-        settings = settings_of(context)
-        if settings.key_source == "obj_folder" and not settings.obj_folder:
-            cls.poll_message_set("Choose the folder of OBJ models in the Lip Sync panel")
-            return False
-        if settings.key_source == "arkit" and chosen_head(context) is None:
-            cls.poll_message_set("Choose a head with its own ARKit shape keys (the reference head has none)")
-            return False
-        if settings.key_source == "convention" and chosen_head(context) is None:
-            cls.poll_message_set("Choose a head with visemes of its own (the reference head has none)")
-            return False
-        return True
+    requirements = (object_mode, key_source_ready)
 
     @staticmethod
     def work(context) -> Outcome:
@@ -181,25 +225,7 @@ class TURKISH_LIPSYNC_OT_generate(ReportedOperator, bpy.types.Operator):
     bl_idname = "turkish_lipsync.generate"
     bl_label = "Generate Animation"
     bl_options = {"REGISTER", "UNDO"}
-
-    @classmethod
-    def poll(cls, context) -> bool:
-        if not _in_object_mode(cls, context):
-            return False
-        settings = settings_of(context)
-        head = chosen_head(context)
-        if head is None:
-            cls.poll_message_set("Choose the head object in the Lip Sync panel")
-            return False
-        if not pipeline.has_lipsync_keys(head):
-            cls.poll_message_set("The head has no lip-sync shape keys yet: build them first")
-            return False
-        if not _source_chosen(cls, settings):
-            return False
-        if settings.recording and settings.timing == "table" and not settings.cue_file:
-            cls.poll_message_set("Table timing cannot follow a recording: choose Phone or Word timing")
-            return False
-        return True
+    requirements = (object_mode, head_chosen, keys_built, source_chosen, timing_follows_recording)
 
     @staticmethod
     def work(context) -> Outcome:
@@ -216,6 +242,7 @@ class TURKISH_LIPSYNC_OT_generate(ReportedOperator, bpy.types.Operator):
                 audio_folder=settings.audio_folder,
                 package=ADDON_PACKAGE,
                 progress=progress,
+                gaze_target=settings.gaze_target.name if settings.gaze_target else "",
             )
         settings.head = head
         message = (
@@ -229,29 +256,21 @@ def options_of(settings) -> LipSyncOptions:
     """The core's options from the panel's settings (the frame rate is the scene's, set by generate)."""
     recording = Path(bpy.path.abspath(settings.recording)) if settings.recording else None
     cues = Path(bpy.path.abspath(settings.cue_file)) if settings.cue_file else None
-    return LipSyncOptions.from_attributes(settings, recording=recording, cues=cues)
-
-
-def _source_chosen(cls, settings) -> bool:
-    """A text to speak is chosen, or a cue file that may hold its own (a Papagayo project does)."""
-    if settings.cue_file:
-        return True
-    if settings.source_kind == "TEXT" and settings.text is None:
-        cls.poll_message_set("Choose the Text to speak in the Lip Sync panel")
-        return False
-    if settings.source_kind == "FILE" and not settings.file_path:
-        cls.poll_message_set("Choose the JSML file to speak in the Lip Sync panel")
-        return False
-    return True
+    layers = {
+        layer: LAYER_VALUES[getattr(settings, f"{layer}_layer")]
+        for layer in ("gaze", "blinks", "head_motion", "expression")
+    }
+    return LipSyncOptions.from_attributes(settings, recording=recording, cues=cues, **layers)
 
 
 def source_of(settings) -> str:
-    """The panel's text; empty when only a cue file is given (its own text is then spoken)."""
+    """The panel's text; empty when only a cue file is given (its own text is then spoken) or only a
+    recording, with no text or an empty one (what it says is then recognised)."""
     text_name = settings.text.name if settings.source_kind == "TEXT" and settings.text else ""
     file_path = settings.file_path if settings.source_kind == "FILE" else ""
-    if settings.cue_file and not (text_name or file_path):
+    if (settings.cue_file or settings.recording) and not (text_name or file_path):
         return ""
-    return pipeline.read_source(text_name, file_path)
+    return pipeline.read_source(text_name, file_path, allow_empty=bool(settings.recording))
 
 
 class TURKISH_LIPSYNC_OT_show_landmarks(ReportedOperator, bpy.types.Operator):
@@ -260,10 +279,7 @@ class TURKISH_LIPSYNC_OT_show_landmarks(ReportedOperator, bpy.types.Operator):
     bl_idname = "turkish_lipsync.show_landmarks"
     bl_label = "Show Landmarks"
     bl_options = {"REGISTER", "UNDO"}
-
-    @classmethod
-    def poll(cls, context) -> bool:
-        return _in_object_mode(cls, context) and _head_chosen(cls, context)
+    requirements = (object_mode, head_chosen)
 
     @staticmethod
     def work(context) -> Outcome:
@@ -278,48 +294,45 @@ class TURKISH_LIPSYNC_OT_show_landmarks(ReportedOperator, bpy.types.Operator):
         )
 
 
-class TURKISH_LIPSYNC_OT_clear_landmarks(bpy.types.Operator):
+def markers_shown(context) -> str | None:
+    if landmarks.read_landmark_markers(chosen_head(context)) is None:
+        return "The head has no landmark markers"
+    return None
+
+
+class TURKISH_LIPSYNC_OT_clear_landmarks(ReportedOperator, bpy.types.Operator):
     """Remove the head's landmark markers: the next build finds the landmarks automatically again"""
 
     bl_idname = "turkish_lipsync.clear_landmarks"
     bl_label = "Clear Landmarks"
     bl_options = {"REGISTER", "UNDO"}
+    requirements = (object_mode, head_chosen, markers_shown)
 
-    @classmethod
-    def poll(cls, context) -> bool:
-        if not (_in_object_mode(cls, context) and _head_chosen(cls, context)):
-            return False
-        if landmarks.read_landmark_markers(chosen_head(context)) is None:
-            cls.poll_message_set("The head has no landmark markers")
-            return False
-        return True
-
-    def execute(self, context):
+    @staticmethod
+    def work(context) -> Outcome:
         head = chosen_head(context)
-        return run_reported(
-            self, lambda: (f"Removed {landmarks.remove_landmark_markers(head)} markers from {head.name}", ())
-        )
+        return f"Removed {landmarks.remove_landmark_markers(head)} markers from {head.name}", ()
 
 
-class TURKISH_LIPSYNC_OT_render(bpy.types.Operator):
+def output_chosen(context) -> str | None:
+    if not settings_of(context).output_path:
+        return "Choose the video file to write in the Lip Sync panel"
+    return None
+
+
+def something_to_film(context) -> str | None:
+    if context.scene.camera is None and chosen_head(context) is None:
+        return "Choose the head (to frame a camera on it) or add a camera"
+    return None
+
+
+class TURKISH_LIPSYNC_OT_render(CheckedOperator, bpy.types.Operator):
     """Render the frame range to an MP4 with the speech, adding a camera and lights on the face if missing"""
 
     bl_idname = "turkish_lipsync.render"
     bl_label = "Render Video"
     bl_options = {"REGISTER", "UNDO"}
-
-    @classmethod
-    def poll(cls, context) -> bool:
-        if not _in_object_mode(cls, context):
-            return False
-        settings = settings_of(context)
-        if not settings.output_path:
-            cls.poll_message_set("Choose the video file to write in the Lip Sync panel")
-            return False
-        if context.scene.camera is None and chosen_head(context) is None:
-            cls.poll_message_set("Choose the head (to frame a camera on it) or add a camera")
-            return False
-        return True
+    requirements = (object_mode, output_chosen, something_to_film)
 
     _prepared: pipeline.PreparedRender | None = None
     _timer = None
@@ -409,14 +422,19 @@ class TURKISH_LIPSYNC_OT_render(bpy.types.Operator):
         )
 
 
-def _speech_generated(cls, context) -> bool:
-    if not (_in_object_mode(cls, context) and _head_chosen(cls, context)):
-        return False
-    key = chosen_head(context).data.shape_keys
-    if key is None or key.animation_data is None or key.animation_data.action is None:
-        cls.poll_message_set("Generate the animation first: the head has no speech to export")
-        return False
-    return True
+def export_file_chosen(context) -> str | None:
+    chosen = settings_of(context).export_path
+    if not chosen:
+        return "Choose the file to export to in the Lip Sync panel"
+    if chosen.startswith("//") and not bpy.data.filepath:
+        return "Save the .blend first, or choose an absolute path to export to"
+    return None
+
+
+def gltf_file_chosen(context) -> str | None:
+    return (
+        "Choose the glTF file to write in the Lip Sync panel" if not settings_of(context).gltf_path else None
+    )
 
 
 class TURKISH_LIPSYNC_OT_export_animation(ReportedOperator, bpy.types.Operator):
@@ -425,32 +443,13 @@ class TURKISH_LIPSYNC_OT_export_animation(ReportedOperator, bpy.types.Operator):
     bl_idname = "turkish_lipsync.export_animation"
     bl_label = "Export Animation"
     bl_options = {"REGISTER"}
-
-    @classmethod
-    def poll(cls, context) -> bool:
-        if not (_speech_generated(cls, context) and _source_chosen(cls, settings_of(context))):
-            return False
-        chosen = settings_of(context).export_path
-        if not chosen:
-            cls.poll_message_set("Choose the file to export to in the Lip Sync panel")
-            return False
-        if chosen.startswith("//") and not bpy.data.filepath:
-            cls.poll_message_set("Save the .blend first, or choose an absolute path to export to")
-            return False
-        return True
+    requirements = (object_mode, head_chosen, speech_generated, export_file_chosen)
 
     @staticmethod
     def work(context) -> Outcome:
         settings = settings_of(context)
-        configure_speech_engine(context)
-        result = exports.export_animation(
-            context,
-            chosen_head(context),
-            source_of(settings),
-            options_of(settings),
-            settings.export_format,
-            settings.export_path,
-        )
+        path = exports.export_path_for(settings.export_path, settings.export_format)
+        result = exports.export_animation(context, chosen_head(context), settings.export_format, path)
         return f"Exported {result.export_format} to {result.path}", result.warnings
 
 
@@ -460,15 +459,7 @@ class TURKISH_LIPSYNC_OT_export_gltf(ReportedOperator, bpy.types.Operator):
     bl_idname = "turkish_lipsync.export_gltf"
     bl_label = "Export glTF"
     bl_options = {"REGISTER"}
-
-    @classmethod
-    def poll(cls, context) -> bool:
-        if not _speech_generated(cls, context):
-            return False
-        if not settings_of(context).gltf_path:
-            cls.poll_message_set("Choose the glTF file to write in the Lip Sync panel")
-            return False
-        return True
+    requirements = (object_mode, head_chosen, speech_generated, gltf_file_chosen)
 
     @staticmethod
     def work(context) -> Outcome:

@@ -54,6 +54,8 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
         column.prop(settings, "motion")
         column.prop(settings, "interpolation")
         column.prop(settings, "audio_folder")
+        self.draw_living(layout, settings)
+        column = layout.column()
         column.operator("turkish_lipsync.generate", icon="PLAY_SOUND")
 
         layout.separator()
@@ -70,6 +72,27 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
         column.operator("turkish_lipsync.export_animation", icon="EXPORT")
         column.prop(settings, "gltf_path")
         column.operator("turkish_lipsync.export_gltf", icon="EXPORT")
+
+    @staticmethod
+    def draw_living(layout, settings) -> None:
+        """The living layers: each on, off or as the motion has it, with its amount; the seed and target."""
+        header, body = layout.panel("TURKISH_LIPSYNC_living", default_closed=False)
+        header.label(text="Living Face")
+        if body is None:
+            return
+        for layer, amount in (
+            ("gaze_layer", "gaze_amount"),
+            ("blinks_layer", "blink_amount"),
+            ("head_motion_layer", "head_amount"),
+            ("expression_layer", "expression_amount"),
+        ):
+            row = body.row(align=True)
+            row.prop(settings, layer, expand=True)
+            sub = row.row(align=True)
+            sub.active = getattr(settings, layer) != "OFF"
+            sub.prop(settings, amount, text="")
+        body.prop(settings, "gaze_target")
+        body.prop(settings, "seed")
 
     @staticmethod
     def draw_key_sources(layout, head) -> None:

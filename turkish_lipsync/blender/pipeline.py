@@ -16,9 +16,20 @@ from pathlib import Path
 import bpy
 
 from ..core.base.errors import HeadError, TextError
-from ..core.base.model import OWNED_PREFIX, Timeline, Utterance, WeightTracks
+from ..core.base.files import read_user_text
+from ..core.base.model import (
+    OWNED_PREFIX,
+    VISEME_KEY_PREFIX,
+    Timeline,
+    Utterance,
+    WeightTracks,
+    viseme_key_name,
+)
+from ..core.interchange.animation_record import AnimationRecord, record_from_json, record_to_json
 from ..core.pipeline import LipSyncOptions, lip_sync
-from . import compat, heads, keyframes, render, sequencer, shapekeys
+from . import compat, heads, keyframes, living, render, sequencer, shapekeys
+from .living_rig import find_rig
+from .owned_keys import owned_keys
 from .shapekeys import BuildReport
 
 Progress = Callable[[float, str], None]
@@ -111,31 +122,26 @@ def build_keys(
 
 
 def has_lipsync_keys(head: bpy.types.Object) -> bool:
-    key = getattr(head.data, "shape_keys", None)
-    return key is not None and any(block.name.startswith("TR_viseme_") for block in key.key_blocks)
+    """Whether a build of ours left its visemes on the head (by our mark: a user's TR_* keys do not count)."""
+    return any(name.startswith(VISEME_KEY_PREFIX) for name in owned_keys(head))
 
 
 # ---------------------------------------------------------------- text
 
 
-def read_source(text_name: str = "", file_path: str = "") -> str:
-    """The JSML source: a Blender Text datablock, else a file."""
+def read_source(text_name: str = "", file_path: str = "", allow_empty: bool = False) -> str:
+    """The JSML source: a Blender Text datablock, else a file; empty only where allowed (a recording's
+    words are recognised)."""
     if text_name:
         text = bpy.data.texts.get(text_name)
         if text is None:
             raise TextError(f"There is no Text named {text_name!r}: choose a Text in the Lip Sync panel.")
         source = text.as_string()
     elif file_path:
-        path = Path(bpy.path.abspath(file_path))
-        try:
-            source = path.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as error:
-            raise TextError(
-                f"Cannot read the JSML file {path}: {error}. Check the path (UTF-8 text)."
-            ) from error
+        source = read_user_text(Path(bpy.path.abspath(file_path)), "JSML file", TextError)
     else:
         raise TextError("No text to speak: choose a Text datablock or a JSML file in the Lip Sync panel.")
-    if not source.strip():
+    if not source.strip() and not allow_empty:
         raise TextError("The text is empty: write some Turkish text (plain or JSML) to speak.")
     return source
 
@@ -162,36 +168,45 @@ def generate(
     start_frame: int | None = None,
     package: str | None = None,
     progress: Progress | None = None,
+    gaze_target: str = "",
 ) -> GenerateResult:
-    """Speak source on head: F-curves on its TR_* keys, the speech strip, the frame range.
+    """Speak source on head: F-curves on its TR_* keys, its head and eyes turned, the speech strip, the
+    frame range.
 
-    options are the core's (timing, motion, rate, ...); their frame rate is replaced by the scene's.
+    options are the core's (timing, motion, rate, ...); their frame rate is replaced by the scene's and
+    their gaze set-up by the head's eyes and the target (gaze_target names an object; else the camera).
     """
     progress = progress or _no_progress
     scene = context.scene
     if not has_lipsync_keys(head):
         raise HeadError(
-            f"The head {head.name!r} has no TR_viseme_* shape keys yet: press 'Build Shape Keys' first "
-            "(or run the script with --head on it)."
+            f"The head {head.name!r} has no {VISEME_KEY_PREFIX}* shape keys yet: press 'Build Shape Keys' "
+            "first (or run the script with --head on it)."
         )
     fps = sequencer.scene_fps(scene)
     start = scene.frame_start if start_frame is None else int(start_frame)
 
+    objects = head_objects(head)
+    rig, target = living.rig_and_target(context, head, objects, gaze_target)
+    setup, target_warning = rig.gaze_setup(target)
+    options = dataclasses.replace(options or LipSyncOptions(), fps=fps, gaze_setup=setup)
     progress(0.05, "Reading the text and speaking it")
-    spoken = lip_sync(source, dataclasses.replace(options or LipSyncOptions(), fps=fps))
+    spoken = lip_sync(source, options)
     timeline, synthesis, tracks = spoken.timeline, spoken.synthesis, spoken.tracks
     action_name = action_name_for(spoken.utterance)
     wav_path = None
     if synthesis is not None:
-        from ..core.speech import write_wav
-
         progress(0.45, "Saving the speech audio")
-        wav_path = sequencer.speech_wav_path(action_name, audio_folder, package)
-        write_wav(wav_path, synthesis)
+        wav_path = sequencer.write_speech_wav(action_name, synthesis, audio_folder, package)
 
     # From here on Blender data changes; nothing below raises LipSyncError for bad input.
-    progress(0.6, f"Keying {len(tracks.tracks)} shape-key tracks")
-    written = keyframes.write_weight_tracks(head_objects(head), tracks, start, action_name)
+    # The head and eyes first: their keying reads the rest pose, which the scene evaluates at once while
+    # the shape keys are not yet animated (after them, that evaluation takes a tenth of a second and more).
+    progress(0.6, "Turning the head and eyes")
+    moved = living.key_living_motion(context, rig, tracks, start)
+    progress(0.7, f"Keying {len(tracks.tracks)} shape-key tracks")
+    written = keyframes.write_weight_tracks(objects, tracks, start, action_name)
+    _keep_record(head, source, spoken, start)
     progress(0.85, "Placing the speech in the sequencer")
     strip_name = None
     frame_count = sequencer.frame_count_for(timeline.duration, fps)
@@ -200,8 +215,7 @@ def generate(
     else:
         sequencer.remove_speech_strip(scene)
         scene.pop(sequencer.SPEECH_PATH_PROPERTY, None)
-        scene.frame_start = start
-        scene.frame_end = start + frame_count - 1
+    range_warnings = sequencer.fit_frame_range(scene, start, frame_count)
     progress(1.0, "Animation generated")
     return GenerateResult(
         action_names=tuple(w.action_name for w in written),
@@ -215,11 +229,96 @@ def generate(
         fps=fps,
         timeline=timeline,
         tracks=tracks,
-        warnings=spoken.warnings,
+        warnings=spoken.warnings
+        + range_warnings
+        + moved.warnings
+        + own_keys_held_warning(head)
+        + ((target_warning,) if target_warning and options.living().gaze > 0 else ()),
     )
 
 
+RECORD_PROPERTY = "tr_lipsync_animation"  # on the action of the head's keys: what Generate made
+
+
+def own_keys_held(head: bpy.types.Object) -> list[tuple[str, float]]:
+    """The head's own shape keys (not ours) held at a value, not animated: the face speaks on top of them."""
+    key = getattr(head.data, "shape_keys", None)
+    if key is None:
+        return []
+    ours = set(owned_keys(head).values())
+    action = key.animation_data.action if key.animation_data else None
+    animated = {fc.data_path for fc in compat.all_action_fcurves(action)} if action is not None else set()
+    return [
+        (block.name, block.value)
+        for block in key.key_blocks
+        if block != key.reference_key
+        and block.name not in ours
+        and abs(block.value) > 1e-4
+        and not block.mute
+        and keyframes.curve_data_path(block.name) not in animated
+    ]
+
+
+def own_keys_held_warning(head: bpy.types.Object) -> tuple[str, ...]:
+    held = own_keys_held(head)
+    if not held:
+        return ()
+    shown = ", ".join(f"{name} {value:.2f}" for name, value in held[:4])
+    more = f" and {len(held) - 4} more" if len(held) > 4 else ""
+    return (
+        f"{len(held)} of {head.name!r}'s own shape keys hold a value ({shown}{more}): the speech plays on "
+        "top of them, which can deform the face. Set them to 0 (Shape Keys > Clear Shape Key Values, or "
+        "render.py --own-keys-at-rest) unless you mean them.",
+    )
+
+
+def put_own_keys_at_rest(head: bpy.types.Object) -> int:
+    """The head's own held keys set to 0 (asked for: render.py --own-keys-at-rest); returns how many."""
+    held = own_keys_held(head)
+    blocks = head.data.shape_keys.key_blocks if held else {}
+    for name, _value in held:
+        blocks[name].value = 0.0
+    return len(held)
+
+
+def _keep_record(head: bpy.types.Object, source: str, spoken, start: int) -> None:
+    """The timeline and settings beside the keys, for exports of the animation the head has."""
+    action = head.data.shape_keys.animation_data.action
+    settings = {
+        name: str(value) if isinstance(value, Path) else value
+        for name, value in dataclasses.asdict(spoken.options).items()
+    }
+    record = AnimationRecord(
+        text=source,
+        timeline=spoken.timeline,
+        fps=spoken.tracks.fps,
+        frame_start=start,
+        frame_count=spoken.tracks.frame_count,
+        settings=settings,
+        key_fingerprint=keyframes.key_fingerprint(head_objects(head)),
+        warnings=spoken.warnings,
+        head_and_eyes=spoken.tracks.head_and_eyes,
+    )
+    action[RECORD_PROPERTY] = record_to_json(record)
+
+
+def animation_record(head: bpy.types.Object) -> AnimationRecord | None:
+    """What Generate made on this head, or None where it has no generated animation."""
+    key = getattr(head.data, "shape_keys", None)
+    action = key.animation_data.action if key is not None and key.animation_data else None
+    if action is None or RECORD_PROPERTY not in action:
+        return None
+    return record_from_json(str(action[RECORD_PROPERTY]), f"the action {action.name!r}")
+
+
 # ---------------------------------------------------------------- render
+
+
+def frame_head(scene: bpy.types.Scene, head: bpy.types.Object | None) -> dict[str, bool]:
+    """Our camera and lights in front of the head's face, whichever way it looks (render.frame_face)."""
+    if head is None:
+        return render.frame_face(scene, [])
+    return render.frame_face(scene, head_objects(head), find_rig(head).frame)
 
 
 @dataclass(frozen=True, eq=False)
@@ -254,9 +353,9 @@ def prepare_render(
         raise render.RenderError(f"Cannot create the folder {path.parent}: {error.strerror}.") from error
     chosen = render.choose_engine(engine)
     settings = render.SceneSettings.of(scene)
-    framed = render.frame_face(scene, head_objects(head) if head is not None else [])
-    render.configure_engine(scene, chosen, samples)
     render.configure_output(scene, path, resolution)
+    framed = frame_head(scene, head)
+    render.configure_engine(scene, chosen, samples)
     return PreparedRender(
         path=path,
         engine=chosen,
@@ -331,7 +430,10 @@ def widest_mouth_frame(head: bpy.types.Object) -> int | None:
     action = key.animation_data.action if key is not None and key.animation_data else None
     if action is None:
         return None
-    wanted = keyframes.curve_data_path("TR_viseme_a")
+    name = owned_keys(head).get(viseme_key_name("a"))
+    if name is None:
+        return None
+    wanted = keyframes.curve_data_path(name)
     for fcurve in compat.all_action_fcurves(action):
         if fcurve.data_path == wanted and len(fcurve.keyframe_points):
             best = max(fcurve.keyframe_points, key=lambda point: point.co[1])
@@ -354,10 +456,10 @@ def render_still(
     path = Path(bpy.path.abspath(out_path))
     path.parent.mkdir(parents=True, exist_ok=True)
     chosen = render.choose_engine(engine)
-    render.frame_face(scene, head_objects(head) if head is not None else [])
-    render.configure_engine(scene, chosen, samples)
     if resolution is not None:
         scene.render.resolution_x, scene.render.resolution_y = resolution
+    frame_head(scene, head)
+    render.configure_engine(scene, chosen, samples)
     settings = scene.render.image_settings
     saved = (scene.render.filepath, settings.file_format, scene.frame_current)
     if frame is None:

@@ -6,8 +6,10 @@ import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
 from ..core.base.choices import Choice
+from ..core.faces.key_sources import KEY_SOURCE_CHOICES, RHO_RANGE
 from ..core.interchange import export_choices
 from ..core.pipeline import (
+    AMOUNT_RANGE,
     INTERPOLATION_CHOICES,
     MOTION_CHOICES,
     RATE_RANGE,
@@ -24,6 +26,30 @@ def enum_items(choices: tuple[Choice, ...]) -> tuple[tuple[str, str, str], ...]:
 
 def _is_mesh(_settings, obj) -> bool:
     return obj.type == "MESH"
+
+
+# A living layer on, off, or as the motion model has it (on for the natural model, off for the thesis's).
+LAYER_STATES = (
+    ("AUTO", "Auto", "As the motion has it: on for Natural, off for Thesis"),
+    ("ON", "On", "On for either motion"),
+    ("OFF", "Off", "Off"),
+)
+LAYER_VALUES = {"AUTO": None, "ON": True, "OFF": False}
+
+
+def _layer(name: str, description: str):
+    return EnumProperty(name=name, items=LAYER_STATES, default="AUTO", description=description)
+
+
+def _amount(name: str, description: str):
+    return FloatProperty(
+        name=name,
+        default=1.0,
+        min=AMOUNT_RANGE[0],
+        max=AMOUNT_RANGE[1],
+        soft_max=1.5,
+        description=description,
+    )
 
 
 class TurkishLipSyncSettings(bpy.types.PropertyGroup):
@@ -83,29 +109,7 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
     )
     key_source: EnumProperty(
         name="Shape-Key Source",
-        items=(
-            (
-                "auto",
-                "Auto",
-                "The head's own visemes or ARKit keys, else a transfer from the reference head",
-            ),
-            (
-                "convention",
-                "Own Visemes",
-                "The head's own visemes (Oculus, VRM, Azure, Papagayo) or those a mapping file names",
-            ),
-            ("arkit", "Own ARKit Keys", "Build from the head's own ARKit-named shape keys (jawOpen, ...)"),
-            (
-                "transfer",
-                "Transfer from Reference",
-                "Carry the reference head's face units over, registered with the face landmarks",
-            ),
-            (
-                "obj_folder",
-                "Folder of OBJ Models",
-                "The thesis's way: one homeomorphic OBJ model per viseme (a.obj, bpa.obj, ..., Neutral.obj)",
-            ),
-        ),
+        items=enum_items(KEY_SOURCE_CHOICES),
         default="auto",
         description="What the mouth shapes and emotions are built from",
     )
@@ -129,8 +133,8 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
     rho: FloatProperty(
         name="Empowering Constant",
         default=3.0,
-        min=1.0,
-        max=10.0,
+        min=RHO_RANGE[0],
+        max=RHO_RANGE[1],
         soft_max=5.0,
         description="How many times stronger the empowered emotions are (ρ in the thesis, which uses 3)",
     )
@@ -143,7 +147,7 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
         name="Own Recording",
         subtype="FILE_PATH",
         description="Your own recording of the same text (WAV, FLAC, OGG): the mouth follows it and it "
-        "becomes the sound (empty: the synthetic voice)",
+        "becomes the sound (empty: the synthetic voice). With no text, what it says is recognised",
     )
     audio_folder: StringProperty(
         name="Audio Folder",
@@ -187,6 +191,24 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
         subtype="FILE_PATH",
         default="//speech",
         description="The file Export Animation writes; its extension follows the format",
+    )
+    gaze_layer: _layer("Gaze", "Eyes that hold the camera (or the target) and look away with saccades")
+    gaze_amount: _amount("Gaze Amount", "How far the eyes look away (1 the usual)")
+    blinks_layer: _layer("Blinks", "Blinks at pauses, phrase ends and large gaze shifts")
+    blink_amount: _amount("Blink Amount", "How often the eyes blink (1 about 17 a minute)")
+    head_motion_layer: _layer("Head Motion", "Nods, turns and tilts from the voice's pitch and loudness")
+    head_amount: _amount("Head Amount", "How far the head moves (1 a few degrees)")
+    expression_layer: _layer(
+        "Expression", "Brows rising on pitch accents and emphasis, emotions that breathe at their apex"
+    )
+    expression_amount: _amount("Expression Amount", "How strongly the brows and emotions live")
+    seed: IntProperty(
+        name="Seed", default=0, min=0, description="Another seed gives other glances, blinks and head moves"
+    )
+    gaze_target: PointerProperty(
+        name="Gaze Target",
+        type=bpy.types.Object,
+        description="The object the eyes seek while talking (empty: the scene's camera)",
     )
     gltf_path: StringProperty(
         name="glTF File",

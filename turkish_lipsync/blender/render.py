@@ -17,6 +17,7 @@ from ..core.base.errors import LipSyncError
 from ..core.base.model import EMOTION_KEY_PREFIX, VISEME_KEY_PREFIX
 from ..core.interchange.video import join_videos
 from . import compat, mesh
+from .owned_keys import owned_keys
 
 ENGINES = ("EEVEE", "CYCLES", "WORKBENCH")
 CAMERA_NAME = "TR_camera"
@@ -235,7 +236,7 @@ def mux_audio(video_path: Path, wav_path: Path) -> None:
     silent = video_path.with_name(video_path.stem + ".silent" + video_path.suffix)
     os.replace(video_path, silent)
     try:
-        join_videos([silent], video_path, wav_path)
+        join_videos([silent], video_path, wav_path, whole_speech=False)  # the range rendered, its sound
     except Exception:
         os.replace(silent, video_path)
         raise
@@ -245,8 +246,8 @@ def mux_audio(video_path: Path, wav_path: Path) -> None:
 # ---------------------------------------------------------------- camera and lights
 
 
-def face_bounds(objects) -> tuple[np.ndarray, np.ndarray]:
-    """World-space box of the face: the vertices our viseme and emotion keys move, else the whole mesh."""
+def face_points(objects) -> np.ndarray:
+    """World points of the face: the vertices our viseme and emotion keys move, else the whole mesh."""
     moving_points = []
     all_points = []
     for obj in objects:
@@ -259,9 +260,10 @@ def face_bounds(objects) -> tuple[np.ndarray, np.ndarray]:
         if key is None:
             continue
         moved = np.zeros(count, dtype=bool)
-        for block in key.key_blocks:
-            if not block.name.startswith((VISEME_KEY_PREFIX, EMOTION_KEY_PREFIX)):
+        for ours, name in owned_keys(obj).items():
+            if not ours.startswith((VISEME_KEY_PREFIX, EMOTION_KEY_PREFIX)):
                 continue
+            block = key.key_blocks[name]
             displacement = np.linalg.norm(mesh.read_coordinates(block.data, count) - rest, axis=1)
             # Recipes smear tiny motion over the whole head; the face is where a key really moves.
             moved |= displacement > max(1e-6, 0.1 * float(displacement.max(initial=0.0)))
@@ -270,7 +272,12 @@ def face_bounds(objects) -> tuple[np.ndarray, np.ndarray]:
     points = moving_points or all_points
     if not points:
         raise RenderError("No head mesh to frame: choose a head object with vertices in the Lip Sync panel.")
-    stacked = np.concatenate(points)
+    return np.concatenate(points)
+
+
+def face_bounds(objects) -> tuple[np.ndarray, np.ndarray]:
+    """World-space box of the face (face_points)."""
+    stacked = face_points(objects)
     return stacked.min(axis=0), stacked.max(axis=0)
 
 
@@ -291,18 +298,25 @@ def _ensure_object(scene: bpy.types.Scene, name: str, data) -> bpy.types.Object:
     return obj
 
 
-def frame_face(scene: bpy.types.Scene, head_objects) -> dict[str, bool]:
-    """Add a camera and three-point lights on the face where the scene has none; re-aim ours.
+# The frame of a face looking along -Y with Z up: columns are the character's left, up and forward.
+FACING_MINUS_Y = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
 
-    The user's own camera and lights are never moved. Returns which were added or re-aimed.
-    """
-    low, high = face_bounds(head_objects)
-    face_height = float(high[2] - low[2])
-    # Faces look along -Y (X across, Z up): the whole head from its crown to the top of the neck.
-    low = low - face_height * np.array([FACE_MARGIN_SIDES, 0.0, FACE_MARGIN_BELOW])
-    high = high + face_height * np.array([FACE_MARGIN_SIDES, 0.0, FACE_MARGIN_ABOVE])
-    width, depth, height = (high - low).tolist()
-    centre = Vector(((low + high) / 2).tolist())
+
+def camera_placement(
+    scene: bpy.types.Scene, head_objects, facing: np.ndarray | None = None
+) -> tuple[Vector, float, float, float]:
+    """(centre of the framed head, camera distance, sensor width, framed size) of the camera frame_face
+    adds, in front of the face. facing: the head's frame (columns: its left, up and forward in world axes);
+    a face looking along -Y where it is not given."""
+    facing = FACING_MINUS_Y if facing is None else np.asarray(facing, np.float64)
+    local = face_points(head_objects) @ facing  # across, up, forward
+    low, high = local.min(axis=0), local.max(axis=0)
+    face_height = float(high[1] - low[1])
+    # The whole head from its crown to the top of the neck.
+    low = low - face_height * np.array([FACE_MARGIN_SIDES, FACE_MARGIN_BELOW, 0.0])
+    high = high + face_height * np.array([FACE_MARGIN_SIDES, FACE_MARGIN_ABOVE, 0.0])
+    width, height, depth = (high - low).tolist()
+    centre = Vector((facing @ ((low + high) / 2)).tolist())
     aspect = (
         scene.render.resolution_x
         * scene.render.pixel_aspect_x
@@ -313,7 +327,17 @@ def frame_face(scene: bpy.types.Scene, head_objects) -> dict[str, bool]:
     half_horizontal = half_wide if aspect >= 1 else math.atan(math.tan(half_wide) * aspect)
     half_vertical = math.atan(math.tan(half_wide) / aspect) if aspect >= 1 else half_wide
     distance = max(width / 2 / math.tan(half_horizontal), height / 2 / math.tan(half_vertical)) + depth / 2
-    distance = max(distance, 1e-3)
+    return centre, max(distance, 1e-3), sensor, max(width, height)
+
+
+def frame_face(scene: bpy.types.Scene, head_objects, facing: np.ndarray | None = None) -> dict[str, bool]:
+    """Add a camera and three-point lights in front of the face where the scene has none; re-aim ours.
+
+    facing as for camera_placement (a VRM avatar looks along +Y, others along X). The user's own camera and
+    lights are never moved. Returns which were added or re-aimed.
+    """
+    facing = FACING_MINUS_Y if facing is None else np.asarray(facing, np.float64)
+    centre, distance, sensor, size = camera_placement(scene, head_objects, facing)
     done = {"camera": False, "lights": False}
 
     camera = scene.camera
@@ -325,22 +349,23 @@ def frame_face(scene: bpy.types.Scene, head_objects) -> dict[str, bool]:
         camera.data.sensor_fit = "AUTO"
         camera.data.clip_start = distance / 100
         camera.data.clip_end = distance * 100
-        camera.location = centre + Vector((0.0, -distance, 0.0))
+        camera.location = centre + Vector((facing[:, 2] * distance).tolist())
         _look_at(camera, centre)
         scene.camera = camera
         done["camera"] = True
 
     has_user_lights = any(o.type == "LIGHT" and o.name not in LIGHT_NAMES for o in scene.objects)
     if not has_user_lights:
-        # (name, direction from the face, power relative to the key light)
+        # (name, direction from the face as the character's left, up and forward, power relative to the key)
         placement = (
-            (LIGHT_NAMES[0], Vector((-0.7, -1.0, 0.6)), 1.0),
-            (LIGHT_NAMES[1], Vector((0.9, -0.8, 0.1)), 0.35),
-            (LIGHT_NAMES[2], Vector((0.4, 1.0, 0.8)), 0.8),
+            (LIGHT_NAMES[0], (-0.7, 0.6, 1.0), 1.0),
+            (LIGHT_NAMES[1], (0.9, 0.1, 0.8), 0.35),
+            (LIGHT_NAMES[2], (0.4, 0.8, -1.0), 0.8),
         )
-        for name, direction, power in placement:
+        for name, local, power in placement:
+            direction = Vector((facing @ np.array(local)).tolist())
             light_data = bpy.data.lights.get(name) or bpy.data.lights.new(name, type="AREA")
-            light_data.size = max(width, height) * 1.2
+            light_data.size = size * 1.2
             # Area light power falls with the square of the distance: scale it with the framing.
             light_data.energy = 15.0 * power * distance**2
             light = _ensure_object(scene, name, light_data)

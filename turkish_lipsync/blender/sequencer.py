@@ -10,6 +10,7 @@ from pathlib import Path
 import bpy
 
 from ..core.base.errors import AudioError
+from ..core.speech.wav import speech_wav_in
 from . import compat
 
 SPEECH_STRIP_NAME = "TR_speech"
@@ -59,8 +60,9 @@ def speech_folder(chosen_folder: str = "", package: str | None = None) -> Path:
     return folder
 
 
-def speech_wav_path(name: str, chosen_folder: str = "", package: str | None = None) -> Path:
-    return speech_folder(chosen_folder, package) / f"{_safe_file_stem(name)}.wav"
+def write_speech_wav(name: str, synthesis, chosen_folder: str = "", package: str | None = None) -> Path:
+    """The speech's WAV in the speech folder, named after the action and the sound (core/speech/wav.py)."""
+    return speech_wav_in(speech_folder(chosen_folder, package), _safe_file_stem(name), synthesis)
 
 
 def blend_relative(path: Path) -> str:
@@ -96,12 +98,37 @@ def _free_channel(strips, start_frame: int, end_frame: int) -> int:
     return 1
 
 
+FRAME_RANGE_PROPERTY = "turkish_lipsync_frame_range"  # the range Generate set last: (start, end)
+BLENDER_DEFAULT_RANGE = (1, 250)
+
+
+def fit_frame_range(scene: bpy.types.Scene, start_frame: int, frame_count: int) -> tuple[str, ...]:
+    """The scene's frames made to show the speech; a range of the user's own is kept where it holds it.
+
+    A new scene (Blender's 1-250) or one whose range Generate set before gets exactly the speech's frames.
+    A range the user chose stays as it is when the speech fits in it, and is extended when it does not
+    (the returned warning says so)."""
+    current = (scene.frame_start, scene.frame_end)
+    wanted = (int(start_frame), int(start_frame) + frame_count - 1)
+    ours = tuple(scene.get(FRAME_RANGE_PROPERTY, ())) == current or current == BLENDER_DEFAULT_RANGE
+    warnings: tuple[str, ...] = ()
+    if ours:
+        scene.frame_start, scene.frame_end = wanted
+    elif not (current[0] <= wanted[0] and wanted[1] <= current[1]):
+        scene.frame_start, scene.frame_end = min(current[0], wanted[0]), max(current[1], wanted[1])
+        warnings = (
+            f"The scene's frames {current[0]}-{current[1]} did not hold the speech (frames {wanted[0]}-"
+            f"{wanted[1]}): they are now {scene.frame_start}-{scene.frame_end}.",
+        )
+    scene[FRAME_RANGE_PROPERTY] = (scene.frame_start, scene.frame_end)
+    return warnings
+
+
 def place_speech_strip(
     scene: bpy.types.Scene,
     wav_path: Path,
     start_frame: int,
     duration_seconds: float,
-    set_frame_range: bool = True,
 ) -> str | None:
     """Replace the TR_speech strip with wav_path at start_frame; returns the strip name.
 
@@ -111,9 +138,6 @@ def place_speech_strip(
     if not Path(wav_path).is_file():
         raise AudioError(f"The speech audio {wav_path} does not exist; generate the animation again.")
     frame_count = frame_count_for(duration_seconds, scene_fps(scene))
-    if set_frame_range:
-        scene.frame_start = int(start_frame)
-        scene.frame_end = int(start_frame) + frame_count - 1
     scene[SPEECH_PATH_PROPERTY] = blend_relative(Path(wav_path))
     if not compat.HAS_AUDIO:
         return None

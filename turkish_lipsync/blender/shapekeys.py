@@ -15,9 +15,15 @@ import numpy as np
 
 from ..core.base.data import load_table
 from ..core.base.errors import HeadError, LipSyncError
-from ..core.base.model import EMOTIONS, OWNED_PREFIX, emotion_key_name, viseme_key_name
-from ..core.faces import transfer
-from ..core.faces.arkit_names import ARKIT_UNITS, has_arkit_basis, match_arkit_keys
+from ..core.base.model import viseme_key_name
+from ..core.faces import head_parts, obj_folder, transfer
+from ..core.faces.arkit_names import (
+    ARKIT_UNITS,
+    has_arkit_basis,
+    match_arkit_keys,
+    missing_units,
+    missing_units_warning,
+)
 from ..core.faces.conventions import (
     ConventionMatch,
     convention_key_deltas,
@@ -26,22 +32,25 @@ from ..core.faces.conventions import (
     plan_keys,
     read_user_mapping,
     recognise_convention,
+    unmatched_names,
 )
-from ..core.faces.landmarks import connected_pieces, find_landmarks, hidden_face_share, landmarks_from_motion
-from ..core.faces.recipes import VISEME_NAMES, key_deltas, load_recipes
-from ..core.faces.reference import ReferenceHead, load_reference_head
+from ..core.faces.hidden import hidden_face_share
+from ..core.faces.landmark_fallbacks import landmarks_from_motion
+from ..core.faces.landmarks import find_landmarks
+from ..core.faces.recipes import empower, key_deltas, load_recipes
+from ..core.faces.reference import ReferenceHead, load_reference_head, reference_vertices_at
+from ..core.faces.topology import connected_pieces
 from . import mesh
+from .eye_keys import plan_look_keys
 from .heads import find_head_parts, reference_part_of
 from .landmarks import read_landmark_markers
+from .owned_keys import LEGACY_ARKIT_PROPERTY, free_name, mark_owned, owned_keys
 
 SOURCES = ("auto", "convention", "arkit", "reference", "transfer", "obj_folder")
-# Mesh property listing the ARKit-named keys this module wrote (so a rebuild never touches the user's own).
-BUILT_ARKIT_PROPERTY = "tr_built_arkit_keys"
 # Mesh property: built key name -> where it came from (the panel lists it).
 KEY_SOURCES_PROPERTY = "tr_key_sources"
 # A build warns when other pieces of the head's mesh hide this share of its face (hidden_face_share).
 HIDDEN_FACE_WARNING = 0.3
-_MATCH_GRID = 1e-4  # metres: vertices this close to a reference vertex are that vertex
 
 
 @dataclass(frozen=True)
@@ -62,17 +71,15 @@ class BuildReport:
 
 
 def own_key_names(obj: bpy.types.Object) -> list[str]:
-    """The user's own shape keys on obj: neither the rest key nor any key a build wrote."""
+    """The user's own shape keys on obj: neither the rest key nor any key a build wrote (by our mark)."""
     shape_keys = obj.data.shape_keys
     if shape_keys is None:
         return []
-    built = set(obj.data.get(BUILT_ARKIT_PROPERTY, ()))
+    ours = set(owned_keys(obj).values())
     return [
         block.name
         for block in shape_keys.key_blocks
-        if block != shape_keys.reference_key
-        and not block.name.startswith(OWNED_PREFIX)
-        and block.name not in built
+        if block != shape_keys.reference_key and block.name not in ours
     ]
 
 
@@ -111,35 +118,18 @@ def _reference_units_by_part(obj: bpy.types.Object, reference: ReferenceHead) ->
 def _reference_units_by_position(
     obj: bpy.types.Object, reference: ReferenceHead
 ) -> dict[str, np.ndarray] | None:
-    """Units of a mesh cut from MakeHuman's base mesh (the whole body, or a crop) where it was imported.
-
-    Vertices that coincide with reference vertices (in metres, decimetres or centimetres) take their deltas.
-    """
+    """Units of a mesh cut from MakeHuman's base mesh (the whole body, or a crop) where it was imported."""
     world = mesh.world_rest_coordinates(obj)
-    reference_keys = _grid_keys(reference.vertices)
-    order = np.argsort(reference_keys)
-    sorted_keys = reference_keys[order]
-    for metres_per_unit in (1.0, 0.1, 0.01):
-        keys = _grid_keys(world * metres_per_unit)
-        position = np.clip(np.searchsorted(sorted_keys, keys), 0, len(sorted_keys) - 1)
-        found = sorted_keys[position] == keys
-        if found.sum() < 0.9 * min(len(world), len(reference.parts["skin"])):
-            continue
-        matched = np.full(len(world), -1, dtype=np.int64)
-        matched[found] = order[position[found]]
-        units = {}
-        for unit, deltas in reference.units.items():
-            world_deltas = np.zeros((len(world), 3), dtype=np.float32)
-            world_deltas[found] = deltas[matched[found]] / metres_per_unit
-            units[unit] = mesh.world_deltas_to_local(obj, world_deltas)
-        return units
-    return None
-
-
-def _grid_keys(points: np.ndarray) -> np.ndarray:
-    # A quarter-cell offset keeps coordinates written with few decimals off the rounding boundaries.
-    cells = np.round(np.asarray(points, dtype=np.float64) / _MATCH_GRID + 0.25).astype(np.int64) + (1 << 20)
-    return (cells[:, 0] << 42) | (cells[:, 1] << 21) | cells[:, 2]
+    found = reference_vertices_at(world, reference)
+    if found is None:
+        return None
+    matched, metres_per_unit = found
+    units = {}
+    for unit, deltas in reference.units.items():
+        world_deltas = np.zeros((len(world), 3), dtype=np.float32)
+        world_deltas[matched >= 0] = deltas[matched[matched >= 0]] / metres_per_unit
+        units[unit] = mesh.world_deltas_to_local(obj, world_deltas)
+    return units
 
 
 def reference_units(obj: bpy.types.Object, reference: ReferenceHead) -> dict[str, np.ndarray] | None:
@@ -162,7 +152,12 @@ def _transfer_units(
     if len(head_triangles) == 0:
         raise HeadError(f"{head.name!r} has no faces; a head needs a surface to build shape keys on.")
     landmarks = head_landmarks(head, parts)
-    target_parts = transfer.find_parts(all_vertices, all_triangles, landmarks)
+    # Each object's materials of its own: a part split from the skin by material only is a piece too.
+    slots = np.cumsum([0] + [max(len(obj.material_slots), 1) for obj in objects])
+    materials = np.concatenate(
+        [mesh.triangle_materials(obj) + slot for obj, slot in zip(objects, slots, strict=False)]
+    )
+    target_parts = head_parts.find_parts(all_vertices, all_triangles, landmarks, materials)
     deltas = transfer.transfer_units(
         reference, all_vertices, all_triangles, landmarks, target_parts=target_parts
     )
@@ -214,7 +209,7 @@ def head_landmarks(
                     return next(iter(found.values())).astype(np.float64) @ linear.T
             return None
 
-        mouth = own("jawOpen", "TR_viseme_a")
+        mouth = own("jawOpen", viseme_key_name("a"))
         if mouth is None:
             raise
         try:
@@ -228,53 +223,9 @@ def head_landmarks(
 # ---------------------------------------------------------------- the thesis path: a folder of OBJ models
 
 
-def _read_obj_vertices(path: Path) -> np.ndarray:
-    """Vertices of an OBJ file in Blender axes (what Blender's OBJ importer gives by default)."""
-    with open(path, encoding="utf-8", errors="replace") as handle:
-        rows = [line[2:].split()[:3] for line in handle if line.startswith("v ")]
-    try:
-        points = np.array(rows, dtype=np.float64).reshape(-1, 3)
-    except ValueError as error:
-        raise HeadError(
-            f"{path}: unreadable vertex line ({error}); export the model again as OBJ."
-        ) from error
-    return np.stack([points[:, 0], -points[:, 2], points[:, 1]], axis=1)
-
-
 def obj_folder_keys(head: bpy.types.Object, folder: str | Path) -> dict[str, np.ndarray]:
-    """TR_viseme_* deltas (and TR_emotion_* where <emotion>.obj exists) from homeomorphic OBJ models."""
-    folder = Path(folder)
-    if not folder.is_dir():
-        raise HeadError(
-            f"OBJ folder not found: {folder}. Choose the folder holding a.obj, bpa.obj, ..., Neutral.obj."
-        )
-    files = {path.stem.lower(): path for path in folder.glob("*.obj")}
-    files.update({path.stem: path for path in folder.glob("*.obj")})
-    if "neutral" not in files:
-        raise HeadError(f"{folder} has no Neutral.obj; the visemes are measured against the neutral model.")
-    neutral = _read_obj_vertices(files["neutral"])
-    basis = mesh.rest_coordinates(head)
-    if len(neutral) != len(basis):
-        raise HeadError(
-            f"{files['neutral']} has {len(neutral)} vertices but {head.name!r} has {len(basis)}; "
-            "the models must be homeomorphic to the head (same vertices in the same order)."
-        )
-    scale = float(np.ptp(basis, axis=0).sum() / max(np.ptp(neutral, axis=0).sum(), 1e-12))
-    missing = [name for name in VISEME_NAMES if name != "neutral" and name not in files]
-    if missing:
-        raise HeadError(f"{folder} lacks the viseme models {', '.join(m + '.obj' for m in missing)}.")
-    keys: dict[str, np.ndarray] = {viseme_key_name("neutral"): np.zeros_like(basis, dtype=np.float32)}
-    for name in [*VISEME_NAMES, *EMOTIONS]:
-        if name == "neutral" or name not in files:
-            continue
-        shape = _read_obj_vertices(files[name])
-        if len(shape) != len(neutral):
-            raise HeadError(
-                f"{files[name]} has {len(shape)} vertices, Neutral.obj {len(neutral)}; they must match."
-            )
-        key_name = viseme_key_name(name) if name in VISEME_NAMES else emotion_key_name(name)
-        keys[key_name] = ((shape - neutral) * scale).astype(np.float32)
-    return keys
+    """TR_viseme_* deltas (and TR_emotion_*) from the thesis's homeomorphic OBJ models (obj_folder.py)."""
+    return obj_folder.obj_folder_keys(folder, mesh.rest_coordinates(head), head.name)
 
 
 # ---------------------------------------------------------------- building
@@ -348,34 +299,43 @@ def build_shape_keys(
         )
     parts = _mesh_parts(head, parts)
     objects = [head, *parts]
-    shaping = _Shaping(load_recipes(), empowered, rho)
+    recipes = load_recipes()
 
     # Compute every array first: nothing is written until all of them exist and are sound.
     match = _convention_match(head, source, mapping_file, obj_folder)
     convention = match.convention.title if match is not None else ""
     if match is not None:
         used_source = "convention"
-        planned, unit_sets, warnings, key_sources = _plan_from_convention(head, parts, match, shaping)
+        planned, unit_sets, warnings, key_sources = _plan_from_convention(head, parts, match, recipes)
     elif source == "obj_folder" or (source == "auto" and obj_folder is not None):
         used_source, planned, unit_sets, warnings, key_sources = _plan_from_obj_folder(
-            head, parts, obj_folder, shaping
+            head, parts, obj_folder, recipes
         )
     else:
         used_source, unit_sets, landmarks = _unit_sets(head, parts, source, load_reference_head())
-        planned = {obj.name: shaping.keys(unit_sets.get(obj.name, {}), obj) for obj in objects}
+        planned = {obj.name: _keys(unit_sets.get(obj.name, {}), obj, recipes) for obj in objects}
         if arkit_keys:
             _plan_arkit_keys(objects, unit_sets, planned)
         warnings = _hidden_face_warnings(head, parts, landmarks) if used_source != "arkit" else []
         key_sources = dict.fromkeys(planned[head.name], used_source)
+    looks = plan_look_keys(head, parts, planned, unit_sets, own_key_names(head))
+    key_sources.update(looks.sources)
+    warnings.extend(looks.warnings)
     missing = (
-        () if used_source in ("obj_folder", "convention") else _missing_units(unit_sets.get(head.name, {}))
+        () if used_source in ("obj_folder", "convention") else missing_units(unit_sets.get(head.name, {}))
     )
     if missing:
-        warnings.append(_missing_units_warning(head.name, missing))
+        warnings.append(missing_units_warning(head.name, missing))
+    if empowered:  # the emotions stored for keying by hand, thesis eq. 5.2
+        planned = {name: empower(keys, rho) for name, keys in planned.items()}
     _check_planned(objects, planned)
 
     for obj in objects:
-        _write_keys(obj, planned[obj.name], arkit_keys=arkit_keys)
+        for name in _write_keys(obj, planned[obj.name]):
+            warnings.append(
+                f"{obj.name!r} has a key of its own named {name!r}: it was left as it is, and ours was "
+                f"built beside it as {owned_keys(obj)[name]!r}."
+            )
     head.data[KEY_SOURCES_PROPERTY] = {
         key: key_sources[key] for key in planned[head.name] if key in key_sources
     }
@@ -415,10 +375,10 @@ def _convention_match(head, source: str, mapping_file, obj_folder) -> Convention
     return match
 
 
-def _plan_from_convention(head, parts, match: ConventionMatch, shaping: _Shaping):
+def _plan_from_convention(head, parts, match: ConventionMatch, recipes):
     """TR keys as weighted sums of the head's own keys; what the convention lacks from the other basis."""
-    plans = plan_keys(match, shaping.recipes)
-    warnings: list[str] = []
+    plans = plan_keys(match, recipes)
+    warnings: list[str] = list(unmatched_names(match))
     fallback, unit_sets = None, {}
     if any(plan.units for plan in plans.values()):
         try:
@@ -435,31 +395,18 @@ def _plan_from_convention(head, parts, match: ConventionMatch, shaping: _Shaping
     for obj in [head, *parts]:
         own = own_key_deltas(obj, own_names)
         planned[obj.name] = convention_key_deltas(
-            plans,
-            own,
-            unit_sets.get(obj.name, {}),
-            len(obj.data.vertices),
-            empowered=shaping.empowered,
-            rho=shaping.rho,
+            plans, own, unit_sets.get(obj.name, {}), len(obj.data.vertices)
         )
     key_sources = {key: plan.describe(fallback) for key, plan in plans.items()}
     return planned, unit_sets, warnings, key_sources
 
 
-@dataclass(frozen=True)
-class _Shaping:
-    """How the recipes turn ARKit units into the TR keys of one build."""
-
-    recipes: object
-    empowered: bool
-    rho: float
-
-    def keys(self, units: dict[str, np.ndarray], obj: bpy.types.Object) -> dict[str, np.ndarray]:
-        count = len(obj.data.vertices)
-        return key_deltas(units, count, recipes=self.recipes, empowered=self.empowered, rho=self.rho)
+def _keys(units: dict[str, np.ndarray], obj: bpy.types.Object, recipes) -> dict[str, np.ndarray]:
+    """The TR keys of obj from its ARKit units, by the recipes."""
+    return key_deltas(units, len(obj.data.vertices), recipes=recipes)
 
 
-def _plan_from_obj_folder(head, parts, obj_folder, shaping: _Shaping):
+def _plan_from_obj_folder(head, parts, obj_folder, recipes):
     """Visemes (and emotions) from the thesis's OBJ models; blinks and brows from an ARKit basis if any."""
     obj_keys = obj_folder_keys(head, obj_folder)
     warnings: list[str] = []
@@ -469,12 +416,10 @@ def _plan_from_obj_folder(head, parts, obj_folder, shaping: _Shaping):
         basis, unit_sets = "nothing", {}
         warnings.append(f"No ARKit basis on {head.name!r} for blinks and brows, so they stay still: {error}")
     planned = {
-        obj.name: shaping.keys(unit_sets[obj.name], obj) if unit_sets.get(obj.name) else {}
+        obj.name: _keys(unit_sets[obj.name], obj, recipes) if unit_sets.get(obj.name) else {}
         for obj in [head, *parts]
     }
-    emotion_scale = np.float32(shaping.rho) if shaping.empowered else np.float32(1)
-    for key_name, deltas in obj_keys.items():
-        planned[head.name][key_name] = deltas * (emotion_scale if key_name.startswith("TR_emotion_") else 1)
+    planned[head.name].update(obj_keys)
     for part in parts:  # the models move the head only; parts keep the visemes' names at rest
         for key_name in obj_keys:
             planned[part.name].setdefault(key_name, np.zeros((len(part.data.vertices), 3), np.float32))
@@ -491,10 +436,6 @@ def _plan_arkit_keys(objects, unit_sets, planned) -> None:
         for unit in ARKIT_UNITS:
             if unit not in own_names:
                 planned[obj.name][unit] = units.get(unit, zeros)
-
-
-def _missing_units(units: dict[str, np.ndarray]) -> tuple[str, ...]:
-    return tuple(unit for unit in ARKIT_UNITS if unit not in units)
 
 
 def _hidden_face_warnings(
@@ -519,14 +460,6 @@ def _hidden_face_warnings(
     ]
 
 
-def _missing_units_warning(head_name: str, missing: tuple[str, ...]) -> str:
-    shown = ", ".join(missing[:8]) + (f" and {len(missing) - 8} more" if len(missing) > 8 else "")
-    return (
-        f"{head_name!r} lacks {len(missing)} of the 52 ARKit units ({shown}); the visemes and emotions that "
-        "use them are weaker. Add those keys, or choose the transfer source to carry them over."
-    )
-
-
 def _check_planned(objects, planned) -> None:
     for obj in objects:
         for key_name, deltas in planned[obj.name].items():
@@ -534,28 +467,38 @@ def _check_planned(objects, planned) -> None:
                 raise HeadError(f"Key {key_name} for {obj.name!r} came out malformed; nothing was changed.")
 
 
-def _write_keys(obj: bpy.types.Object, deltas_by_key: dict[str, np.ndarray], *, arkit_keys: bool) -> None:
-    """Replace this module's keys on obj; keep every other key, its value, drivers and animation."""
+def _write_keys(obj: bpy.types.Object, deltas_by_key: dict[str, np.ndarray]) -> list[str]:
+    """Replace our keys on obj (those our mark lists); keep every other key, its value, drivers and
+    animation. A user's own key already holding one of our names keeps it, and ours is written beside it
+    under a free name; returns those names."""
     mesh = obj.data
-    previously_built = set(mesh.get(BUILT_ARKIT_PROPERTY, ()))
+    owned = owned_keys(obj)
     if mesh.shape_keys is None:
         obj.shape_key_add(name="Basis", from_mix=False)
     shape_keys = mesh.shape_keys
     blocks = shape_keys.key_blocks
     # Drop our own keys that this build does not write (e.g. ARKit keys no longer asked for).
-    for block in list(blocks):
-        ours = block.name.startswith(OWNED_PREFIX) or block.name in previously_built
-        if ours and block.name not in deltas_by_key and block != shape_keys.reference_key:
+    for ours, name in owned.items():
+        block = blocks.get(name)
+        if ours not in deltas_by_key and block is not None and block != shape_keys.reference_key:
             obj.shape_key_remove(block)
     basis = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
     shape_keys.reference_key.data.foreach_get("co", basis)
-    for key_name, deltas in deltas_by_key.items():
-        block = blocks.get(key_name)
+    written, taken = {}, []
+    for ours, deltas in deltas_by_key.items():
+        name = owned.get(ours)
+        if name is None or name not in blocks:
+            if ours in blocks:
+                taken.append(ours)  # the user's own key of that name
+            name = free_name(blocks, ours)
+        block = blocks.get(name)
         if block is None:
-            block = obj.shape_key_add(name=key_name, from_mix=False)
+            block = obj.shape_key_add(name=name, from_mix=False)
             block.value = 0.0  # Blender 5.0 adds new keys at full weight
         block.relative_key = shape_keys.reference_key
         block.data.foreach_set("co", basis + deltas.astype(np.float32).ravel())
-    built_arkit = sorted(name for name in deltas_by_key if not name.startswith(OWNED_PREFIX))
-    mesh[BUILT_ARKIT_PROPERTY] = built_arkit if arkit_keys else []
+        written[ours] = block.name
+    mark_owned(obj, written)
+    mesh.pop(LEGACY_ARKIT_PROPERTY, None)
     mesh.update()
+    return taken

@@ -100,7 +100,9 @@ TURKISH = {
     "Motion": "Hareket",
     "How the weights move between mouth shapes": "Ağırlıkların ağız şekilleri arasında nasıl geçtiği",
     "Natural": "Doğal",
-    "Co-articulation, blinks and brow movement": "Eşsesletim, göz kırpma ve kaş hareketi",
+    "Co-articulation, hard lip closures and layered emotions": (
+        "Eşsesletim, tam dudak kapanmaları ve katmanlı duygular"
+    ),
     "Thesis": "Tez",
     "The thesis's weighted morphing from letter to letter (eq. 5.3, 5.4)": (
         "Tezin harften harfe ağırlıklı biçim dönüşümü (denklem 5.3, 5.4)"
@@ -183,9 +185,9 @@ TURKISH = {
     ),
     "Own Recording": "Kendi Kaydınız",
     "Your own recording of the same text (WAV, FLAC, OGG): the mouth follows it and it "
-    "becomes the sound (empty: the synthetic voice)": (
+    "becomes the sound (empty: the synthetic voice). With no text, what it says is recognised": (
         "Aynı metni okuduğunuz kendi kaydınız (WAV, FLAC, OGG): ağız ona uyar ve ses olarak o "
-        "kullanılır (boş: yapay ses)"
+        "kullanılır (boş: yapay ses). Metin yoksa kaydın söyledikleri sesten tanınır"
     ),
     "Audio Folder": "Ses Klasörü",
     "Where the speech WAV is saved (empty: a folder next to the saved .blend file)": (
@@ -264,6 +266,46 @@ TURKISH = {
     "eSpeak NG Data": "eSpeak NG Verisi",
     "The espeak-ng-data folder that belongs to that library (empty: the library's own)": (
         "O kitaplığa ait espeak-ng-data klasörü (boş: kitaplığın kendi verisi)"
+    ),
+    # the living face
+    "Living Face": "Canlı Yüz",
+    "As the motion has it: on for Natural, off for Thesis": "Harekete göre: Doğal'da açık, Tez'de kapalı",
+    "On": "Açık",
+    "On for either motion": "İki harekette de açık",
+    "Off": "Kapalı",
+    "Gaze": "Bakış",
+    "Eyes that hold the camera (or the target) and look away with saccades": (
+        "Kameraya (ya da hedefe) bakan ve sıçramalarla başka yöne bakan gözler"
+    ),
+    "Gaze Amount": "Bakış Miktarı",
+    "How far the eyes look away (1 the usual)": "Gözlerin ne kadar uzağa baktığı (1 olağan)",
+    "Blinks": "Göz Kırpma",
+    "Blinks at pauses, phrase ends and large gaze shifts": (
+        "Duraklarda, söz öbeği sonlarında ve büyük bakış kaymalarında göz kırpma"
+    ),
+    "Blink Amount": "Göz Kırpma Miktarı",
+    "How often the eyes blink (1 about 17 a minute)": (
+        "Gözlerin ne sıklıkla kırpıldığı (1 dakikada yaklaşık 17)"
+    ),
+    "Head Motion": "Baş Hareketi",
+    "Nods, turns and tilts from the voice's pitch and loudness": (
+        "Sesin perdesinden ve şiddetinden baş sallama, dönme ve eğilme"
+    ),
+    "Head Amount": "Baş Hareketi Miktarı",
+    "How far the head moves (1 a few degrees)": "Başın ne kadar hareket ettiği (1 birkaç derece)",
+    "Expression": "İfade",
+    "Brows rising on pitch accents and emphasis, emotions that breathe at their apex": (
+        "Perde vurgularında ve vurgulu sözcüklerde kalkan kaşlar, doruğunda canlı kalan duygular"
+    ),
+    "Expression Amount": "İfade Miktarı",
+    "How strongly the brows and emotions live": "Kaşların ve duyguların ne kadar canlı olduğu",
+    "Seed": "Tohum",
+    "Another seed gives other glances, blinks and head moves": (
+        "Başka bir tohum başka bakışlar, göz kırpmalar ve baş hareketleri verir"
+    ),
+    "Gaze Target": "Bakış Hedefi",
+    "The object the eyes seek while talking (empty: the scene's camera)": (
+        "Konuşurken gözlerin aradığı nesne (boş: sahnenin kamerası)"
     ),
 }
 

@@ -7,8 +7,12 @@ import json
 import sys
 from pathlib import Path
 
+import numpy as np
+
 from .base.errors import LipSyncError
+from .base.files import check_distinct_paths, check_writable, read_user_text
 from .base.model import Timeline, WeightTracks
+from .motion.living import GazeSetup
 from .pipeline import (
     FPS_RANGE,
     INTERPOLATION_CHOICES,
@@ -93,33 +97,94 @@ def _add_source_arguments(parser: argparse.ArgumentParser) -> None:
     fps_help = f"frames per second ({FPS_RANGE[0]:g}..{FPS_RANGE[1]:g})"
     parser.add_argument("--fps", type=float, default=defaults.fps, help=fps_help)
     parser.add_argument(
-        "--audio", type=Path, metavar="RECORDING", help="a recording of the same text to align"
+        "--audio",
+        type=Path,
+        metavar="RECORDING",
+        help="a recording of the text to align; without a text, what it says is recognised from the audio",
+    )
+    add_living_arguments(parser)
+    parser.add_argument(
+        "--gaze-target",
+        type=_gaze_target,
+        metavar="YAW,PITCH[,DISTANCE]",
+        help="where the eyes seek the listener: degrees to the character's left and up, metres away "
+        "(default 0,0,1: straight ahead)",
     )
 
 
-def read_source(file: Path | None, text: str | None, cues: Path | None = None) -> str:
+def add_living_arguments(parser: argparse.ArgumentParser) -> None:
+    """The living layers' flags, shared with scripts/render.py: each layer on or off (default: the motion
+    model's) with an amount, and the seed."""
+    defaults = LipSyncOptions()
+    for layer, amount, what in LIVING_FLAGS:
+        parser.add_argument(
+            f"--{layer.replace('_', '-')}",
+            action=argparse.BooleanOptionalAction,
+            default=None,
+            help=f"{what} (default: on for the natural motion, off for the thesis's)",
+        )
+        parser.add_argument(
+            f"--{amount.replace('_', '-')}",
+            type=float,
+            default=getattr(defaults, amount),
+            help="how much, 0..2 (1 the usual)",
+        )
+    parser.add_argument("--seed", type=int, default=defaults.seed, help="seed of the gaze, blinks and head")
+
+
+def living_option_values(args: argparse.Namespace) -> dict:
+    """The living layers' options from parsed flags (add_living_arguments)."""
+    names = [name for flags in LIVING_FLAGS for name in flags[:2]] + ["seed"]
+    return {name: getattr(args, name) for name in names}
+
+
+LIVING_FLAGS = (
+    ("gaze", "gaze_amount", "eyes that hold the listener and look away with saccades"),
+    ("blinks", "blink_amount", "blinks at pauses and gaze shifts (the amount scales their rate)"),
+    ("head_motion", "head_amount", "head motion from the voice's pitch and loudness"),
+    ("expression", "expression_amount", "brows on pitch accents and emphasis, emotions that breathe"),
+)
+
+
+def _gaze_target(text: str) -> GazeSetup:
+    try:
+        values = [float(part) for part in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) not in (2, 3):
+        raise argparse.ArgumentTypeError(f"gaze target {text!r} is not YAW,PITCH or YAW,PITCH,DISTANCE")
+    yaw, pitch, *distance = values
+    return GazeSetup(target_yaw=yaw, target_pitch=pitch, target_distance=distance[0] if distance else 1.0)
+
+
+def read_source(
+    file: Path | None, text: str | None, cues: Path | None = None, audio: Path | None = None
+) -> str:
     if text is not None:
         return text
     if file is None:
-        if cues is not None:
-            return ""  # the cue file's own text, where it has one
-        raise LipSyncError("give the text to speak: a FILE or --text TEXT")
-    try:
-        return file.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise LipSyncError(f"{file}: no such file") from None
-    except UnicodeDecodeError as error:
-        raise LipSyncError(f"{file}: not UTF-8 text (byte {error.start}); save it as UTF-8") from None
-    except OSError as error:
-        raise LipSyncError(f"{file}: cannot read it ({error.strerror})") from None
+        if cues is not None or audio is not None:
+            return ""  # the cue file's own text, where it has one; else what the recording is heard to say
+        raise LipSyncError("give the text to speak: a FILE or --text TEXT (or --audio REC to recognise it)")
+    return read_user_text(file, "text to speak")
+
+
+def check_paths(args: argparse.Namespace, **outputs: Path | None) -> None:
+    """Before anything is spoken or written: no output may be an input or another output."""
+    inputs = {"FILE": args.file, "--audio": args.audio, "--cues": args.cues}
+    check_distinct_paths(inputs, {f"--{name}": path for name, path in outputs.items()})
+    for name, path in outputs.items():
+        if path is not None:
+            check_writable(path, f"output of --{name}")
 
 
 def options_from(args: argparse.Namespace) -> LipSyncOptions:
-    return LipSyncOptions.from_attributes(args, recording=args.audio)
+    setup = {"gaze_setup": args.gaze_target} if args.gaze_target is not None else {}
+    return LipSyncOptions.from_attributes(args, recording=args.audio, **setup)
 
 
 def _lip_sync(args: argparse.Namespace) -> LipSyncResult:
-    result = lip_sync(read_source(args.file, args.text, args.cues), options_from(args))
+    result = lip_sync(read_source(args.file, args.text, args.cues, args.audio), options_from(args))
     for warning in result.warnings:
         print(f"warning: {warning}", file=sys.stderr)
     return result
@@ -143,6 +208,7 @@ def _run_normalize(args: argparse.Namespace) -> int:
 
 
 def _run_timeline(args: argparse.Namespace) -> int:
+    check_paths(args, wav=args.wav)
     result = _lip_sync(args)
     if args.wav:
         if result.synthesis is None:
@@ -161,6 +227,7 @@ def _run_timeline(args: argparse.Namespace) -> int:
 def _run_export(args: argparse.Namespace) -> int:
     from .interchange import export_text, write_export
 
+    check_paths(args, out=args.out, wav=args.wav)
     result = _lip_sync(args)
     sound_file = ""
     if args.wav:
@@ -175,7 +242,9 @@ def _run_export(args: argparse.Namespace) -> int:
         result.timeline,
         result.tracks,
         sound_file=sound_file,
-        text=read_source(args.file, args.text, args.cues) if args.export_format == "papagayo-pgo" else "",
+        text=read_source(args.file, args.text, args.cues, args.audio)
+        if args.export_format == "papagayo-pgo"
+        else "",
     )
     for warning in warnings:
         print(f"warning: {warning}", file=sys.stderr)
@@ -230,7 +299,9 @@ def timeline_as_dict(timeline: Timeline, fps: float) -> dict:
 
 
 def tracks_as_dict(tracks: WeightTracks) -> dict:
-    """The weight tracks as Blender keys them: frames from 0 (the scene's start frame) and weights."""
+    """The weight tracks as Blender keys them: frames from 0 (the scene's start frame) and weights; and the
+    head's and eyes' rotations at every frame (degrees, HeadAndEyes' conventions), null when off."""
+    motion = tracks.head_and_eyes
     return {
         "fps": tracks.fps,
         "frame_count": tracks.frame_count,
@@ -239,6 +310,15 @@ def tracks_as_dict(tracks: WeightTracks) -> dict:
         "keys": {
             track.name: {"frames": track.frames.tolist(), "values": track.values.tolist()}
             for track in tracks.tracks
+        },
+        "head_and_eyes": None
+        if motion is None
+        else {
+            "units": "degrees per frame; yaw, pitch, roll of the head, and of each eye relative to the head; "
+            "yaw + toward the character's left, pitch + up, roll + toward its right shoulder",
+            "head": np.round(motion.head, 4).tolist(),
+            "left_eye": np.round(motion.left_eye, 4).tolist(),
+            "right_eye": np.round(motion.right_eye, 4).tolist(),
         },
     }
 

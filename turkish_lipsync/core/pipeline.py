@@ -15,7 +15,9 @@ from .base.choices import Choice, identifiers
 from .base.errors import LipSyncError
 from .base.model import Timeline, Utterance, WeightTracks
 from .motion import motion_choices, weight_tracks
+from .motion.living import GazeSetup, LivingOptions, living_tracks
 from .speech.sources import SpeechRequest, speak
+from .text.utterance import unspoken_warning
 
 TIMING_CHOICES = (
     Choice("phone", "Phone", "Key every phone where the speech engine speaks it (most accurate)"),
@@ -31,6 +33,10 @@ INTERPOLATION_CHOICES = (
 )
 RATE_RANGE = (0.25, 4.0)
 FPS_RANGE = (1.0, 240.0)
+AMOUNT_RANGE = (0.0, 2.0)
+# The living layers each motion model has when they are not chosen: the thesis had none.
+LIVING_BY_DEFAULT = {"natural": True, "thesis": False}
+LIVING_LAYERS = ("gaze", "blinks", "head_motion", "expression")
 
 
 @dataclass(frozen=True)
@@ -48,6 +54,18 @@ class LipSyncOptions:
     # A Rhubarb/Papagayo/Moho cue file timing the visemes instead of an engine (interchange/cue_timing.py);
     # the recording is then its audio as it is, not aligned.
     cues: Path | None = None
+    # The living layers (motion/living): each on, off, or None for the motion model's default (on for the
+    # natural model, off for the thesis's), with an amount (1 the model's own, 0..2) and one seed.
+    gaze: bool | None = None
+    gaze_amount: float = 1.0
+    blinks: bool | None = None
+    blink_amount: float = 1.0  # scales the blink rate
+    head_motion: bool | None = None
+    head_amount: float = 1.0
+    expression: bool | None = None  # brow raises on accents and emphasis, emotions that breathe
+    expression_amount: float = 1.0
+    seed: int = 0
+    gaze_setup: GazeSetup = dataclasses.field(default_factory=GazeSetup)
 
     @classmethod
     def from_attributes(cls, source: object, **given) -> LipSyncOptions:
@@ -71,6 +89,19 @@ class LipSyncOptions:
         _require_range("speaking rate", self.rate, RATE_RANGE, "a multiplier such as 0.8 or 1.2")
         _require_range("emotion strength", self.emotion_strength, (0.0, 1.0), "a share such as 0.5")
         _require_range("frame rate", self.fps, FPS_RANGE, "frames per second such as 25 or 29.97")
+        for name in ("gaze_amount", "blink_amount", "head_amount", "expression_amount"):
+            _require_range(
+                name.replace("_", " "), getattr(self, name), AMOUNT_RANGE, "1 for the usual amount"
+            )
+        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
+            raise LipSyncError(
+                f"The seed {self.seed!r} must be a whole number of at least 0, such as 0 or 7."
+            )
+        if not (0.05 <= self.gaze_setup.target_distance <= 1e4):
+            raise LipSyncError(
+                f"The gaze target is {self.gaze_setup.target_distance:g} m from the eyes; it must be 0.05 m "
+                "to 10 km away (move the camera or the target object)."
+            )
         if self.cues is not None:
             object.__setattr__(self, "cues", Path(self.cues))
         if self.recording is not None:
@@ -80,6 +111,22 @@ class LipSyncOptions:
                 raise LipSyncError(
                     "Table timing uses no speech, so it cannot follow a recording; choose phone or word."
                 )
+
+    def living(self) -> LivingOptions:
+        """The living layers' amounts for this motion model (0 where a layer is off)."""
+        default = LIVING_BY_DEFAULT.get(self.motion, True)
+
+        def amount(on: bool | None, value: float) -> float:
+            return value if (default if on is None else on) else 0.0
+
+        return LivingOptions(
+            gaze=amount(self.gaze, self.gaze_amount),
+            blinks=amount(self.blinks, self.blink_amount),
+            head=amount(self.head_motion, self.head_amount),
+            expression=amount(self.expression, self.expression_amount),
+            seed=self.seed,
+            setup=self.gaze_setup,
+        )
 
 
 def _require_range(name: str, value: float, bounds: tuple[float, float], example: str) -> None:
@@ -116,6 +163,14 @@ def lip_sync(source: str, options: LipSyncOptions | None = None) -> LipSyncResul
     tracks = weight_tracks(
         speech.timeline, options.fps, mode=options.motion, emotion_strength=options.emotion_strength
     )
+    synthesis = speech.synthesis
+    tracks = living_tracks(
+        tracks,
+        speech.timeline,
+        options.living(),
+        getattr(synthesis, "samples", None),
+        getattr(synthesis, "sample_rate", 0),
+    )
     if options.interpolation != "AUTO":
         tracks = dataclasses.replace(tracks, interpolation=options.interpolation)
     return LipSyncResult(
@@ -124,5 +179,5 @@ def lip_sync(source: str, options: LipSyncOptions | None = None) -> LipSyncResul
         synthesis=speech.synthesis,
         timeline=speech.timeline,
         tracks=tracks,
-        warnings=speech.warnings,
+        warnings=unspoken_warning(utterance) + speech.warnings,
     )

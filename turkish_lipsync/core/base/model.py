@@ -20,6 +20,18 @@ EMOTION_KEY_PREFIX = OWNED_PREFIX + "emotion_"
 EMOTION_MOUTH_RELEASE_SUFFIX = "_mouth_release"
 BLINK_KEYS: tuple[str, str] = ("TR_blink_left", "TR_blink_right")
 BROW_RAISE_KEY = "TR_brow_raise"
+# Keys that turn each eye (and let its lids follow): weight 1 turns the eye LOOK_KEY_DEGREES that way, as
+# the character sees it ("left" is the character's left); the build scales each head's own keys to that.
+LOOK_KEY_DEGREES = 20.0
+LOOK_DIRECTIONS: tuple[str, ...] = ("left", "right", "up", "down")
+EYE_SIDES: tuple[str, str] = ("left", "right")
+
+
+def look_key_name(eye: str, direction: str) -> str:
+    return f"{OWNED_PREFIX}eye_{eye}_look_{direction}"
+
+
+LOOK_KEYS: tuple[str, ...] = tuple(look_key_name(eye, d) for eye in EYE_SIDES for d in LOOK_DIRECTIONS)
 
 
 def viseme_key_name(viseme: str) -> str:
@@ -121,6 +133,7 @@ class Utterance:
     syllables: tuple[Syllable, ...]
     letters: tuple[Letter, ...]
     final_pause: float = 0.0  # seconds of silence after the last word
+    unspoken: tuple[str, ...] = ()  # stretches of the source spoken as nothing (other scripts, emoji)
 
 
 # ---------------------------------------------------------------- timeline (timing.py, speech/)
@@ -180,6 +193,22 @@ class Track:
 
 
 @dataclass(frozen=True, eq=False)
+class HeadAndEyes:
+    """Rotations at every frame of the weight tracks (frame i is i / fps after the utterance start), degrees.
+
+    Angles are those of the character's own frame, whatever way the head faces in a scene: yaw + turns
+    toward the character's left, pitch + looks up, roll + tilts the top of the head toward the character's
+    right shoulder (right-handed about the facing direction). The head's angles are relative to its rest
+    pose, applied yaw, then pitch, then roll (R = R_yaw R_pitch R_roll); each eye's are relative to the head,
+    yaw then pitch. A left eye at yaw +5 looks 5 degrees toward the character's left.
+    """
+
+    head: np.ndarray  # (frame_count, 3): yaw, pitch, roll of the head relative to its rest pose
+    left_eye: np.ndarray  # (frame_count, 2 or 3): yaw, pitch (, roll) of the eye relative to the head
+    right_eye: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
 class WeightTracks:
     fps: float
     frame_count: int  # frames covered by the utterance
@@ -187,6 +216,8 @@ class WeightTracks:
     tracks: tuple[Track, ...]
     mode: str = "natural"  # "natural" (co-articulation) or "thesis" (eq. 5.3/5.4)
     extra: dict = field(default_factory=dict)
+    # Head and eye rotations of the living layers (core/motion/living), None when they are off.
+    head_and_eyes: HeadAndEyes | None = None
 
     def track(self, name: str) -> Track | None:
         return next((t for t in self.tracks if t.name == name), None)

@@ -121,3 +121,16 @@ def match_arkit_keys(key_names: list[str] | tuple[str, ...]) -> dict[str, str]:
 def has_arkit_basis(matched: dict[str, str]) -> bool:
     """True when the matched keys are enough to build visemes and emotions from."""
     return all(unit in matched for unit in ESSENTIAL_UNITS) and len(matched) >= 20
+
+
+def missing_units(units) -> tuple[str, ...]:
+    """The ARKit units a basis (unit -> deltas) lacks."""
+    return tuple(unit for unit in ARKIT_UNITS if unit not in units)
+
+
+def missing_units_warning(head_name: str, missing: tuple[str, ...]) -> str:
+    shown = ", ".join(missing[:8]) + (f" and {len(missing) - 8} more" if len(missing) > 8 else "")
+    return (
+        f"{head_name!r} lacks {len(missing)} of the 52 ARKit units ({shown}); the visemes and emotions that "
+        "use them are weaker. Add those keys, or choose the transfer source to carry them over."
+    )

@@ -9,18 +9,70 @@ from __future__ import annotations
 
 import numpy as np
 
-from .landmarks import unique_pairs
+from .topology import unique_pairs
 
 
-def _nearest_vertex(points: np.ndarray, vertices: np.ndarray) -> np.ndarray:
-    """Index of the nearest vertex for each point (chunked brute force: BLAS beats a tree at this size)."""
-    nearest = np.empty(len(points), np.int64)
-    squared = (vertices**2).sum(1)
+def nearest_vertices(points: np.ndarray, candidates: np.ndarray, radius: float | None = None):
+    """(index, distance) of the nearest candidate for each point. With a radius, only candidates within
+    it count (a grid of cells that size is searched; points with none there get index -1, distance inf),
+    so the cost follows the points and their neighbourhoods, not the whole mesh; without, every
+    candidate (chunked brute force: BLAS beats a tree at a head's size)."""
+    points = np.asarray(points, np.float64)
+    candidates = np.asarray(candidates, np.float64)
+    if radius is None or len(candidates) == 0 or len(points) == 0:
+        return _nearest_of_all(points, candidates)
+    return _nearest_in_cells(points, candidates, float(radius))
+
+
+def _nearest_of_all(points: np.ndarray, candidates: np.ndarray):
+    nearest = np.full(len(points), -1, np.int64)
+    if len(candidates) == 0:
+        return nearest, np.full(len(points), np.inf)
+    squared = (candidates**2).sum(1)
     for start in range(0, len(points), 1024):
         chunk = points[start : start + 1024]
-        distance = squared[None, :] - 2.0 * chunk @ vertices.T
+        distance = squared[None, :] - 2.0 * chunk @ candidates.T
         nearest[start : start + 1024] = np.argmin(distance, axis=1)
-    return nearest
+    return nearest, np.linalg.norm(points - candidates[nearest], axis=1)
+
+
+_NEIGHBOUR_CELLS = np.stack(np.meshgrid(*([np.arange(-1, 2)] * 3), indexing="ij"), -1).reshape(-1, 3)
+_PAIRS_PER_PASS = 1 << 21
+
+
+def _nearest_in_cells(points: np.ndarray, candidates: np.ndarray, radius: float):
+    low = candidates.min(0) - radius
+    cells = np.floor((candidates - low) / radius).astype(np.int64)
+    shape = cells.max(0) + 2
+    keys = (cells[:, 0] * shape[1] + cells[:, 1]) * shape[2] + cells[:, 2]
+    order = np.argsort(keys, kind="stable")
+    keys = keys[order]
+    query_cells = np.floor((points - low) / radius).astype(np.int64)
+    nearest = np.full(len(points), -1, np.int64)
+    best = np.full(len(points), np.inf)
+    step = max(1, _PAIRS_PER_PASS // (27 * int(np.unique(keys, return_counts=True)[1].max())))
+    for start in range(0, len(points), step):
+        rows = np.arange(start, min(start + step, len(points)))
+        around = query_cells[rows, None, :] + _NEIGHBOUR_CELLS[None]  # (q, 27, 3)
+        inside = np.all((around >= 0) & (around < shape), axis=2)
+        query_keys = np.where(
+            inside, (around[..., 0] * shape[1] + around[..., 1]) * shape[2] + around[..., 2], -1
+        )
+        first = np.searchsorted(keys, query_keys, "left")
+        counts = np.where(inside, np.searchsorted(keys, query_keys, "right") - first, 0).ravel()
+        if counts.sum() == 0:
+            continue
+        owner = np.repeat(np.repeat(rows, 27), counts)
+        offsets = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+        candidate = order[np.repeat(first.ravel(), counts) + offsets]
+        distance = np.linalg.norm(points[owner] - candidates[candidate], axis=1)
+        pick = np.lexsort((distance, owner))  # each owner's nearest first
+        owner, candidate, distance = owner[pick], candidate[pick], distance[pick]
+        firsts = np.flatnonzero(np.diff(owner, prepend=-1))
+        found = distance[firsts] <= radius
+        nearest[owner[firsts][found]] = candidate[firsts][found]
+        best[owner[firsts][found]] = distance[firsts][found]
+    return nearest, best
 
 
 def triangles_around(vertex_count: int, triangles: np.ndarray) -> np.ndarray:
@@ -64,7 +116,7 @@ def closest_points(
     used = np.zeros(len(vertices), bool)
     used[triangles[allowed].ravel()] = True
     used = np.flatnonzero(used)
-    nearest = used[_nearest_vertex(points, vertices[used])]
+    nearest = used[nearest_vertices(points, vertices[used])[0]]
     best_distance = np.full(len(points), np.inf)
     best_triangle = np.zeros(len(points), np.int64)
     best_weights = np.zeros((len(points), 3))

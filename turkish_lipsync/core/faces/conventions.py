@@ -18,7 +18,13 @@ import numpy as np
 
 from ..base.data import DATA_DIR, read_toml_file
 from ..base.errors import DataError
-from ..base.model import EMOTIONS, emotion_key_name, emotion_release_key_name, viseme_key_name
+from ..base.model import (
+    EMOTIONS,
+    VISEME_KEY_PREFIX,
+    emotion_key_name,
+    emotion_release_key_name,
+    viseme_key_name,
+)
 from .recipes import EXTRA_KEYS, VISEME_NAMES, Recipes, combine_units, expand_units
 
 CONVENTIONS_DIR = DATA_DIR / "conventions"
@@ -202,6 +208,29 @@ def plan_keys(match: ConventionMatch, recipes: Recipes) -> dict[str, KeyPlan]:
     return plans
 
 
+def unmatched_names(match: ConventionMatch) -> tuple[str, ...]:
+    """Warnings for what a user's own mapping names but the head lacks (a misspelt or missing key): each
+    such viseme or expression falls back to its ARKit recipe, and the user must hear which."""
+    convention = match.convention
+    if not convention.exact:
+        return ()
+    missing = sorted(name for name in convention.spellings if name not in match.shapes)
+    expressions = sorted(name for name in convention.expressions if name not in match.expressions)
+    warnings = []
+    if missing:
+        warnings.append(
+            f"{convention.title} names keys the head does not have: {', '.join(map(repr, missing))}; the "
+            "visemes that use only them are built from their ARKit recipe. Check the spelling (names are "
+            "compared exactly)."
+        )
+    if expressions:
+        warnings.append(
+            f"{convention.title} maps {', '.join(expressions)} to keys the head does not have; they are "
+            "built from their ARKit recipe."
+        )
+    return tuple(warnings)
+
+
 def mouth_weights(mouth_shapes: Iterable[np.ndarray], vertex_count: int) -> np.ndarray:
     """(N,) 0..1: how much each vertex is mouth, by how far the head's own mouth shapes move it."""
     motion = np.zeros(vertex_count, dtype=np.float32)
@@ -218,17 +247,14 @@ def convention_key_deltas(
     own_shapes: Mapping[str, np.ndarray],
     units: Mapping[str, np.ndarray],
     vertex_count: int,
-    *,
-    empowered: bool = False,
-    rho: float = 3.0,
 ) -> dict[str, np.ndarray]:
     """(N, 3) deltas of every planned key: own shapes (missing ones count as 0) plus fallback units.
 
     An own emotion's mouth release is that emotion's motion where the head's own visemes move the face,
-    negated; emotions (and their releases) are empowered as in recipes.key_deltas (thesis eq. 5.2).
+    negated.
     """
     viseme_shapes = {
-        name for key, plan in plans.items() if key.startswith("TR_viseme_") for name in plan.shapes
+        name for key, plan in plans.items() if key.startswith(VISEME_KEY_PREFIX) for name in plan.shapes
     }
     mouth = mouth_weights((own_shapes[name] for name in viseme_shapes if name in own_shapes), vertex_count)
     result: dict[str, np.ndarray] = {}
@@ -240,8 +266,6 @@ def convention_key_deltas(
         for name, weight in plan.release_of.items():
             if name in own_shapes:
                 deltas -= np.float32(weight) * own_shapes[name] * mouth[:, None]
-        if empowered and key_name.startswith("TR_emotion_"):
-            deltas *= np.float32(rho)
         result[key_name] = deltas
     return result
 

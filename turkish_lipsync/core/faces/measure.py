@@ -8,11 +8,15 @@ made the same shape) how closely its displacement field points the artist's way.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 
-from .landmarks import face_frame, triangulate
-from .parts import PART_LABELS, edge_graph, find_face_parts, opening_gap
-from .transfer import find_parts
+from .closest import nearest_vertices
+from .head_parts import find_parts
+from .landmarks import face_frame
+from .parts import PART_LABELS, find_face_parts, opening_gap
+from .topology import edge_graph, triangulate
 
 # Reach of the skin above an upper lid whose folds count as the lid's creases, in eye widths.
 LID_CREASE_REACH = 1.2
@@ -72,21 +76,11 @@ def symmetry(vertices: np.ndarray, deltas: np.ndarray, middle_x: float) -> float
         return 1.0
     mirrored = vertices[moved].copy()
     mirrored[:, 0] = 2 * middle_x - mirrored[:, 0]
-    partner = nearest_points(mirrored, vertices)
+    partner, _ = nearest_vertices(mirrored, vertices)
     mirror_deltas = deltas[partner] * np.array([-1.0, 1.0, 1.0])
     difference = np.linalg.norm(deltas[moved] - mirror_deltas, axis=1).sum()
     total = np.linalg.norm(deltas[moved], axis=1).sum() + np.linalg.norm(mirror_deltas, axis=1).sum()
     return float(1.0 - difference / total) if total > 0 else 1.0
-
-
-def nearest_points(points: np.ndarray, candidates: np.ndarray) -> np.ndarray:
-    """Index of the nearest candidate for each point (chunked brute force; BLAS does the work)."""
-    nearest = np.empty(len(points), np.int64)
-    squared = (candidates**2).sum(1)
-    for start in range(0, len(points), 1024):
-        chunk = points[start : start + 1024]
-        nearest[start : start + 1024] = np.argmin(squared[None, :] - 2.0 * chunk @ candidates.T, axis=1)
-    return nearest
 
 
 class FaceMeasure:
@@ -104,10 +98,8 @@ class FaceMeasure:
         }
         self.triangles = triangulate(polygons)
         self.edges, _ = edge_graph(len(self.vertices), self.triangles, self.vertices)
-        in_part = np.zeros(len(self.vertices), bool)
-        for indices in find_parts(self.vertices, self.triangles, upright).values():
-            in_part[indices] = True  # teeth, eyeballs and lashes are not skin
-        parts = find_face_parts(self.vertices, self.triangles, np.flatnonzero(~in_part), upright)
+        skin = find_parts(self.vertices, self.triangles, upright).skin  # not teeth, eyeballs or lashes
+        parts = find_face_parts(self.vertices, self.triangles, skin, upright)
         self.middle_x = parts.middle_x
         self.lips = [
             np.flatnonzero(parts.seen & (parts.label == PART_LABELS.index(n)))
@@ -155,3 +147,19 @@ class FaceMeasure:
 
     def symmetry(self, deltas: np.ndarray) -> float:
         return symmetry(self.vertices, self.upright(deltas), self.middle_x)
+
+
+def piece_motion(pieces: Mapping[str, np.ndarray], ours: np.ndarray, truth: np.ndarray | None = None) -> dict:
+    """Per piece (name -> vertex indices): its share of a key's motion (of the summed squared
+    displacements), and with a truth (an artist's key, or a known one) its share of that and the
+    cosine of the two."""
+    ours = np.asarray(ours, np.float64)
+    total = max(float((ours**2).sum()), 1e-300)
+    figures = {}
+    for name, indices in pieces.items():
+        row = {"ours": float((ours[indices] ** 2).sum()) / total}
+        if truth is not None:
+            row["share"] = float((truth[indices] ** 2).sum()) / max(float((truth**2).sum()), 1e-300)
+            row["cosine"] = displacement_cosine(ours[indices], truth[indices])
+        figures[name] = row
+    return figures

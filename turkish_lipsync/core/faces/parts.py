@@ -15,7 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .landmarks import DepthMap, unique_pairs
+from .depth import DepthMap, hidden_depth
+from .topology import edge_graph, geodesic_distance, smooth_over_edges
 
 # Label names, in the order of FaceParts.label values (0 is the rest of the skin).
 PART_LABELS: tuple[str, ...] = (
@@ -38,7 +39,6 @@ OPPOSITE_PART = {
 # A lip or lid vertex whose distances to the two sides differ by less than this share of their sum lies
 # where the sides meet (mouth and eye corners) and may sample either.
 SURE_MARGIN = 0.25
-MAX_SWEEPS = 400  # edge hops a geodesic distance may take: far more than across a mouth or an eye
 # Region radii around the mouth and each eye, in mouth widths and eye widths.
 MOUTH_REACH = 1.0
 EYE_REACH = 0.9
@@ -62,63 +62,6 @@ class FaceParts:
 
     def indices(self, name: str) -> np.ndarray:
         return np.flatnonzero(self.label == PART_LABELS.index(name))
-
-
-def edge_graph(vertex_count: int, triangles: np.ndarray, vertices: np.ndarray):
-    """(E, 2) unique edges and their lengths."""
-    edges = np.concatenate((triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]))
-    edges = unique_pairs(np.sort(edges, axis=1))
-    lengths = np.linalg.norm(vertices[edges[:, 0]] - vertices[edges[:, 1]], axis=1)
-    return edges, lengths
-
-
-def smooth_over_edges(values: np.ndarray, edges: np.ndarray, movable: np.ndarray, iterations: int):
-    """Average each movable vertex with its neighbours (Jacobi sweeps); the others hold their values.
-
-    The neighbour sums are segment sums over the edges sorted by vertex (reduceat), which numpy does
-    far faster than scattered adds."""
-    values = values.astype(np.float64, copy=True)
-    if len(edges) == 0:
-        return values
-    shape = (-1,) + (1,) * (values.ndim - 1)
-    ends = np.concatenate((edges[:, 0], edges[:, 1]))
-    others = np.concatenate((edges[:, 1], edges[:, 0]))
-    order = np.argsort(ends, kind="stable")
-    ends, others = ends[order], others[order]
-    starts = np.flatnonzero(np.diff(ends, prepend=-1))
-    owners = ends[starts]
-    degree = np.diff(np.append(starts, len(ends))).astype(np.float64).reshape(shape)
-    movable = movable[owners].reshape(shape)
-    for _ in range(iterations):
-        averaged = (values[owners] + np.add.reduceat(values[others], starts, axis=0)) / (1.0 + degree)
-        values[owners] = np.where(movable, averaged, values[owners])
-    return values
-
-
-def geodesic_distance(vertex_count: int, edges, lengths, seeds: np.ndarray, allowed: np.ndarray):
-    """Distance along the mesh's edges from the seed vertices, through allowed vertices only (inf: unreached).
-
-    Bellman-Ford sweeps over all edges at once: a few hundred numpy passes, no Python loop per vertex.
-    """
-    distance = np.full(vertex_count, np.inf)
-    distance[seeds[allowed[seeds]]] = 0.0
-    usable = allowed[edges[:, 0]] & allowed[edges[:, 1]]
-    a = np.concatenate((edges[usable, 0], edges[usable, 1]))
-    b = np.concatenate((edges[usable, 1], edges[usable, 0]))
-    step = np.concatenate((lengths[usable], lengths[usable]))
-    if len(b) == 0:
-        return distance
-    order = np.argsort(b, kind="stable")  # edges grouped by the vertex they reach: segment minima
-    a, b, step = a[order], b[order], step[order]
-    starts = np.flatnonzero(np.diff(b, prepend=-1))
-    reached = b[starts]
-    for _ in range(MAX_SWEEPS):
-        offers = np.minimum.reduceat(distance[a] + step, starts)
-        better = offers < distance[reached]
-        if not better.any():
-            break
-        distance[reached[better]] = offers[better]
-    return distance
 
 
 def split_between(vertex_count: int, edges, lengths, first: np.ndarray, second: np.ndarray, allowed, central):
@@ -233,19 +176,6 @@ def _seam_height(lm: Mapping[str, np.ndarray], middle_x: float):
         return np.interp(x, xs, zs)
 
     return seam
-
-
-def hidden_depth(vertices: np.ndarray, depth: DepthMap) -> np.ndarray:
-    """How far each vertex lies behind the surface the front view sees at its place (0 on that surface)."""
-    rows = np.clip(
-        np.round((depth.top - vertices[:, 2]) / depth.pixel).astype(int), 0, depth.front.shape[0] - 1
-    )
-    columns = np.clip(
-        np.round((vertices[:, 0] - depth.left) / depth.pixel).astype(int), 0, depth.front.shape[1] - 1
-    )
-    front = depth.front[rows, columns]
-    behind = front - (-vertices[:, 1])
-    return np.where(np.isfinite(behind), np.maximum(behind, 0.0), 0.0)
 
 
 def opening_gap(vertices: np.ndarray, deltas: np.ndarray, upper: np.ndarray, lower: np.ndarray, x: float):

@@ -18,6 +18,7 @@ from ..base.errors import DataError
 from ..base.model import (
     BLINK_KEYS,
     BROW_RAISE_KEY,
+    EMOTION_KEY_PREFIX,
     EMOTIONS,
     emotion_key_name,
     emotion_release_key_name,
@@ -144,25 +145,22 @@ def combine_units(
 
 
 def key_deltas(
-    units: Mapping[str, np.ndarray],
-    vertex_count: int,
-    *,
-    recipes: Recipes | None = None,
-    empowered: bool = False,
-    rho: float = 3.0,
+    units: Mapping[str, np.ndarray], vertex_count: int, *, recipes: Recipes | None = None
 ) -> dict[str, np.ndarray]:
-    """Deltas (vertex_count, 3) of every built key from a head's ARKit unit deltas.
-
-    Empowered emotions follow thesis eq. 5.2: P = N + rho (E - N), i.e. the emotion delta times rho;
-    the mouth releases are scaled alike so they still cancel the emotion's mouth.
-    """
-    if empowered and rho <= 0:
-        raise DataError(f"The empowering constant rho must be positive (got {rho}); the thesis uses 3.")
+    """Deltas (vertex_count, 3) of every built key from a head's ARKit unit deltas."""
     recipes = recipes or load_recipes()
-    result: dict[str, np.ndarray] = {}
-    for key_name, weights in recipes.key_recipes().items():
-        deltas = combine_units(weights, units, vertex_count)
-        if empowered and key_name.startswith("TR_emotion_"):
-            deltas *= np.float32(rho)
-        result[key_name] = deltas
-    return result
+    return {
+        key_name: combine_units(weights, units, vertex_count)
+        for key_name, weights in recipes.key_recipes().items()
+    }
+
+
+def empower(deltas: Mapping[str, np.ndarray], rho: float) -> dict[str, np.ndarray]:
+    """Thesis eq. 5.2, P = N + rho (E - N): every emotion key's delta times rho, its mouth release alike
+    so that the release still cancels the emotion's mouth; every other key as it is."""
+    if not rho > 0:
+        raise DataError(f"The empowering constant rho must be positive (got {rho}); the thesis uses 3.")
+    return {
+        name: delta * np.float32(rho) if name.startswith(EMOTION_KEY_PREFIX) else delta
+        for name, delta in deltas.items()
+    }

@@ -14,7 +14,12 @@ artists' (31 units compared, each within +-0.05) and took 4 s more; it is not us
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from dataclasses import dataclass
+
 import numpy as np
+
+from ..base.errors import HeadError
 
 # How far the landmarks' pull reaches, as a share of their spread (about the face's diagonal):
 # REACH_PER_OFFSET times the median distance (same share) the similarity fit leaves them from their
@@ -24,6 +29,8 @@ import numpy as np
 # transferred blink stretched its lids 4.0, now 1.7). Bent faces: mean 0.970, worst 0.938.
 REACH_PER_OFFSET = 4.0
 REACH_RANGE = (0.15, 0.6)
+# A similarity fit that leaves landmarks this far off (fraction of the face size) calls for the warp.
+WARP_RESIDUAL = 0.02
 
 
 def similarity_fit(source: np.ndarray, target: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
@@ -81,3 +88,64 @@ class LandmarkWarp:
         for start in range(0, len(points), 8192):
             out[start : start + 8192] += self._kernel(points[start : start + 8192]) @ self.weights
         return out
+
+
+@dataclass(frozen=True)
+class Placement:
+    """Where the reference lies on a target: the similarity fit of their landmarks (target = scale *
+    rotation @ reference + translation), and the reference's vertices placed on the target (that fit,
+    then the landmark warp where the proportions differ). Deltas follow the similarity only."""
+
+    scale: float
+    rotation: np.ndarray
+    translation: np.ndarray
+    placed: np.ndarray  # (N, 3) the reference's vertices on the target
+    face_size: float  # the spread of the target's landmarks (its diagonal)
+
+    def to_reference(self, points) -> np.ndarray:
+        """Target points in the reference's frame (face toward -Y, Z up, the reference's size)."""
+        return ((np.asarray(points, np.float64) - self.translation) @ self.rotation) / self.scale
+
+    def deltas_to_target(self, deltas) -> np.ndarray:
+        """Displacements in the reference's frame as the target's (turned and scaled)."""
+        return self.scale * np.asarray(deltas, np.float64) @ self.rotation.T
+
+    def deltas_to_reference(self, deltas) -> np.ndarray:
+        return np.asarray(deltas, np.float64) @ self.rotation / self.scale
+
+
+def place_reference(
+    reference_vertices: np.ndarray,
+    reference_landmarks: Mapping[str, np.ndarray],
+    target_landmarks: Mapping[str, np.ndarray],
+    warp: str = "auto",
+) -> Placement:
+    """Lay the reference on the target by their shared landmarks. warp: "similarity", "landmarks" or
+    "auto" (the warp when the similarity fit leaves the landmarks more than WARP_RESIDUAL apart)."""
+    if warp not in ("auto", "similarity", "landmarks"):
+        raise ValueError(f"warp must be 'auto', 'similarity' or 'landmarks', not {warp!r}")
+    names = [name for name in reference_landmarks if name in target_landmarks]
+    if len(names) < 4:
+        raise HeadError(
+            f"Only {len(names)} face landmarks match the reference ({', '.join(names) or 'none'}); "
+            "at least 4 are needed to place the reference head. Place the landmark markers and rebuild."
+        )
+    source_points = np.array([reference_landmarks[name] for name in names], np.float64)
+    target_points = np.array([target_landmarks[name] for name in names], np.float64)
+    if np.linalg.matrix_rank(target_points - target_points.mean(0), tol=1e-9 * np.ptp(target_points)) < 3:
+        raise HeadError("The face landmarks lie on one line or plane; move the landmark markers apart.")
+    scale, rotation, translation = similarity_fit(source_points, target_points)
+    placed_landmarks = scale * source_points @ rotation.T + translation
+    face_size = float(np.linalg.norm(np.ptp(target_points, axis=0)))
+    residual = float(np.sqrt(((placed_landmarks - target_points) ** 2).sum(1).mean()))
+    placed = scale * np.asarray(reference_vertices, np.float64) @ rotation.T + translation
+    if warp == "landmarks" or (warp == "auto" and residual > WARP_RESIDUAL * face_size):
+        # Landmarks that coincide on the reference (the inner lips of a closed mouth) would make the
+        # warp singular: keep the first of each group.
+        distinct = [0]
+        for index in range(1, len(names)):
+            gaps = np.linalg.norm(placed_landmarks[distinct] - placed_landmarks[index], axis=1)
+            if gaps.min() > 1e-3 * face_size:
+                distinct.append(index)
+        placed = LandmarkWarp(placed_landmarks[distinct], target_points[distinct])(placed)
+    return Placement(scale, rotation, translation, placed, face_size)

@@ -3,7 +3,10 @@
 Every frame's ARKit weights are the built keys' weights times their recipes (shapekeys/visemes.toml and
 emotions.toml): what the head shows, expressed in the units every ARKit rig has. The columns are those the
 Live Link Face app writes: Timecode, BlendShapeCount, the 52 units in its order, then the head and eye
-rotations (zero here: the speech does not turn the head).
+rotations of the living layers (tracks.head_and_eyes) in Epic's ARKit convention: -1..1 for -180..180
+degrees, yaw + toward the character's left, pitch + up, roll + toward its right shoulder; zero when the
+layers are off. The eyeLook units are the eyes' angles over the turn faceunits01's units make at weight 1
+(shapekeys/living.toml [eyes.arkit_degrees]).
 """
 
 from __future__ import annotations
@@ -15,7 +18,9 @@ from pathlib import Path
 import numpy as np
 
 from ..base.model import Timeline, WeightTracks
+from ..faces.eyes import ARKIT_LOOK_UNITS
 from ..faces.recipes import Recipes, load_recipes
+from ..motion.living.parameters import living_parameters
 from ..speech.cues import CueFileError
 from ..speech.cues.common import read_text
 from .formats import ExportFormat, register_export
@@ -60,9 +65,34 @@ def arkit_weights(tracks: WeightTracks, recipes: Recipes | None = None) -> tuple
         for unit, weight in key_recipes.get(name, {}).items():
             matrix[row, column[unit]] = weight
     units = key_weights @ matrix
+    if tracks.head_and_eyes is not None:
+        _add_eye_looks(units, tracks, column)
     outside = np.count_nonzero((units < -1e-6) | (units > 1 + 1e-6), axis=0)
     clipped = {unit: int(count) for unit, count in zip(LIVE_LINK_UNITS, outside, strict=True) if count}
     return np.clip(units, 0.0, 1.0), clipped
+
+
+def _add_eye_looks(units: np.ndarray, tracks: WeightTracks, column: dict[str, int]) -> None:
+    """The eyeLook units from the eyes' yaw and pitch (their turn over the units' turn at weight 1)."""
+    degrees = living_parameters()["eyes"]["arkit_degrees"]
+    for (eye, way), unit in ARKIT_LOOK_UNITS.items():
+        angles = getattr(tracks.head_and_eyes, f"{eye}_eye")
+        turn = {"left": angles[:, 0], "right": -angles[:, 0], "up": angles[:, 1], "down": -angles[:, 1]}[way]
+        kind = way if way in ("up", "down") else ("out" if way == eye else "in")
+        units[: len(turn), column[unit]] = np.maximum(turn, 0.0)[: units.shape[0]] / degrees[kind]
+
+
+def rotation_columns(tracks: WeightTracks) -> np.ndarray:
+    """(frame_count, 9) head yaw, pitch, roll and each eye's yaw, pitch, roll in -1..1 (180 degrees = 1)."""
+    rotations = np.zeros((tracks.frame_count, len(ROTATION_COLUMNS)))
+    motion = tracks.head_and_eyes
+    if motion is not None:
+        count = min(tracks.frame_count, len(motion.head))
+        rotations[:count, 0:3] = motion.head[:count]
+        eyes = motion.left_eye.shape[1]
+        rotations[:count, 3 : 3 + eyes] = motion.left_eye[:count]
+        rotations[:count, 6 : 6 + eyes] = motion.right_eye[:count]
+    return rotations / 180.0
 
 
 def timecode(frame: int, fps: float) -> str:
@@ -80,15 +110,17 @@ def frame_of_timecode(text: str, fps: float) -> float:
     return ((int(hours) * 60 + int(minutes)) * 60 + int(seconds)) * max(1, round(fps)) + float(frames)
 
 
-def live_link_csv(weights: np.ndarray, fps: float) -> str:
+def live_link_csv(weights: np.ndarray, fps: float, rotations: np.ndarray | None = None) -> str:
     """The CSV text: one row per frame, Live Link Face's columns, six decimals."""
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(HEADER)
     count = len(LIVE_LINK_UNITS) + len(ROTATION_COLUMNS)
-    rotations = ["0"] * len(ROTATION_COLUMNS)
+    if rotations is None:
+        rotations = np.zeros((len(weights), len(ROTATION_COLUMNS)))
     for frame, row in enumerate(weights):
-        writer.writerow([timecode(frame, fps), count, *(f"{value:.6f}" for value in row), *rotations])
+        values = (f"{value:.6f}" for value in (*row, *rotations[frame]))
+        writer.writerow([timecode(frame, fps), count, *values])
     return out.getvalue()
 
 
@@ -119,7 +151,7 @@ def read_arkit_csv(path: Path, fps: float) -> tuple[np.ndarray, np.ndarray]:
 @register_export
 class ArkitCsv(ExportFormat):
     name = "arkit-csv"
-    order = 10  # place in the panel's list
+    order = 10
     suffix = ".csv"
     label = "ARKit CSV"
     description = "52 ARKit weights per frame, Live Link Face layout (Unreal, MetaHuman)"
@@ -133,4 +165,4 @@ class ArkitCsv(ExportFormat):
                 "ARKit weights lie in 0..1, so the CSV clips the frames where our keys drive a unit outside "
                 f"that range (negative for lip corners drawn in, above 1 in strong emotions): {units}.",
             )
-        return live_link_csv(weights, tracks.fps), warnings
+        return live_link_csv(weights, tracks.fps, rotation_columns(tracks)), warnings

@@ -54,9 +54,15 @@ def _signature(stream) -> tuple:
     return (context.name, context.width, context.height, context.format.name, stream.average_rate)
 
 
-def join_videos(chunks: list[Path], out: Path, audio: Path | None = None) -> JoinResult:
+def join_videos(
+    chunks: list[Path], out: Path, audio: Path | None = None, whole_speech: bool = True
+) -> JoinResult:
     """Copy the chunks' video packets in order into `out` (MP4), with the audio file as AAC from the first
-    frame on, cut to the video's length. The chunks must share codec, size, pixel format and frame rate."""
+    frame on, cut to the video's length. The chunks must share codec, size, pixel format and frame rate.
+
+    whole_speech: the chunks must hold the whole speech (a farm's join; a shorter video means a chunk is
+    missing); False where the video is a frame range the user chose (one render's own sound).
+    """
     if not chunks:
         raise VideoError("No chunks to join: give the rendered chunk videos in frame order.")
     av = _require_av()
@@ -111,7 +117,9 @@ def join_videos(chunks: list[Path], out: Path, audio: Path | None = None) -> Joi
                 frames += count
             seconds = float(frames / rate)
             if audio_out is not None:
-                _encode_audio(av, output, audio_out, Path(audio), seconds)
+                _encode_audio(
+                    av, output, audio_out, Path(audio), seconds, float(1 / rate), frames, whole_speech
+                )
         os.replace(partial, out)
     finally:
         for container in inputs:
@@ -120,8 +128,14 @@ def join_videos(chunks: list[Path], out: Path, audio: Path | None = None) -> Joi
     return JoinResult(out, frames, seconds, tuple(chunk_frames))
 
 
-def _encode_audio(av, output, stream, audio: Path, seconds: float) -> None:
-    """The audio file as mono AAC, exactly `seconds` long (cut, or padded with silence)."""
+def _encode_audio(
+    av, output, stream, audio: Path, seconds: float, frame_seconds: float, frames: int, whole_speech: bool
+) -> None:
+    """The audio file as mono AAC, exactly `seconds` long (padded with silence after the speech).
+
+    With whole_speech, speech longer than the video by more than a frame means a chunk is missing: refused,
+    not cut.
+    """
     samples_left = int(round(seconds * AUDIO_RATE))
     resampler = av.AudioResampler(format="fltp", layout="mono", rate=AUDIO_RATE)
     try:
@@ -138,6 +152,13 @@ def _encode_audio(av, output, stream, audio: Path, seconds: float) -> None:
             blocks += [resampled.to_ndarray()[0] for resampled in resampler.resample(frame)]
         blocks += [resampled.to_ndarray()[0] for resampled in resampler.resample(None)]
     samples = np.concatenate(blocks) if blocks else np.zeros(0, dtype=np.float32)
+    speech = samples.size / AUDIO_RATE
+    if whole_speech and speech > seconds + frame_seconds + 0.01:
+        raise VideoError(
+            f"The chunks hold {frames} frames ({seconds:.2f} s) and the speech {audio} lasts {speech:.2f} s: "
+            f"a chunk of the frame range is missing (about {round((speech - seconds) / frame_seconds)} "
+            "frames); join every chunk, in order."
+        )
     samples = np.pad(samples[:samples_left], (0, max(0, samples_left - samples.size)))
     frame = av.AudioFrame.from_ndarray(
         np.ascontiguousarray(samples[None, :], dtype=np.float32), "fltp", "mono"

@@ -51,3 +51,30 @@ def shape_runs(labels: np.ndarray) -> list[tuple[int, int, int]]:
 def sampled_weights(tracks: WeightTracks) -> tuple[tuple[str, ...], np.ndarray]:
     """Every track's weight at the integer frames 0 .. frame_count - 1."""
     return tracks.sample(np.arange(tracks.frame_count, dtype=np.float64))
+
+
+def decimated_keys(values: np.ndarray, tolerance: float, passes: int = 4) -> np.ndarray:
+    """Indices of the frames to key so that linear interpolation between them stays within tolerance of
+    every frame's value (smooth motion needs a key every few frames, a saccade every one); first and last
+    always kept. Each pass drops every other key whose neighbours' line stays within tolerance of every
+    frame between them."""
+    values = np.asarray(values, np.float64)
+    keep = np.arange(values.size)
+    frames = np.arange(values.size)
+    for _ in range(passes):
+        if keep.size <= 2:
+            break
+        # The candidates are the keys at odd positions; the others (anchors) stay, and the spans between
+        # neighbouring anchors, one around each candidate, cover the frames without overlapping.
+        anchors = keep[::2] if keep.size % 2 else np.append(keep[::2], keep[-1])
+        line = np.interp(frames, anchors, values[anchors])
+        off = (np.abs(values - line) > tolerance).astype(np.int8)
+        worst = np.maximum.reduceat(off, anchors[:-1])  # per span between anchors
+        candidates = np.arange(1, keep.size - 1, 2)
+        fits = worst[: candidates.size] == 0
+        if not fits.any():
+            break
+        drop = np.zeros(keep.size, bool)
+        drop[candidates[fits]] = True
+        keep = keep[~drop]
+    return keep

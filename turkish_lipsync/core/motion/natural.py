@@ -13,8 +13,10 @@ smile weakens every m, b and p. Here instead:
 - a shape that would be shown for a single frame (and is not a closure) is lowered below half weight, so it
   blends into its neighbours instead of flashing;
 - emotions are separate layers at full strength with onset, apex and offset ramps; their mouth part gives
-  way (TR_emotion_<e>_mouth_release) exactly as much as the lips need to close;
-- seeded blinks every few seconds, and a brow raise on emphasised words.
+  way (TR_emotion_<e>_mouth_release) exactly as much as the lips need to close.
+
+Blinks, gaze, head motion, brows and the life of an emotion's apex are the living layers over either model
+(motion/living/).
 
 Parameters live in shapekeys/motion.toml.
 """
@@ -30,9 +32,6 @@ import numpy as np
 from ..base.data import DATA_DIR, load_table, require
 from ..base.errors import DataError
 from ..base.model import (
-    BLINK_KEYS,
-    BROW_RAISE_KEY,
-    EMOTIONS,
     Timeline,
     WeightTracks,
     emotion_key_name,
@@ -68,9 +67,6 @@ class MotionParameters:
     emotion_onset: float
     emotion_offset: float
     emotion_merge_gap: float
-    eye_closure: dict[str, float]
-    blinks: dict[str, float]
-    brow_raise: dict[str, float]
 
 
 def _number(section: dict, key: str, where: str, low: float = 0.0, high: float = math.inf) -> float:
@@ -91,9 +87,6 @@ def motion_parameters() -> MotionParameters:
     co = require(table, "coarticulation", dict, TABLE)
     classes_table = require(table, "classes", dict, TABLE)
     emotions = require(table, "emotions", dict, TABLE)
-    eye_closure = require(emotions, "eye_closure", dict, TABLE)
-    blinks = require(table, "blinks", dict, TABLE)
-    brow = require(table, "brow_raise", dict, TABLE)
 
     classes: dict[str, VisemeClass] = {}
     for name, entry in classes_table.items():
@@ -126,25 +119,6 @@ def motion_parameters() -> MotionParameters:
                 f"data file {path}: [classes.{kind}] must hold the visemes viseme_set.toml calls {kind}: "
                 f"{', '.join(sorted(visemes_of_kind(kind)))}"
             )
-    unknown_emotions = sorted(set(eye_closure) - set(EMOTIONS))
-    if unknown_emotions:
-        raise DataError(f"data file {path}: [emotions.eye_closure] names unknown emotions {unknown_emotions}")
-
-    blink_keys = (
-        "mean_interval",
-        "min_interval",
-        "max_interval",
-        "first_after",
-        "min_duration",
-        "max_duration",
-    )
-    blink_values = {key: _number(blinks, key, "blinks", 1e-3) for key in blink_keys}
-    for key in ("close_share", "hold_share", "blink_suppress_closure"):
-        blink_values[key] = _number(blinks, key, "blinks", 0.0, 1.0)
-    if blink_values["close_share"] + blink_values["hold_share"] >= 1.0:
-        raise DataError(
-            f"data file {path}: [blinks] close_share + hold_share must stay below 1 (time to open the eyes)"
-        )
     return MotionParameters(
         hold_fraction=_number(co, "hold_fraction", "coarticulation", 0.0, 1.0),
         shape_exponent=_number(co, "shape_exponent", "coarticulation", 0.25, 4.0),
@@ -156,9 +130,6 @@ def motion_parameters() -> MotionParameters:
         emotion_onset=_number(emotions, "onset", "emotions", 1e-3),
         emotion_offset=_number(emotions, "offset", "emotions", 1e-3),
         emotion_merge_gap=_number(emotions, "merge_gap", "emotions", 0.0),
-        eye_closure={e: _number(eye_closure, e, "emotions.eye_closure", 0.0, 1.0) for e in eye_closure},
-        blinks=blink_values,
-        brow_raise={k: _number(brow, k, "brow_raise", 0.0, 10.0) for k in ("weight", "lead", "rise", "fall")},
     )
 
 
@@ -169,10 +140,6 @@ def natural_weight_tracks(
     timeline: Timeline,
     fps: float,
     emotion_strength: float = 1.0,
-    *,
-    blinks: bool = True,
-    brow_raise: bool = True,
-    seed: int = 0,
 ) -> WeightTracks:
     """Weight tracks of the default motion model, keyed at integer frames (linear in between)."""
     if fps <= 0:
@@ -190,18 +157,6 @@ def natural_weight_tracks(
         columns[emotion_key_name(emotion)] = curve
         columns[emotion_release_key_name(emotion)] = curve * np.clip(lip_need, 0.0, 1.0)
 
-    blink_spans: list[tuple[float, float]] = []
-    if blinks:
-        eye_closure = sum(
-            (params.eye_closure.get(e, 0.0) * curve for e, curve in emotion_curves.items()),
-            start=np.zeros(frame_count),
-        )
-        blink_curve, blink_spans = _blink_curve(times, fps, eye_closure, params, seed)
-        for name in BLINK_KEYS:
-            columns[name] = blink_curve
-    if brow_raise and timeline.emphases:
-        columns[BROW_RAISE_KEY] = _brow_curve(timeline.emphases, times, params)
-
     key_frames = np.arange(frame_count, dtype=np.float64)
     tracks = tuple(sparse_track(name, key_frames, values) for name, values in columns.items())
     return WeightTracks(
@@ -210,7 +165,7 @@ def natural_weight_tracks(
         interpolation="LINEAR",
         tracks=tracks,
         mode="natural",
-        extra={"closure_frames": tuple(closure_frames), "blinks": tuple(blink_spans)},
+        extra={"closure_frames": tuple(closure_frames)},
     )
 
 
@@ -400,7 +355,7 @@ def _capped(row: np.ndarray, ceiling: float) -> np.ndarray:
     return row
 
 
-# ---------------------------------------------------------------- emotions, blinks, brows
+# ---------------------------------------------------------------- emotions
 
 
 def _smoothstep(x: np.ndarray) -> np.ndarray:
@@ -434,53 +389,11 @@ def _emotion_curves(
     return {emotion: np.clip(curve, 0.0, 1.0) for emotion, curve in curves.items()}
 
 
-def _blink_curve(
-    times: np.ndarray, fps: float, eye_closure: np.ndarray, params: MotionParameters, seed: int
-) -> tuple[np.ndarray, list[tuple[float, float]]]:
-    """Seeded blinks at random intervals, each shut on a frame; none while an emotion shuts the eyes."""
-    settings = params.blinks
-    rng = np.random.default_rng(seed)
-    curve = np.zeros(times.size)
-    spans = []
-    end_of_time = times[-1] if times.size else 0.0
-    shape = 4.0  # gamma shape: intervals cluster around the mean without being regular
-    time = settings["first_after"] + rng.uniform(0.0, settings["mean_interval"] / 2)
-    while time < end_of_time:
-        duration = rng.uniform(settings["min_duration"], settings["max_duration"])
-        close_frames = max(1, round(duration * settings["close_share"] * fps))
-        hold_frames = max(0, round(duration * settings["hold_share"] * fps))
-        open_frames = max(1, round(duration * (1 - settings["close_share"] - settings["hold_share"]) * fps))
-        first = round(time * fps)
-        last = first + close_frames + hold_frames + open_frames
-        frames = np.arange(first, min(last + 1, times.size))
-        if last < times.size and eye_closure[frames].max() < settings["blink_suppress_closure"]:
-            closing = (frames - first) / close_frames
-            opening = (last - frames) / open_frames
-            profile = np.clip(np.minimum(closing, opening), 0.0, 1.0)
-            curve[frames] = np.maximum(curve[frames], profile)
-            spans.append((first / fps, last / fps))
-        interval = rng.gamma(shape, settings["mean_interval"] / shape)
-        time += float(np.clip(interval, settings["min_interval"], settings["max_interval"]))
-    return curve, spans
-
-
-def _brow_curve(emphases: tuple[tuple[float, float], ...], times: np.ndarray, params: MotionParameters):
-    """The brows lift just before an emphasised word, stay up through it, and settle after it."""
-    brow = params.brow_raise
-    curve = np.zeros(times.size)
-    for start, end in emphases:
-        rise_start = start - brow["lead"]
-        rising = _smoothstep((times - rise_start) / max(brow["rise"], 1e-6))
-        falling = 1.0 - _smoothstep((times - end) / max(brow["fall"], 1e-6))
-        curve = np.maximum(curve, brow["weight"] * np.minimum(rising, falling))
-    return np.clip(curve, 0.0, 1.0)
-
-
 @MOTION_MODELS.register
 class NaturalMotion(MotionModel):
     name = "natural"
     label = "Natural"
-    description = "Co-articulation, blinks and brow movement"
+    description = "Co-articulation, hard lip closures and layered emotions"
 
     def weight_tracks(self, timeline: Timeline, fps: float, emotion_strength: float = 1.0) -> WeightTracks:
         return natural_weight_tracks(timeline, fps, emotion_strength)

@@ -35,6 +35,8 @@ CUE_TIMING = "cues"
 _MISMATCH = 1.0
 _REST_MISMATCH = 2.0
 _PLACE_WEIGHT = 2.0  # cost of a whole stretch's distance from the expected place
+CUES_PER_LETTER = 3.0  # more mouth changes than this per letter is not a reading of the text
+LENGTH_FACTOR = 4.0  # the file's speech this many times longer or shorter than the text's is warned
 _MAX_CELLS = 4_000_000  # letters x cues of one stretch (about 50 MB of alignment tables)
 
 
@@ -86,7 +88,9 @@ def speech_from_cues(
             "give the Turkish text it was made from"
         )
     utterance = build_utterance(text)
+    _check_cues_fit_the_text(utterance, cue_source)
     timeline, warnings = timeline_from_cues(utterance, cue_source)
+    warnings += _length_warnings(utterance, cue_source)
     audio = Path(recording) if recording is not None else None
     if audio is None and cue_source.sound_file:
         named = cue_source.path.parent / cue_source.sound_file
@@ -103,6 +107,30 @@ def speech_from_cues(
         pcm = np.clip(np.round(samples * 32768), -32768, 32767).astype(np.int16)  # 16-bit WAVs exactly
         synthesis = Synthesis(pcm, rate, (), (), "recording")
     return utterance, Speech(timeline, synthesis, warnings)
+
+
+def _check_cues_fit_the_text(utterance: Utterance, source: CueSource) -> None:
+    """A cue file of far more mouth changes than the text has letters is another text's (or the text is a
+    small part of the recording): refused, where aligning them would spread each letter over seconds."""
+    spoken = sum(1 for cue in source.cues if cue.shape != REST)
+    letters = len(utterance.letters)
+    if spoken > CUES_PER_LETTER * letters + 20:
+        raise CueFileError(
+            f"{source.path} holds {spoken:,} mouth changes for a text of {letters:,} letters (a reading has "
+            f"fewer changes than letters): give the text the file was made from, or the cue file of this text"
+        )
+
+
+def _length_warnings(utterance: Utterance, source: CueSource) -> tuple[str, ...]:
+    """A cue file much longer or shorter than the text would take to say: each letter is stretched."""
+    expected = float(letter_durations(utterance).sum()) + sum(word.pause_before for word in utterance.words)
+    spoken = sum(cue.end - cue.start for cue in source.cues if cue.shape != REST)
+    if expected <= 0 or not (1 / LENGTH_FACTOR <= spoken / expected <= LENGTH_FACTOR):
+        return (
+            f"{source.path} speaks for {spoken:.1f} s, and the text takes about {expected:.1f} s to say: "
+            "each letter is stretched to fit; check that the file is the cue file of this text.",
+        )
+    return ()
 
 
 def _speech_runs(cues: tuple[MouthCue, ...]) -> list[list[MouthCue]]:
@@ -136,15 +164,28 @@ def _pair_stretches(
             if phrases:
                 pauses.append(word.pause_before)
             phrases.append(letters)
-    while len(runs) > len(phrases):  # bridge the shortest rest in the file
-        gaps = [runs[i + 1][0].start - runs[i][-1].end for i in range(len(runs) - 1)]
-        i = int(np.argmin(gaps))
-        rest = MouthCue(runs[i][-1].end, runs[i + 1][0].start, REST)
-        runs[i : i + 2] = [runs[i] + ([rest] if rest.end > rest.start else []) + runs[i + 1]]
-    while len(phrases) > len(runs):  # join the phrases with the shortest pause between them
-        i = int(np.argmin(pauses))
-        phrases[i : i + 2] = [range(phrases[i].start, phrases[i + 1].stop)]
-        del pauses[i]
+    if len(runs) > len(
+        phrases
+    ):  # bridge the file's shortest rests (bridging one leaves the others as they are)
+        gaps = np.array([runs[i + 1][0].start - runs[i][-1].end for i in range(len(runs) - 1)])
+        bridged = set(np.argsort(gaps, kind="stable")[: len(runs) - len(phrases)].tolist())
+        joined: list[list[MouthCue]] = [list(runs[0])]
+        for i in range(1, len(runs)):
+            if i - 1 in bridged:
+                rest = MouthCue(runs[i - 1][-1].end, runs[i][0].start, REST)
+                joined[-1].extend(([rest] if rest.end > rest.start else []) + runs[i])
+            else:
+                joined.append(list(runs[i]))
+        runs = joined
+    if len(phrases) > len(runs):  # join the text's phrases with the shortest pauses between them
+        joins = set(np.argsort(np.array(pauses), kind="stable")[: len(phrases) - len(runs)].tolist())
+        merged = [phrases[0]]
+        for i in range(1, len(phrases)):
+            if i - 1 in joins:
+                merged[-1] = range(merged[-1].start, phrases[i].stop)
+            else:
+                merged.append(phrases[i])
+        phrases = merged
     return phrases, runs
 
 

@@ -37,14 +37,21 @@ def frame_seconds(frames: np.ndarray | float, lead: int = 0) -> np.ndarray:
     return ((np.asarray(frames, dtype=np.float64) - lead) * HOP + WINDOW / 2) / ANALYSIS_RATE
 
 
-def mel_energies(samples: np.ndarray, warp: float = 1.0, top_hertz: float = TOP_HERTZ) -> np.ndarray:
-    """Mel band energies (frames x MEL_BANDS, float32) of 16 kHz samples; warp > 1 lowers the formants.
+def mel_energies(
+    samples: np.ndarray,
+    warp: float = 1.0,
+    top_hertz: float = TOP_HERTZ,
+    bands: int = MEL_BANDS,
+    low_hertz: float = LOW_HERTZ,
+) -> np.ndarray:
+    """Mel band energies (frames x bands, float32) of 16 kHz samples; warp > 1 lowers the formants.
 
-    top_hertz: highest frequency described (both signals of an alignment must use the same one).
+    top_hertz: highest frequency described (both signals of an alignment must use the same one); the
+    recogniser (recognition/acoustics.py) describes more bands from lower down, where nasals murmur.
     """
-    filters = mel_filters(warp, top_hertz).T
+    filters = mel_filters(warp, top_hertz, bands, low_hertz).T
     count = frame_count(samples.size)
-    energies = np.empty((count, MEL_BANDS), np.float32)
+    energies = np.empty((count, bands), np.float32)
     for begin, power in power_spectra(samples):
         energies[begin : begin + len(power)] = power @ filters
     return energies
@@ -106,8 +113,10 @@ def cepstra(energies: np.ndarray, level: np.ndarray, floor: np.ndarray, speech: 
     return features.astype(np.float32)
 
 
-def mel_filters(warp: float, top_hertz: float) -> np.ndarray:
-    """Triangular mel filters (MEL_BANDS x FFT_SIZE // 2 + 1), LOW_HERTZ to top_hertz, stretched by warp."""
+def mel_filters(
+    warp: float, top_hertz: float, bands: int = MEL_BANDS, low_hertz: float = LOW_HERTZ
+) -> np.ndarray:
+    """Triangular mel filters (bands x FFT_SIZE // 2 + 1), low_hertz to top_hertz, stretched by warp."""
 
     def to_mel(hertz):
         return 2595 * np.log10(1 + np.asarray(hertz) / 700)
@@ -115,7 +124,7 @@ def mel_filters(warp: float, top_hertz: float) -> np.ndarray:
     def to_hertz(mel):
         return 700 * (10 ** (np.asarray(mel) / 2595) - 1)
 
-    edges = to_hertz(np.linspace(to_mel(LOW_HERTZ), to_mel(top_hertz), MEL_BANDS + 2)) * warp
+    edges = to_hertz(np.linspace(to_mel(low_hertz), to_mel(top_hertz), bands + 2)) * warp
     bins = np.fft.rfftfreq(FFT_SIZE, 1 / ANALYSIS_RATE)
     lower, centre, upper = edges[:-2, None], edges[1:-1, None], edges[2:, None]
     rising = (bins[None, :] - lower) / (centre - lower)

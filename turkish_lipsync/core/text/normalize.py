@@ -253,12 +253,16 @@ class _RunNormalizer:
         reading = self.forms.after_symbol(token.start)
         if reading is not None:
             return self.finish(reading)
+        stands_alone = previous is None or previous.kind in ("space", "paragraph", "other")
         if following is not None and following.kind == "number":
-            if char in _MINUS_SIGNS and (
-                previous is None or previous.kind in ("space", "paragraph", "other")
-            ):
+            if char in _MINUS_SIGNS and stands_alone:
                 self.emit_words([(tables.words["minus"], self.offsets[token.start])])
                 return self.number(tokens, index + 1)
+        if char in _MINUS_SIGNS and stands_alone and following is not None and following.text == "%":
+            after = tokens[index + 2] if index + 2 < len(tokens) else None
+            if after is not None and after.kind == "number":  # -%3: eksi yüzde üç
+                self.emit_words([(tables.words["minus"], self.offsets[token.start])])
+                return index + 1
         if char in _PUNCTUATION_PAUSES:
             if char == "." and index + 2 < len(tokens) and tokens[index + 1].text == ".":
                 return index + 1  # "..." pauses once, at its last dot

@@ -3,14 +3,21 @@
 from __future__ import annotations
 
 import dataclasses
+import unicodedata
+from collections.abc import Iterable
 from dataclasses import replace
 
 from ..base.errors import TextError
-from ..base.model import Letter, Pause, SpokenWord, Syllable, Utterance, Word
+from ..base.model import Letter, Pause, SpokenWord, Syllable, TextRun, Utterance, Word
 from .jsml import parse_jsml
 from .normalize import normalize
 from .syllables import VOWELS, syllabify, syllable_vowel
+from .tables import fold_letter
 from .visemes import viseme_for_letter
+
+# Reading a text takes time in proportion to its length (about 20 s for this many characters on one core):
+# longer texts are refused at once instead.
+MAX_SOURCE_CHARACTERS = 1_000_000
 
 # The punctuation a pause stands for, as the speech engine reads it.
 PAUSE_ENDINGS = {
@@ -25,11 +32,37 @@ PAUSE_ENDINGS = {
 
 def build_utterance(source: str) -> Utterance:
     """Parse, normalise, syllabify and map every letter to its viseme (thesis 5.2.2-5.2.3)."""
+    if len(source) > MAX_SOURCE_CHARACTERS:
+        raise TextError(
+            f"the text has {len(source):,} characters, more than the {MAX_SOURCE_CHARACTERS:,} (about 20 "
+            "hours of speech) one text may hold: split it into several texts"
+        )
+    items = parse_jsml(source)
+    unspoken = unspoken_characters(items)
+    try:
+        normalized = normalize(items)
+    except TextError as error:
+        if unspoken:
+            raise TextError(
+                f"{error} (left out, as Turkish speech cannot say them: {_quoted(unspoken)})"
+            ) from None
+        raise
+    return assemble_utterance(source, normalized, unspoken)
+
+
+def assemble_utterance(
+    source: str, items: Iterable[SpokenWord | Pause], unspoken: tuple[str, ...] = ()
+) -> Utterance:
+    """The utterance of words as spoken and the pauses between them: syllables, letters and visemes.
+
+    build_utterance's last step; a text recognised from audio (speech/recognition) starts here, since it
+    is already spoken Turkish letters and must not be read again as written text (an acronym's letters).
+    """
     words: list[Word] = []
     syllables: list[Syllable] = []
     letters: list[Letter] = []
     pending_pause = 0.0
-    for item in normalize(parse_jsml(source)):
+    for item in items:
         if isinstance(item, Pause):
             pending_pause += item.seconds
             if words and item.kind in PAUSE_ENDINGS and not words[-1].ending:
@@ -45,6 +78,44 @@ def build_utterance(source: str) -> Utterance:
         syllables=tuple(syllables),
         letters=tuple(letters),
         final_pause=pending_pause,
+        unspoken=unspoken,
+    )
+
+
+def unspoken_characters(items) -> tuple[str, ...]:
+    """Stretches of the text that are spoken as nothing: letters of other scripts (Cyrillic, Arabic, Han,
+    ...) and pictographs (emoji, symbols), each stretch as written."""
+    found: list[str] = []
+    for item in items:
+        if not isinstance(item, TextRun):
+            continue
+        current = ""
+        for char in item.text + " ":
+            category = unicodedata.category(char)
+            silent = (category.startswith("L") and not fold_letter(char)) or category == "So"
+            # a zero-width joiner, a variation selector, a mark or a skin tone belongs to what it follows
+            joiner = current and (char in "\u200d\ufe0f" or category in ("Mn", "Me", "Sk"))
+            if silent or joiner:
+                current += char
+            elif current:
+                found.append(current)
+                current = ""
+    return tuple(found)
+
+
+def _quoted(stretches: tuple[str, ...], shown: int = 5) -> str:
+    text = ", ".join(repr(stretch) for stretch in stretches[:shown])
+    return text + (f" and {len(stretches) - shown} more" if len(stretches) > shown else "")
+
+
+def unspoken_warning(utterance: Utterance) -> tuple[str, ...]:
+    """The warning for what the text holds that is left silent (none where everything is spoken)."""
+    if not utterance.unspoken:
+        return ()
+    return (
+        f"The text holds characters Turkish speech cannot say; they are left silent: "
+        f"{_quoted(utterance.unspoken)}. Write them out in Turkish (or give a <SAYAS SUB> reading) to "
+        "have them spoken.",
     )
 
 

@@ -71,7 +71,7 @@ _TIMES = re.compile(
     rf"(?P<first>{_NUMBER})[^\S\n]?(?P<sign>[x×])[^\S\n]?(?P<second>{_NUMBER})(?![0-9])"
 )  # 1920x1080
 _PERCENT = re.compile(
-    rf"%[^\S\n]?(?P<first>[0-9]+\.[0-9]{{1,2}}(?![0-9])|{_NUMBER})(?:[{_DASHES}]%?(?P<second>{_NUMBER}))?(?![0-9])"
+    rf"%[^\S\n]?(?P<minus>[-−])?(?P<first>[0-9]+\.[0-9]{{1,2}}(?![0-9])|{_NUMBER})(?:[{_DASHES}]%?(?P<second>{_NUMBER}))?(?![0-9])"
 )
 _DEGREES = re.compile(
     r"(?P<degrees>[0-9]+(?:[.,][0-9]+)?)°(?:[^\S\n]?(?P<minutes>[0-9]+)['′]"
@@ -466,13 +466,14 @@ class WrittenForms:
         return turkish_lower(match.group(1)) if match else None
 
     def percent(self, start: int) -> Reading | None:
-        """%18,5 yüzde on sekiz virgül beş; %10-20 yüzde on ile yirmi."""
+        """%18,5 yüzde on sekiz virgül beş; %10-20 yüzde on ile yirmi; %-3 yüzde eksi üç."""
         match = _PERCENT.match(self.text, start)
         if not match:
             return None
-        words = [self.spoken(self.tables.words["percent"], start)] + self.group_words(
-            match, "first", self.number
-        )
+        words = [self.spoken(self.tables.words["percent"], start)]
+        if match.group("minus"):  # %-3: yüzde eksi üç
+            words.append(self.spoken(self.tables.words["minus"], match.start("minus")))
+        words += self.group_words(match, "first", self.number)
         if match.group("second"):
             words.append(self.spoken(self.tables.words["range"], match.end("first")))
             if self.text[match.start("second") - 1] == "%":

@@ -19,6 +19,10 @@ from ...base.registry import Registry
 from .shapes import REST, SHAPES, shape_for_viseme
 
 SHORTEST = 1e-6  # seconds: cues shorter than this carry nothing and are dropped
+# A cue file holds about ten mouth changes a second: a million is more than a day of speech. Larger files
+# are refused before they are parsed (a 50 MB file of 4 million cues in well under a second).
+MAX_CUES = 1_000_000
+MAX_FILE_BYTES = 256 * 1024 * 1024
 
 
 class CueFileError(LipSyncError):
@@ -107,7 +111,24 @@ def frame_of(seconds: float, fps: float) -> int:
 
 
 def read_text(path: Path) -> str:
+    try:
+        size = Path(path).stat().st_size
+    except OSError:
+        size = 0  # read_user_text says what is wrong with the path
+    if size > MAX_FILE_BYTES:
+        raise CueFileError(
+            f"{path}: {size / 1e6:.0f} MB is more than a cue file of a day of speech; is it one?"
+        )
     return read_user_text(path, "cue file", CueFileError)
+
+
+def check_cue_count(path: Path, count: int) -> None:
+    """Refuse a file of more cues than MAX_CUES (counted before the cues are parsed one by one)."""
+    if count > MAX_CUES:
+        raise CueFileError(
+            f"{path}: {count:,} mouth cues are more than the {MAX_CUES:,} (over a day of speech) a cue file "
+            "may hold; split the recording and its cue file"
+        )
 
 
 def checked_shape(path: Path, where: str, value: object) -> str:
@@ -135,10 +156,25 @@ def ordered(path: Path, cues: list[MouthCue]) -> tuple[MouthCue, ...]:
             raise CueFileError(
                 f"{path}: the cue at {cue.start:.3f} s comes before the one at {previous.start:.3f} s"
             )
+        if cue.start < previous.end - SHORTEST:
+            raise CueFileError(
+                f"{path}: the cue at {cue.start:.3f} s begins before the one before it ends "
+                f"({previous.end:.3f} s): cues may not overlap"
+            )
     return tuple(cues)
 
 
-def cues_from_records(path: Path, records: list[tuple[str, object, object, object]]) -> list[MouthCue]:
+def source_from_records(
+    path: Path, records: list[tuple[str, object, object, object]], duration: object, sound_file: str
+) -> CueSource:
+    """A file's cues from its (where, start, end, shape) records, each checked, and its length (the last
+    cue's end where the file does not say)."""
+    cues = ordered(path, _cues_from_records(path, records))
+    length = checked_time(path, "duration", cues[-1].end if duration is None else duration)
+    return CueSource(path, cues, length, sound_file=sound_file)
+
+
+def _cues_from_records(path: Path, records: list[tuple[str, object, object, object]]) -> list[MouthCue]:
     """Cues from (where, start, end, shape) records, each checked (an end before its start is refused)."""
     cues = []
     for where, start, end, shape in records:

@@ -9,7 +9,17 @@ from __future__ import annotations
 from pathlib import Path
 
 from ...base.model import Timeline
-from .common import CueFileError, CueFormat, CueSource, MouthCue, frame_of, mouth_cues, read_text, register
+from .common import (
+    CueFileError,
+    CueFormat,
+    CueSource,
+    MouthCue,
+    check_cue_count,
+    frame_of,
+    mouth_cues,
+    read_text,
+    register,
+)
 from .shapes import shape_for_phoneme, shape_table, uses_preston_blair
 
 MOHO_HEADER = "MohoSwitch1"
@@ -18,7 +28,7 @@ MOHO_HEADER = "MohoSwitch1"
 @register
 class MohoDat(CueFormat):
     name = "moho-dat"
-    order = 4  # place in the panel's list
+    order = 4
     suffixes = (".dat",)
     label = "Moho Switch Data"
     description = "Preston Blair mouths per frame for Moho and OpenToonz (.dat)"
@@ -29,7 +39,9 @@ class MohoDat(CueFormat):
         Frames count from 1 and must rise from line to line: a file that goes back in time or names frame 0
         is refused with its line.
         """
-        lines = [(number, line.strip()) for number, line in enumerate(read_text(path).splitlines(), 1)]
+        text = read_text(path)
+        check_cue_count(path, text.count("\n"))
+        lines = [(number, line.strip()) for number, line in enumerate(text.splitlines(), 1)]
         lines = [(number, line) for number, line in lines if line]
         if not lines or lines[0][1] != MOHO_HEADER:
             raise CueFileError(f"{path}: line 1 must be '{MOHO_HEADER}': is this Moho switch data?")

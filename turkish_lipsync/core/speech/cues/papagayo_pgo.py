@@ -10,8 +10,19 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from ...base.model import Timeline
-from .common import CueFileError, CueFormat, CueSource, MouthCue, frame_of, read_text, register
+from .common import (
+    CueFileError,
+    CueFormat,
+    CueSource,
+    MouthCue,
+    check_cue_count,
+    frame_of,
+    read_text,
+    register,
+)
 from .shapes import REST, shape_for_phoneme, shape_for_viseme, shape_table, uses_preston_blair
 
 PAPAGAYO_HEADER = "lipsync version 1"
@@ -116,7 +127,9 @@ class _Lines:
 
 def read_pgo(path: Path) -> PapagayoDocument:
     """The first voice of a Papagayo project: its text, words and phonemes (Preston Blair or Rhubarb)."""
-    lines = _Lines(path, read_text(path))
+    text = read_text(path)
+    check_cue_count(path, text.count("\n"))
+    lines = _Lines(path, text)
     if lines.next("the header").lower() != PAPAGAYO_HEADER:
         raise CueFileError(f"{path}: line 1 must be '{PAPAGAYO_HEADER}': is this a Papagayo project (.pgo)?")
     sound_path = lines.next("the sound file")
@@ -151,9 +164,16 @@ def read_pgo(path: Path) -> PapagayoDocument:
             raw_words.append((" ".join(fields[:-3]), start, max(start, end), phonemes))
     preston_blair = uses_preston_blair(name for *_, phonemes in raw_words for _, name, _ in phonemes)
     words = []
+    previous_frame = None
     for word_text, start, end, phonemes in raw_words:
         shapes = []
         for frame, name, number in phonemes:
+            if previous_frame is not None and frame < previous_frame:
+                raise CueFileError(
+                    f"{path}: line {number}: phoneme frame {frame} comes before frame {previous_frame} of "
+                    "the one before it: phonemes must be in the order they are spoken"
+                )
+            previous_frame = frame
             shape = shape_for_phoneme(name, preston_blair)
             if shape is None:
                 raise CueFileError(
@@ -169,12 +189,24 @@ def read_pgo(path: Path) -> PapagayoDocument:
     return PapagayoDocument(fps, sound_path, duration_frames, text, tuple(words), voice_count)
 
 
-def rest_between(document: PapagayoDocument) -> tuple[MouthCue, ...]:
-    """Every phoneme of the document as cues, with rest (X) between the words."""
+def spoken_words(document: PapagayoDocument) -> tuple[tuple[str, tuple[MouthCue, ...]], ...]:
+    """Each word's text and cues, no two cues overlapping: a word whose last frame is the next word's first
+    (spans are inclusive, so both claim it) ends where the next one begins."""
+    words = [(word.text, list(document.word_cues(word))) for word in document.words]
+    following = np.inf  # where the next word's first cue begins
+    for _, cues in reversed(words):
+        kept = [MouthCue(c.start, min(c.end, following), c.shape) for c in cues if c.start < following]
+        if cues:
+            following = min(following, cues[0].start)
+        cues[:] = kept
+    return tuple((text, tuple(cues)) for text, cues in words)
+
+
+def rest_between(words: tuple[tuple[str, tuple[MouthCue, ...]], ...]) -> tuple[MouthCue, ...]:
+    """Every phoneme of the words as cues, with rest (X) between the words."""
     cues: list[MouthCue] = []
     time = 0.0
-    for word in document.words:
-        word_cues = document.word_cues(word)
+    for _, word_cues in words:
         if word_cues and word_cues[0].start > time:
             cues.append(MouthCue(time, word_cues[0].start, REST))
         cues += word_cues
@@ -185,7 +217,7 @@ def rest_between(document: PapagayoDocument) -> tuple[MouthCue, ...]:
 @register
 class PapagayoPgo(CueFormat):
     name = "papagayo-pgo"
-    order = 5  # place in the panel's list
+    order = 5
     suffixes = (".pgo",)
     label = "Papagayo Project"
     description = "Words and mouths per frame for Papagayo-NG (.pgo)"
@@ -196,8 +228,10 @@ class PapagayoPgo(CueFormat):
         warnings = ()
         if document.voice_count > 1:
             warnings = (f"{path} has {document.voice_count} voices; only the first one's timing is used.",)
-        words = tuple((word.text, document.word_cues(word)) for word in document.words)
-        cues = rest_between(document)
+        words = spoken_words(document)
+        cues = rest_between(words)
+        if not cues:
+            raise CueFileError(f"{path}: the first voice's words hold no phonemes; break them down first")
         return CueSource(
             path,
             cues,

@@ -13,19 +13,18 @@ from .common import (
     CueFileError,
     CueFormat,
     CueSource,
-    checked_time,
-    cues_from_records,
+    check_cue_count,
     mouth_cues,
-    ordered,
     read_text,
     register,
+    source_from_records,
 )
 
 
 @register
 class RhubarbJson(CueFormat):
     name = "rhubarb-json"
-    order = 2  # place in the panel's list
+    order = 2
     suffixes = (".json",)
     label = "Rhubarb JSON"
     description = "Mouth cues A-H and X as JSON (Godot, Unity, Spine, web players)"
@@ -38,15 +37,16 @@ class RhubarbJson(CueFormat):
         entries = document.get("mouthCues") if isinstance(document, dict) else None
         if not isinstance(entries, list):
             raise CueFileError(f"{path}: no 'mouthCues' list: is this a Rhubarb JSON file?")
+        check_cue_count(path, len(entries))
         records = []
         for index, entry in enumerate(entries):
             if not isinstance(entry, dict):
                 raise CueFileError(f"{path}: mouthCues[{index}] must be an object with start, end and value")
             records.append((f"mouthCues[{index}]", entry.get("start"), entry.get("end"), entry.get("value")))
-        cues = ordered(path, cues_from_records(path, records))
         metadata = document.get("metadata") if isinstance(document.get("metadata"), dict) else {}
-        duration = checked_time(path, "metadata.duration", metadata.get("duration", cues[-1].end))
-        return CueSource(path, cues, duration, sound_file=str(metadata.get("soundFile", "")))
+        return source_from_records(
+            path, records, metadata.get("duration"), str(metadata.get("soundFile", ""))
+        )
 
     def write(self, timeline: Timeline, fps: float, *, sound_file: str = "", text: str = ""):
         document = {

@@ -10,6 +10,7 @@ from .common import (
     CueFormat,
     CueSource,
     MouthCue,
+    check_cue_count,
     checked_shape,
     checked_time,
     mouth_cues,
@@ -23,7 +24,7 @@ from .shapes import REST
 @register
 class RhubarbTsv(CueFormat):
     name = "rhubarb-tsv"
-    order = 1  # place in the panel's list
+    order = 1
     suffixes = (".tsv", ".txt")
     label = "Rhubarb TSV"
     description = "Mouth cues A-H and X with their start times (Rhubarb Lip Sync)"
@@ -31,7 +32,9 @@ class RhubarbTsv(CueFormat):
     def read(self, path: Path, fps: float) -> CueSource:
         """The last cue ends where the file's last line starts."""
         starts: list[tuple[float, str]] = []
-        for number, line in enumerate(read_text(path).splitlines(), start=1):
+        text = read_text(path)
+        check_cue_count(path, text.count("\n"))
+        for number, line in enumerate(text.splitlines(), start=1):
             if not line.strip() or line.lstrip().startswith("#"):
                 continue
             fields = line.split("\t") if "\t" in line else line.split()

@@ -11,19 +11,18 @@ from .common import (
     CueFileError,
     CueFormat,
     CueSource,
-    checked_time,
-    cues_from_records,
+    check_cue_count,
     mouth_cues,
-    ordered,
     read_text,
     register,
+    source_from_records,
 )
 
 
 @register
 class RhubarbXml(CueFormat):
     name = "rhubarb-xml"
-    order = 3  # place in the panel's list
+    order = 3
     suffixes = (".xml",)
     label = "Rhubarb XML"
     description = "Mouth cues A-H and X as XML (Rhubarb Lip Sync's XML output)"
@@ -33,6 +32,7 @@ class RhubarbXml(CueFormat):
         text = read_text(path)
         if "<!DOCTYPE" in text or "<!ENTITY" in text:
             raise CueFileError(f"{path}: XML with a DTD or entities is not read; Rhubarb never writes them")
+        check_cue_count(path, text.count("<mouthCue "))
         try:
             root = ElementTree.fromstring(text)
         except ElementTree.ParseError as error:
@@ -42,9 +42,8 @@ class RhubarbXml(CueFormat):
             (f"mouthCue {index + 1}", element.get("start"), element.get("end"), (element.text or "").strip())
             for index, element in enumerate(root.iter("mouthCue"))
         ]
-        cues = ordered(path, cues_from_records(path, records))
-        duration = checked_time(path, "duration", root.findtext("metadata/duration") or cues[-1].end)
-        return CueSource(path, cues, duration, sound_file=root.findtext("metadata/soundFile") or "")
+        duration = root.findtext("metadata/duration") or None
+        return source_from_records(path, records, duration, root.findtext("metadata/soundFile") or "")
 
     def write(self, timeline: Timeline, fps: float, *, sound_file: str = "", text: str = ""):
         lines = [

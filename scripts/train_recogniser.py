@@ -1,0 +1,449 @@
+"""Train the audio-only recogniser's network on speech the project makes itself, and write its weights.
+
+    nice -n 10 /path/to/recogniser-venv/bin/python scripts/train_recogniser.py [--clips 5000] [--epochs 14]
+        [--seed 7] [--cache DIR] [--out turkish_lipsync/core/speech/recognition/phone_network.npz]
+
+Set-up (once, outside the repository; torch is never a dependency of the extension, which runs the
+network with numpy alone, recognition/network.py):
+
+    python3.11 -m venv ~/recogniser-venv
+    ~/recogniser-venv/bin/pip install torch==2.13.0 -r requirements-dev.txt
+
+What it does, every step seeded (the same seed gives the same corpus, voices, degradations and initial
+weights; torch's CPU kernels may still differ in the last bits between machines):
+
+1. Texts: the tuning sentences of examples/corpus_tr.txt (lines 1-30) and random sentences of wordfreq's
+   Turkish words; the held-out sentences (lines 31-50) and their words are never used.
+2. Voices: eSpeak NG's Turkish voice in every variant of its data but the held-out ones (HELD_OUT_VARIANTS,
+   which scripts/measure_recogniser.py speaks), at random rates (-30 %..+45 %) and pitches (-45 %..+45 %);
+   the labels are the engine's own phone events matched to the letters (speech/align.py), one per 10 ms
+   frame (recognition/labels.py).
+3. Degradations, drawn per clip: a speed change by resampling (formants and pitch up or down by up to
+   12 %, as another vocal tract), a synthetic room (RT60 0.15-0.8 s), a telephone or a muffled band, room
+   noise (white, pink, brown, babble-like) at 0-40 dB SNR or none, synthetic music underneath, noise or
+   silence before and after the speech. Some clips are music or noise alone, labelled silence, so that a
+   take without speech is recognised as such.
+4. The network (recognition/network.py's layout): a convolution over five frames, five residual blocks of
+   dilated convolutions (dilations 1, 2, 4, 8, 16: it hears 0.35 s each side) and a softmax over the
+   letters and silence, trained with Adam on frame-wise cross-entropy.
+5. Written with it: each class's share of the frames (the decoder divides the posteriors by it), the
+   letter-to-letter transition counts of the training texts (the decoder's bigram), the shortest
+   durations, the training voices and the held-out ones.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import multiprocessing
+import re
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+REPOSITORY = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPOSITORY))
+
+from turkish_lipsync.core.speech import espeak, synthesize_timeline  # noqa: E402
+from turkish_lipsync.core.speech.audio import resample  # noqa: E402
+from turkish_lipsync.core.speech.features import ANALYSIS_RATE  # noqa: E402
+from turkish_lipsync.core.speech.recognition.acoustics import FEATURE_COUNT, recogniser_features  # noqa: E402
+from turkish_lipsync.core.speech.recognition.labels import CLASSES, FRAME_SECONDS, frame_labels  # noqa: E402
+from turkish_lipsync.core.speech.recognition.network import (  # noqa: E402
+    CHANNELS,
+    DILATIONS,
+    FIRST_KERNEL,
+    KERNEL,
+    WEIGHTS_FILE,
+)
+from turkish_lipsync.core.text.utterance import build_utterance  # noqa: E402
+
+CORPUS = REPOSITORY / "examples" / "corpus_tr.txt"
+TUNING_LINES = 30
+# Spoken only by scripts/measure_recogniser.py: voices the network never heard.
+HELD_OUT_VARIANTS = ("m3", "f4", "klatt3", "Andrea", "benjamin", "steph2", "iven2", "grandpa")
+TURKISH_WORD = re.compile(r"^[abcçdefgğhıijklmnoöprsştuüvyz]+$")
+CROP_FRAMES = 400
+NON_SPEECH_SHARE = 0.05
+
+
+def training_variants() -> list[str]:
+    """Every variant in eSpeak NG's data (the espeakng-loader wheel's) but the held-out ones."""
+    import espeakng_loader
+
+    folder = Path(espeakng_loader.get_data_path()) / "voices" / "!v"
+    return sorted(name.name for name in folder.iterdir() if name.name not in HELD_OUT_VARIANTS)
+
+
+def held_out_sentences() -> list[str]:
+    lines = [line.strip() for line in CORPUS.read_text(encoding="utf-8").splitlines() if line.strip()]
+    return lines[TUNING_LINES:]
+
+
+def training_texts(count: int, rng: np.random.Generator) -> list[str]:
+    """The tuning sentences and random sentences of real Turkish words (none of the held-out ones)."""
+    import wordfreq
+
+    lines = [line.strip() for line in CORPUS.read_text(encoding="utf-8").splitlines() if line.strip()]
+    forbidden = {word for line in held_out_sentences() for word in re.findall(r"\w+", line.lower())}
+    words = [word for word in wordfreq.top_n_list("tr", 30_000) if TURKISH_WORD.match(word)]
+    words = [word for word in words if word not in forbidden]
+    weights = 1.0 / np.sqrt(np.arange(1, len(words) + 1))
+    weights /= weights.sum()
+    texts = list(lines[:TUNING_LINES])
+    while len(texts) < count:
+        chosen = rng.choice(len(words), size=int(rng.integers(3, 15)), p=weights)
+        sentence = ""
+        for position, index in enumerate(chosen):
+            sentence += (" " if position else "") + words[index]
+            if position + 1 < len(chosen) and rng.random() < 0.12:
+                sentence += ","
+        texts.append(sentence[0].upper() + sentence[1:] + rng.choice([".", ".", ".", "?", "!"]))
+    return texts
+
+
+def speak(text: str, variant: str, pitch: int, rate: int, sample_rate: int = ANALYSIS_RATE):
+    """Float samples of the text in the variant (16 kHz unless asked), and its timeline (the truth)."""
+    library = espeak._library()
+    utterance = build_utterance(f'<PROS PITCH="{pitch:+d}%" RATE="{rate:+d}%">{text}</PROS>')
+    with library.lock:
+        library.handle.espeak_SetVoiceByName(f"tr+{variant}".encode())
+    try:
+        speech = synthesize_timeline(utterance)
+    finally:
+        with library.lock:
+            library.handle.espeak_SetVoiceByName(b"tr")
+    synthesis = speech.synthesis
+    samples = resample(synthesis.samples.astype(np.float32) / 32768, synthesis.sample_rate, sample_rate)
+    return samples, speech.timeline
+
+
+# ---------------------------------------------------------------- degradations (16 kHz)
+
+
+def coloured_noise(count: int, colour: str, rng: np.random.Generator) -> np.ndarray:
+    """Unit-power noise: white, pink (1/f), brown (1/f^2) or babble-like (speech-shaped, pulsing)."""
+    white = rng.normal(size=count)
+    if colour in ("pink", "brown", "babble"):
+        spectrum = np.fft.rfft(white)
+        frequency = np.maximum(np.fft.rfftfreq(count, 1 / ANALYSIS_RATE), 20.0)
+        if colour == "babble":
+            spectrum *= np.exp(-(((np.log(frequency) - np.log(600)) / 1.0) ** 2))
+        else:
+            spectrum /= frequency ** (0.5 if colour == "pink" else 1.0)
+        white = np.fft.irfft(spectrum, count)
+        if colour == "babble":
+            white *= 1 + 0.6 * np.sin(2 * np.pi * 4 * np.arange(count) / ANALYSIS_RATE + rng.random() * 6)
+    return white / np.sqrt(np.mean(white**2) + 1e-20)
+
+
+def speech_power(samples: np.ndarray) -> float:
+    frames = samples[: samples.size // 320 * 320].reshape(-1, 320)
+    power = np.mean(frames**2, axis=1)
+    return float(np.mean(power[power >= np.median(power)]) + 1e-12)
+
+
+def room(samples: np.ndarray, seconds: float, rng: np.random.Generator) -> np.ndarray:
+    length = int(seconds * ANALYSIS_RATE)
+    decay = np.exp(-6.9 * np.arange(length) / length)
+    response = rng.uniform(0.2, 0.6) * rng.normal(size=length) * decay * np.sqrt(300 / length)
+    response[0] = 1.0
+    size = 1 << int(np.ceil(np.log2(samples.size + length)))
+    wet = np.fft.irfft(np.fft.rfft(samples, size) * np.fft.rfft(response, size), size)[: samples.size]
+    return wet * np.sqrt(speech_power(samples) / speech_power(wet))
+
+
+def band_limited(samples: np.ndarray, low: float, high: float) -> np.ndarray:
+    spectrum = np.fft.rfft(samples)
+    frequency = np.fft.rfftfreq(samples.size, 1 / ANALYSIS_RATE)
+    gain = 1 / (1 + (low / np.maximum(frequency, 1.0)) ** 4) / (1 + (frequency / high) ** 8)
+    return np.fft.irfft(spectrum * gain, samples.size)
+
+
+def music(count: int, rng: np.random.Generator) -> np.ndarray:
+    """Synthetic music: notes of a scale with harmonics and envelopes, chords, and drums."""
+    out = np.zeros(count)
+    beat = rng.uniform(0.25, 0.7)
+    scale = 220 * 2 ** (np.array([0, 2, 4, 5, 7, 9, 11, 12, 14, 16]) / 12) * rng.uniform(0.5, 2.0)
+    harmonics = rng.uniform(0.2, 0.9) ** np.arange(1, 9)
+    time_index = np.arange(count) / ANALYSIS_RATE
+    start = 0.0
+    while start < count / ANALYSIS_RATE:
+        length = beat * rng.choice([0.5, 1, 1, 2])
+        first, stop = int(start * ANALYSIS_RATE), min(count, int((start + length * 1.5) * ANALYSIS_RATE))
+        local = time_index[first:stop] - start
+        envelope = np.minimum(local / 0.01, 1) * np.exp(-local / rng.uniform(0.1, 0.8))
+        for pitch in rng.choice(scale, size=int(rng.integers(1, 4))):
+            tone = sum(
+                amplitude * np.sin(2 * np.pi * pitch * (h + 1) * local)
+                for h, amplitude in enumerate(harmonics)
+                if pitch * (h + 1) < 7500
+            )
+            out[first:stop] += envelope * tone
+        if rng.random() < 0.5:
+            hit = min(count - first, int(0.15 * ANALYSIS_RATE))
+            out[first : first + hit] += (
+                rng.uniform(0.5, 2) * rng.normal(size=hit) * np.exp(-np.arange(hit) / (0.02 * ANALYSIS_RATE))
+            )
+        start += length
+    return out / np.sqrt(np.mean(out**2) + 1e-20)
+
+
+def degrade(samples: np.ndarray, rng: np.random.Generator) -> tuple[np.ndarray, float, float]:
+    """A degraded copy, the lead added (seconds) and the time stretch applied."""
+    stretch = 1.0
+    if rng.random() < 0.5:  # another vocal tract: everything up or down in frequency, shorter or longer
+        factor = rng.uniform(0.88, 1.12)
+        samples = resample(samples, int(round(ANALYSIS_RATE * factor)), ANALYSIS_RATE)
+        stretch = 1 / factor
+    lead, tail = rng.uniform(0.05, 1.5), rng.uniform(0.05, 1.0)
+    samples = np.concatenate(
+        (np.zeros(int(lead * ANALYSIS_RATE)), samples, np.zeros(int(tail * ANALYSIS_RATE)))
+    )
+    if rng.random() < 0.3:
+        samples = room(samples, rng.uniform(0.15, 0.8), rng)
+    if rng.random() < 0.25:
+        samples = band_limited(samples, rng.uniform(60, 400), rng.uniform(2800, 7500))
+    power = speech_power(samples)
+    if rng.random() < 0.1:
+        samples = samples + music(samples.size, rng) * np.sqrt(power / 10 ** (rng.uniform(5, 25) / 10))
+    if rng.random() < 0.8:
+        colour = rng.choice(["white", "pink", "brown", "babble"])
+        snr = rng.uniform(0, 40)
+        samples = samples + coloured_noise(samples.size, colour, rng) * np.sqrt(power / 10 ** (snr / 10))
+    gain = 10 ** (rng.uniform(-30, 0) / 20) / max(np.abs(samples).max(), 1e-9)
+    return (samples * gain).astype(np.float32), lead, stretch
+
+
+def non_speech(rng: np.random.Generator) -> np.ndarray:
+    count = int(rng.uniform(2, 8) * ANALYSIS_RATE)
+    if rng.random() < 0.6:
+        samples = music(count, rng)
+    else:
+        samples = coloured_noise(count, rng.choice(["white", "pink", "brown", "babble"]), rng)
+    if rng.random() < 0.3:
+        samples = room(samples, rng.uniform(0.15, 0.8), rng)
+    return (samples * 10 ** (rng.uniform(-30, -3) / 20) / max(np.abs(samples).max(), 1e-9)).astype(np.float32)
+
+
+# ---------------------------------------------------------------- the corpus
+
+
+def make_clip(job: tuple[str, str, int, int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """Features and frame labels of one clip: a text in a voice, degraded (no text: music or noise)."""
+    text, variant, pitch, rate, seed = job
+    rng = np.random.default_rng(seed)
+    if not text:
+        features = recogniser_features(non_speech(rng))
+        return features.astype(np.float16), np.zeros(len(features), np.uint8)
+    clean, timeline = speak(text, variant, pitch, rate)
+    samples, lead, stretch = degrade(clean, rng)
+    features = recogniser_features(samples)
+    labels = frame_labels(timeline, len(features), stretch)
+    offset = int(round(lead / FRAME_SECONDS))
+    labels = np.concatenate((np.zeros(offset, np.uint8), labels))[: len(features)]
+    return features.astype(np.float16), np.pad(labels, (0, len(features) - len(labels)))
+
+
+def make_corpus(count: int, seed: int, cache: Path) -> Path:
+    path = cache / f"corpus_{count}_{seed}.npz"
+    if path.exists():
+        return path
+    rng = np.random.default_rng(seed)
+    texts = training_texts(count, rng)
+    variants = training_variants()
+    jobs = []
+    for number, text in enumerate(texts):
+        voice = (str(rng.choice(variants)), int(rng.integers(-45, 46)), int(rng.integers(-30, 46)))
+        jobs.append((text, *voice, seed + number))
+    jobs += [("", "", 0, 0, seed + 100_000 + extra) for extra in range(int(NON_SPEECH_SHARE * count))]
+    began = time.time()
+    with multiprocessing.Pool(2) as pool:
+        results = pool.map(make_clip, jobs, chunksize=16)
+    features = np.concatenate([result[0] for result in results])
+    labels = np.concatenate([result[1] for result in results])
+    lengths = np.array([len(result[1]) for result in results])
+    cache.mkdir(parents=True, exist_ok=True)
+    np.savez(path, features=features, labels=labels, lengths=lengths)
+    print(f"corpus: {len(jobs)} clips, {labels.size / 360000:.2f} h, {time.time() - began:.0f} s", flush=True)
+    return path
+
+
+# ---------------------------------------------------------------- statistics the decoder needs
+
+
+def label_runs(labels: np.ndarray, lengths: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Per clip: the class of each run of equal frame labels and the run's length in frames."""
+    out = []
+    for clip in np.split(labels, np.cumsum(lengths)[:-1]):
+        if clip.size:
+            bounds = np.concatenate(([0], np.flatnonzero(np.diff(clip.astype(np.int16))) + 1, [clip.size]))
+            out.append((clip[bounds[:-1]], np.diff(bounds)))
+    return out
+
+
+def transition_counts(runs: list[tuple[np.ndarray, np.ndarray]]) -> np.ndarray:
+    """How often class b's run follows class a's in the training clips (add-one: nothing is impossible)."""
+    counts = np.ones((len(CLASSES), len(CLASSES)))
+    for classes, _ in runs:
+        np.add.at(counts, (classes[:-1], classes[1:]), 1)
+    return counts
+
+
+def shortest_durations(runs: list[tuple[np.ndarray, np.ndarray]]) -> np.ndarray:
+    """Per class, the 5th percentile of its runs' lengths (frames): the decoder's minimum duration."""
+    lengths: list[list[int]] = [[] for _ in CLASSES]
+    for classes, durations in runs:
+        for name, duration in zip(classes, durations, strict=True):
+            lengths[name].append(duration)
+    return np.array([max(1, int(np.percentile(values or [3], 5))) for values in lengths], np.int16)
+
+
+# ---------------------------------------------------------------- training (torch)
+
+
+def build_network(torch):
+    nn = torch.nn
+
+    class Block(nn.Module):
+        def __init__(self, dilation: int) -> None:
+            super().__init__()
+            self.dilated = nn.Conv1d(CHANNELS, CHANNELS, KERNEL, dilation=dilation, padding=dilation)
+            self.mix = nn.Conv1d(CHANNELS, CHANNELS, 1)
+
+        def forward(self, x):
+            return x + self.mix(torch.relu(self.dilated(x)))
+
+    class PhoneNetwork(nn.Module):
+        def __init__(self) -> None:
+            super().__init__()
+            self.first = nn.Conv1d(FEATURE_COUNT, CHANNELS, FIRST_KERNEL, padding=FIRST_KERNEL // 2)
+            self.blocks = nn.ModuleList([Block(dilation) for dilation in DILATIONS])
+            self.dropout = nn.Dropout(0.1)
+            self.last = nn.Conv1d(CHANNELS, len(CLASSES), 1)
+
+        def forward(self, x):
+            x = torch.relu(self.first(x))
+            for block in self.blocks:
+                x = self.dropout(block(x))
+            return self.last(torch.relu(x))
+
+    return PhoneNetwork()
+
+
+def train(corpus: Path, epochs: int, seed: int, out: Path) -> None:
+    import torch
+
+    torch.manual_seed(seed)
+    torch.set_num_threads(2)
+    data = np.load(corpus)
+    features, labels, lengths = data["features"], data["labels"], data["lengths"]
+    starts = np.concatenate(([0], np.cumsum(lengths)[:-1]))
+    rng = np.random.default_rng(seed)
+    clips = rng.permutation(len(lengths))
+    validation = clips[: len(clips) // 30]
+    training = clips[len(clips) // 30 :]
+    network = build_network(torch)
+    optimiser = torch.optim.Adam(network.parameters(), lr=2e-3)
+    steps_per_epoch = int(lengths[training].sum() / CROP_FRAMES / 32)
+    schedule = torch.optim.lr_scheduler.OneCycleLR(
+        optimiser, max_lr=2e-3, total_steps=epochs * steps_per_epoch, pct_start=0.15
+    )
+    feature_tensor = torch.from_numpy(features.astype(np.float32))
+    label_tensor = torch.from_numpy(labels.astype(np.int64))
+
+    def batch(chosen):
+        xs, ys = [], []
+        for clip in chosen:
+            length = lengths[clip]
+            first = starts[clip] + (rng.integers(0, length - CROP_FRAMES + 1) if length > CROP_FRAMES else 0)
+            stop = first + min(length, CROP_FRAMES)
+            x = feature_tensor[first:stop]
+            y = label_tensor[first:stop]
+            if len(y) < CROP_FRAMES:  # short clip: padded with silence, not counted
+                pad = CROP_FRAMES - len(y)
+                x = torch.cat((x, torch.full((pad, FEATURE_COUNT), -6.0)))
+                y = torch.cat((y, torch.full((pad,), -100, dtype=torch.int64)))
+            xs.append(x.T)
+            ys.append(y)
+        return torch.stack(xs), torch.stack(ys)
+
+    loss_function = torch.nn.CrossEntropyLoss(ignore_index=-100)
+    for epoch in range(epochs):
+        began = time.time()
+        network.train()
+        total = 0.0
+        for _ in range(steps_per_epoch):
+            x, y = batch(rng.choice(training, size=32))
+            # Channel and level changes the features' levelling does not undo entirely: a random tilt.
+            tilt = torch.linspace(-1, 1, FEATURE_COUNT - 1)[None, :, None] * torch.randn(32, 1, 1)
+            x[:, :-1] += 0.15 * tilt
+            loss = loss_function(network(x), y)
+            optimiser.zero_grad()
+            loss.backward()
+            optimiser.step()
+            schedule.step()
+            total += float(loss.detach())
+        network.eval()
+        with torch.no_grad():
+            right = count = 0
+            for clip in validation:
+                x = feature_tensor[starts[clip] : starts[clip] + lengths[clip]].T[None]
+                guess = network(x)[0].argmax(0).numpy()
+                truth = labels[starts[clip] : starts[clip] + lengths[clip]]
+                right += int((guess == truth).sum())
+                count += truth.size
+        print(
+            f"epoch {epoch + 1}/{epochs}: loss {total / steps_per_epoch:.3f}, "
+            f"validation frames right {right / count:.3f}, {time.time() - began:.0f} s",
+            flush=True,
+        )
+    export(network, data, out, seed, epochs)
+
+
+def export(network, data, out: Path, seed: int, epochs: int) -> None:
+    state = network.state_dict()
+    weights = {name: value.detach().numpy().astype(np.float32) for name, value in state.items()}
+    labels, lengths = data["labels"], data["lengths"]
+    priors = np.bincount(labels, minlength=len(CLASSES)).astype(np.float64) + 1
+    runs = label_runs(labels, lengths)
+    metadata = {
+        "classes": list(CLASSES),
+        "seed": seed,
+        "epochs": epochs,
+        "clips": int(len(lengths)),
+        "hours": round(float(labels.size) / 360000, 2),
+        "training_variants": training_variants(),
+        "held_out_variants": list(HELD_OUT_VARIANTS),
+        "trained_on": "eSpeak NG's Turkish voice (variants, rates, pitches), degraded; no human speech",
+    }
+    np.savez_compressed(
+        out,
+        metadata=np.array(json.dumps(metadata)),
+        priors=(priors / priors.sum()).astype(np.float32),
+        transitions=transition_counts(runs).astype(np.float32),
+        shortest=shortest_durations(runs),
+        **{f"weight/{name}": value for name, value in weights.items()},
+    )
+    print(f"wrote {out} ({out.stat().st_size / 1e6:.2f} MB)")
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--clips", type=int, default=5000, help="spoken texts (non-speech clips come on top)")
+    parser.add_argument("--epochs", type=int, default=14)
+    parser.add_argument("--seed", type=int, default=7)
+    parser.add_argument("--cache", type=Path, default=Path.home() / ".cache" / "turkish_lipsync_recogniser")
+    parser.add_argument("--out", type=Path, default=WEIGHTS_FILE)
+    parser.add_argument("--corpus-only", action="store_true", help="make the corpus and stop")
+    args = parser.parse_args(argv)
+    corpus = make_corpus(args.clips, args.seed, args.cache)
+    if not args.corpus_only:
+        train(corpus, args.epochs, args.seed, args.out)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

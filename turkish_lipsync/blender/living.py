@@ -1,0 +1,384 @@
+"""The living layers in the scene: the head turns, the eyes turn and keep their target while it does.
+
+The rotations of `tracks.head_and_eyes` (the character's own frame) become, per moved object or bone:
+
+- a head object and the parts that follow it without being its children: delta transforms (location and
+  rotation) keyed about the head's pivot, so the user's own keys, constraints and transforms stay as they
+  are (their static deltas are kept and composed with ours);
+- eye objects: a turn about the eyeball's fitted centre, whatever the object's origin;
+- a head or eye bone of an armature: its rotation, in the armature's action (ours when it has none),
+  unless the user animates that bone there (then a warning says how to make room).
+
+Ours are recognisable by a mark, not by name alone: every action we make carries ACTION_TAG, the curves we
+add to a user's action are listed in its CURVES_PROPERTY, and the static deltas we found in REST_PROPERTY;
+rerunning Generate removes exactly those and puts the user's values back.
+"""
+
+from __future__ import annotations
+
+import contextlib
+from dataclasses import dataclass
+
+import bpy
+import numpy as np
+
+from ..core.base.errors import HeadError
+from ..core.base.model import EYE_SIDES, WeightTracks
+from ..core.motion.frames import decimated_keys
+from ..core.motion.living.rotations import eye_matrices, head_matrices
+from . import compat, render
+from .living_rig import LivingRig, find_rig
+
+ACTION_TAG = "turkish_lipsync_living"  # on actions we create for the living motion
+CURVES_PROPERTY = "tr_living_curves"  # on any action: the data paths of the curves we added to it
+REST_PROPERTY = "tr_living_rest"  # on an object: its static delta transform before ours
+GROUP = "TR living"
+OBJECT_ID = "OBJECT"
+# Keys are dropped where linear interpolation between their neighbours stays this close.
+# A tenth of a degree (a hundredth of the eyes' contact threshold), or the 0.17 mm a head turning that much
+# shifts 10 cm from its pivot.
+TOLERANCE = {"delta_location": 1.7e-4, "delta_rotation_euler": 1.7e-3, "delta_rotation_quaternion": 8.7e-4}
+TOLERANCE |= {"rotation_euler": 1.7e-3, "rotation_quaternion": 8.7e-4}
+
+
+@dataclass(frozen=True)
+class LivingResult:
+    moved_objects: tuple[str, ...]
+    moved_bones: tuple[str, ...]
+    key_count: int
+    warnings: tuple[str, ...]
+
+
+# ---------------------------------------------------------------- before generating
+
+
+@contextlib.contextmanager
+def at_rest(scene: bpy.types.Scene):
+    """The scene with our living motion muted and the objects' own deltas back, for reading the rest pose."""
+    muted = []
+    saved = []
+    for obj in scene.objects:
+        action = obj.animation_data.action if obj.animation_data else None
+        ours = set(action.get(CURVES_PROPERTY, ())) if action is not None else set()
+        for fcurve in compat.all_action_fcurves(action) if ours else ():
+            if fcurve.data_path in ours and not fcurve.mute:
+                fcurve.mute = True
+                muted.append(fcurve)
+        if REST_PROPERTY in obj:
+            saved.append((obj, _deltas_of(obj)))
+            _set_deltas(obj, obj[REST_PROPERTY])
+    bpy.context.view_layer.update()
+    try:
+        yield
+    finally:
+        for fcurve in muted:
+            fcurve.mute = False
+        for obj, values in saved:
+            _set_deltas(obj, values)
+        bpy.context.view_layer.update()
+
+
+def rig_and_target(
+    context: bpy.types.Context, head: bpy.types.Object, head_objects, target_name: str = ""
+) -> tuple[LivingRig, np.ndarray]:
+    """The head's rig at rest and the point its eyes seek: the target object, else the scene's camera, else
+    where the render's own camera will stand."""
+    scene = context.scene
+    with at_rest(scene):
+        rig = find_rig(head)
+        if target_name:
+            target = bpy.data.objects.get(target_name)
+            if target is None:
+                raise HeadError(
+                    f"There is no object named {target_name!r} to look at: choose the gaze target."
+                )
+            point = np.array(target.matrix_world.translation)
+        elif scene.camera is not None:
+            point = np.array(scene.camera.matrix_world.translation)
+        else:
+            centre, distance, _sensor, _size = render.camera_placement(scene, head_objects, rig.frame)
+            point = np.array(centre) + rig.frame[:, 2] * distance
+    return rig, point
+
+
+# ---------------------------------------------------------------- keying
+
+
+def key_living_motion(
+    context: bpy.types.Context, rig: LivingRig, tracks: WeightTracks, start_frame: float
+) -> LivingResult:
+    """Replace our living motion with the tracks' rotations (or just remove it when they have none)."""
+    scene = context.scene
+    remove_living_motion(scene)
+    context.view_layer.update()  # the rest pose, without our deltas, for the parents' frames
+    motion = tracks.head_and_eyes
+    if motion is None or not len(motion.head):
+        return LivingResult((), (), 0, ())
+    frames = np.arange(len(motion.head), dtype=np.float64) + float(start_frame)
+    head_world = _about(rig.pivot, rig.frame, head_matrices(motion.head))
+    eye_world = {
+        side: _about(rig.eyes[side].centre, rig.frame, eye_matrices(getattr(motion, f"{side}_eye")))
+        for side in rig.eyes
+    }
+    warnings: list[str] = list(rig.warnings)
+    moved_objects, moved_bones, key_count = [], [], 0
+    head_moved_by_bone = rig.armature is not None
+    eye_objects = {eye.object_name: side for side, eye in rig.eyes.items() if eye.object_name}
+    movers = [] if head_moved_by_bone else [rig.head, *rig.parts]
+    for name in dict.fromkeys([*movers, *eye_objects]):
+        obj = bpy.data.objects.get(name)
+        if obj is None:
+            continue
+        parent_moves = _parent_moves(obj, rig, set(movers))
+        if name in eye_objects:
+            motion_world = (
+                eye_world[eye_objects[name]] if parent_moves else head_world @ eye_world[eye_objects[name]]
+            )
+        elif parent_moves:
+            continue  # a child of the head follows it
+        else:
+            motion_world = head_world
+        written, problem = _key_object(obj, motion_world, frames)
+        if problem:
+            warnings.append(problem)
+        elif written:
+            moved_objects.append(name)
+            key_count += written
+    if rig.armature is not None:
+        armature = bpy.data.objects[rig.armature]
+        bones = {rig.head_bone: head_world}
+        if rig.eyes_turn_by == "bones":
+            bones |= {rig.eyes[side].bone_name: eye_world[side] for side in EYE_SIDES}
+        written, problem = _key_bones(armature, bones, frames)
+        if problem:
+            warnings.append(problem)
+        else:
+            key_count += written
+            moved_bones.extend(bones)
+    return LivingResult(tuple(moved_objects), tuple(moved_bones), key_count, tuple(warnings))
+
+
+def _about(point: np.ndarray, frame: np.ndarray, rotations: np.ndarray) -> np.ndarray:
+    """(N, 4, 4) world motions: the head-frame rotations turned about a world point."""
+    world = frame @ rotations @ frame.T
+    motion = np.tile(np.eye(4), (len(rotations), 1, 1))
+    motion[:, :3, :3] = world
+    motion[:, :3, 3] = point - world @ point
+    return motion
+
+
+def _parent_moves(obj: bpy.types.Object, rig: LivingRig, movers: set[str]) -> bool:
+    parent = obj.parent
+    if parent is None:
+        return False
+    if parent.name in movers:
+        return True
+    if rig.armature is not None and parent.name == rig.armature and obj.parent_type == "BONE":
+        bone = parent.data.bones.get(obj.parent_bone)
+        while bone is not None:
+            if bone.name == rig.head_bone:
+                return True
+            bone = bone.parent
+    return False
+
+
+def _key_object(obj: bpy.types.Object, motion_world: np.ndarray, frames: np.ndarray) -> tuple[int, str]:
+    """Key obj's delta transforms so that it moves by motion_world (N, 4, 4) from its rest pose."""
+    mode = obj.rotation_mode
+    if mode == "AXIS_ANGLE":
+        return 0, f"{obj.name!r} rotates by axis and angle, which has no delta rotation: it stays still."
+    rotation_path = "delta_rotation_quaternion" if mode == "QUATERNION" else "delta_rotation_euler"
+    action = obj.animation_data.action if obj.animation_data else None
+    if action is not None:
+        theirs = {fc.data_path for fc in compat.all_action_fcurves(action)} - set(
+            action.get(CURVES_PROPERTY, ())
+        )
+        if theirs & {"delta_location", rotation_path}:
+            return 0, (
+                f"{obj.name!r} already has animated delta transforms of its own, so the head's and eyes' "
+                "motion was not keyed on it; clear them (Object > Animation) to let it move."
+            )
+    rest = obj.get(REST_PROPERTY) or _deltas_of(obj)
+    obj[REST_PROPERTY] = rest
+    basis = np.array(obj.matrix_basis)
+    location = np.array(obj.location)
+    rest_location = np.array(rest["location"])
+    parent_frame = np.array(obj.matrix_world) @ np.linalg.inv(basis)  # parent's world and its inverse
+    local = np.linalg.inv(parent_frame) @ motion_world @ parent_frame
+    rotation, shift = local[:, :3, :3], local[:, :3, 3]
+    rest_rotation = _rest_delta_matrix(rest, mode)
+    delta_location = np.einsum("nij,j->ni", rotation, location + rest_location) + shift - location
+    delta_rotation = rotation @ rest_rotation
+    channels = {"delta_location": delta_location}
+    if mode == "QUATERNION":
+        channels[rotation_path] = _quaternions(delta_rotation)
+    else:
+        channels[rotation_path] = _eulers(delta_rotation, mode)
+    return _write_channels(obj, obj, OBJECT_ID, channels, frames), ""
+
+
+def _key_bones(
+    armature: bpy.types.Object, bones: dict[str, np.ndarray], frames: np.ndarray
+) -> tuple[int, str]:
+    """Each bone turned by its world motion relative to its rest, keyed in the armature's action (ours when
+    it has none); refused for a bone whose rotation the user animates there."""
+    armature_rotation = np.array(armature.matrix_world)[:3, :3]
+    armature_rotation /= np.cbrt(abs(np.linalg.det(armature_rotation)))
+    action = armature.animation_data.action if armature.animation_data else None
+    theirs = set()
+    if action is not None:
+        theirs = {fc.data_path for fc in compat.all_action_fcurves(action)} - set(
+            action.get(CURVES_PROPERTY, ())
+        )
+    channels = {}
+    for bone_name, motion in bones.items():
+        bone = armature.data.bones[bone_name]
+        rest = armature_rotation @ np.array(bone.matrix_local)[:3, :3]
+        local = np.linalg.inv(rest) @ motion[:, :3, :3] @ rest
+        pose = armature.pose.bones[bone_name]
+        path = f'pose.bones["{bpy.utils.escape_identifier(bone_name)}"].'
+        if pose.rotation_mode == "QUATERNION":
+            path, values = path + "rotation_quaternion", _quaternions(local)
+        elif pose.rotation_mode != "AXIS_ANGLE":
+            path, values = path + "rotation_euler", _eulers(local, pose.rotation_mode)
+        else:
+            return (
+                0,
+                f"The bone {bone_name!r} rotates by axis and angle: set it to quaternion to let it move.",
+            )
+        if path in theirs:
+            return 0, (
+                f"The bone {bone_name!r} is animated by {action.name!r} already, so the head's motion was "
+                "not keyed on it; key it on a layer of your own (NLA) and generate again."
+            )
+        channels[path] = values
+    return _write_channels(armature, armature, OBJECT_ID, channels, frames), ""
+
+
+def _write_channels(
+    owner, target, id_type: str, channels: dict, frames: np.ndarray, assign: bool = True
+) -> int:
+    """F-curves for every channel (path -> (N, k) values), keys where they are needed; returns the count."""
+    if assign:
+        action = owner.animation_data.action if owner.animation_data else None
+        if action is None:
+            action = bpy.data.actions.new(f"TR_living.{owner.name}")
+            action[ACTION_TAG] = True
+        compat.assign_action(owner, action, id_type)
+    else:
+        action = target
+    bag = compat.action_channels(action, owner, id_type, create=True)
+    written = 0
+    for path, values in channels.items():
+        values = np.asarray(values, np.float64)
+        if values.ndim == 1:
+            values = values[:, None]
+        tolerance = TOLERANCE.get(path.rsplit(".", 1)[-1], 8.7e-4)
+        for index in range(values.shape[1]):
+            keep = decimated_keys(values[:, index], tolerance)
+            fcurve = compat.new_fcurve(bag, path, GROUP, index=index)
+            fcurve.keyframe_points.add(len(keep))
+            coordinates = np.empty(2 * len(keep), np.float32)
+            coordinates[0::2], coordinates[1::2] = frames[keep], values[keep, index]
+            fcurve.keyframe_points.foreach_set("co", coordinates)
+            fcurve.keyframe_points.foreach_set("interpolation", np.ones(len(keep), np.int32))
+            written += len(keep)
+    action[CURVES_PROPERTY] = sorted({*action.get(CURVES_PROPERTY, ()), *(p for p in channels)})
+    return written
+
+
+# ---------------------------------------------------------------- removing
+
+
+def remove_living_motion(scene: bpy.types.Scene) -> int:
+    """Our living motion off every object of the scene, their own deltas back; returns curves removed."""
+    removed = 0
+    for obj in scene.objects:
+        animation = obj.animation_data
+        action = animation.action if animation else None
+        if action is not None and CURVES_PROPERTY in action:
+            ours = set(action[CURVES_PROPERTY])
+            bag = compat.action_channels(action, obj, OBJECT_ID, create=False)
+            if bag is not None:
+                for fcurve in [fc for fc in bag.fcurves if fc.data_path in ours]:
+                    bag.fcurves.remove(fcurve)
+                    removed += 1
+            del action[CURVES_PROPERTY]
+            if action.get(ACTION_TAG) and not compat.all_action_fcurves(action):
+                animation.action = None
+                bpy.data.actions.remove(action)
+        if REST_PROPERTY in obj:
+            _set_deltas(obj, obj[REST_PROPERTY])
+            del obj[REST_PROPERTY]
+    return removed
+
+
+# ---------------------------------------------------------------- delta transforms and rotations
+
+
+def _deltas_of(obj: bpy.types.Object) -> dict:
+    return {
+        "location": list(obj.delta_location),
+        "euler": list(obj.delta_rotation_euler),
+        "quaternion": list(obj.delta_rotation_quaternion),
+    }
+
+
+def _set_deltas(obj: bpy.types.Object, values) -> None:
+    obj.delta_location = tuple(values["location"])
+    obj.delta_rotation_euler = tuple(values["euler"])
+    obj.delta_rotation_quaternion = tuple(values["quaternion"])
+
+
+def _rest_delta_matrix(rest, mode: str) -> np.ndarray:
+    from mathutils import Euler, Quaternion
+
+    if mode == "QUATERNION":
+        return np.array(Quaternion(rest["quaternion"]).to_matrix())
+    return np.array(Euler(rest["euler"], mode).to_matrix())
+
+
+def _quaternions(rotations: np.ndarray) -> np.ndarray:
+    """(N, 4) w, x, y, z of (N, 3, 3) rotations (Shepperd's method), continuous in sign."""
+    m = np.asarray(rotations, np.float64).reshape(-1, 3, 3)
+    trace = np.einsum("nii->n", m)
+    candidates = np.stack([trace, m[:, 0, 0], m[:, 1, 1], m[:, 2, 2]], axis=1)
+    best = candidates.argmax(axis=1)
+    q = np.empty((len(m), 4))
+    for case in range(4):
+        rows = best == case
+        r = m[rows]
+        if case == 0:
+            s = np.sqrt(1.0 + trace[rows]) * 2
+            q[rows] = np.stack(
+                [
+                    s / 4,
+                    (r[:, 2, 1] - r[:, 1, 2]) / s,
+                    (r[:, 0, 2] - r[:, 2, 0]) / s,
+                    (r[:, 1, 0] - r[:, 0, 1]) / s,
+                ],
+                axis=1,
+            )
+        else:
+            i = case - 1
+            j, k = (i + 1) % 3, (i + 2) % 3
+            s = np.sqrt(1.0 + r[:, i, i] - r[:, j, j] - r[:, k, k]) * 2
+            part = np.empty((rows.sum(), 4))
+            part[:, 0] = (r[:, k, j] - r[:, j, k]) / s
+            part[:, 1 + i] = s / 4
+            part[:, 1 + j] = (r[:, j, i] + r[:, i, j]) / s
+            part[:, 1 + k] = (r[:, k, i] + r[:, i, k]) / s
+            q[rows] = part
+    q *= np.where(q[:, :1] < 0, -1.0, 1.0)
+    return q
+
+
+def _eulers(rotations: np.ndarray, order: str) -> np.ndarray:
+    """(N, 3) Euler angles of (N, 3, 3) rotations in the given order (small turns: no wrapping)."""
+    m = np.asarray(rotations, np.float64).reshape(-1, 3, 3)
+    if order == "XYZ":  # R = Rz Ry Rx, Blender's default
+        y = np.arcsin(np.clip(-m[:, 2, 0], -1, 1))
+        return np.stack([np.arctan2(m[:, 2, 1], m[:, 2, 2]), y, np.arctan2(m[:, 1, 0], m[:, 0, 0])], axis=1)
+    from mathutils import Matrix
+
+    return np.array([tuple(Matrix(r.tolist()).to_euler(order)) for r in m]).reshape(-1, 3)

@@ -1,0 +1,175 @@
+"""The living layers over either motion model: gaze, blinks, head motion, brows and the life of expressions.
+
+`living_tracks(tracks, timeline, options, samples, sample_rate)` adds to the weight tracks of the natural
+or the thesis model what makes a face alive rather than a mannequin's: eyes that hold the listener and
+dart away (gaze.py), blinks where people blink (blinks.py), a head that moves with the voice's pitch and
+loudness (head.py, measured from the audio by prosody.py), brows that rise on accents (brows.py) and
+emotions that breathe at their apex (expression.py). The rotations go into `tracks.head_and_eyes`; the
+lids, brows and the eyes of heads that turn them by keys are ordinary TR_* tracks. Every layer draws from
+its own generator seeded by (seed, layer), so turning one off leaves the others as they were.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ...base.model import (
+    BLINK_KEYS,
+    BROW_RAISE_KEY,
+    EMOTION_KEY_PREFIX,
+    EMOTIONS,
+    LOOK_KEY_DEGREES,
+    LOOK_KEYS,
+    HeadAndEyes,
+    Timeline,
+    Track,
+    WeightTracks,
+    emotion_key_name,
+    emotion_release_key_name,
+    look_key_name,
+)
+from ..frames import decimated_keys, sparse_track
+from .blinks import blink_curve, place_blinks
+from .brows import brow_curve
+from .expression import emotion_life
+from .gaze import GazeSetup, eye_angles, plan_gaze
+from .head import head_angles
+from .parameters import living_parameters
+from .phrases import speech_structure
+from .prosody import measure_prosody
+
+__all__ = ["GazeSetup", "LivingOptions", "living_tracks", "speech_structure"]
+LOOK_TOLERANCE = 0.1 / LOOK_KEY_DEGREES
+_LAYER_SEEDS = {"gaze": 1, "blinks": 2, "head": 3, "expression": 4}
+
+
+@dataclass(frozen=True)
+class LivingOptions:
+    """Which layers run and how strongly (1 is the model's; 0 turns a layer off), and their seed."""
+
+    gaze: float = 1.0
+    blinks: float = 1.0
+    head: float = 1.0
+    expression: float = 1.0
+    seed: int = 0
+    setup: GazeSetup = field(default_factory=GazeSetup)
+
+    @property
+    def any(self) -> bool:
+        return max(self.gaze, self.blinks, self.head, self.expression) > 0
+
+
+def living_tracks(
+    tracks: WeightTracks,
+    timeline: Timeline,
+    options: LivingOptions,
+    samples: np.ndarray | None = None,
+    sample_rate: int = 0,
+) -> WeightTracks:
+    """The tracks with the living layers added (the emotions of the natural model given their life)."""
+    if not options.any:
+        return tracks
+    settings = living_parameters()
+    fps, frame_count = tracks.fps, tracks.frame_count
+    times = np.arange(frame_count) / fps
+    prosody = measure_prosody(samples, sample_rate) if samples is not None and len(samples) else None
+    structure = speech_structure(timeline, prosody)
+
+    def rng(layer: str) -> np.random.Generator:
+        return np.random.default_rng([options.seed, _LAYER_SEEDS[layer]])
+
+    columns: dict[str, np.ndarray] = {}
+    head = head_angles(structure, times, rng("head"), settings["head"], options.head)
+    plan = plan_gaze(structure, times, rng("gaze"), settings["gaze"], options.gaze)
+    left, right, _direction = eye_angles(plan, head, options.setup)
+    if options.gaze > 0 or options.head > 0:  # the eyes keep the target while the head moves
+        for eye, angles in (("left", left), ("right", right)):
+            columns.update(_look_columns(eye, angles))
+
+    blink_spans: list[tuple[float, float]] = []
+    if options.blinks > 0:
+        blink_rng = rng("blinks")
+        starts = place_blinks(
+            structure, plan.saccades, timeline.duration, blink_rng, settings["blinks"], options.blinks
+        )
+        closure = _eye_closure(tracks, settings["blinks"]["eye_closure"])
+        curve, blink_spans = blink_curve(starts, fps, frame_count, closure, blink_rng, settings["blinks"])
+        for name in BLINK_KEYS:
+            columns[name] = curve
+    if options.expression > 0:
+        brows = brow_curve(timeline.emphases, structure, times, settings["brows"], options.expression)
+        if brows.any():
+            columns[BROW_RAISE_KEY] = brows
+
+    replaced = dict.fromkeys(columns)
+    kept = [track for track in tracks.tracks if track.name not in replaced]
+    if options.expression > 0 and tracks.mode == "natural":
+        factor = emotion_life(structure, times, rng("expression"), settings["expression"], options.expression)
+        kept = _with_life(kept, factor)
+    key_frames = np.arange(frame_count, dtype=np.float64)
+    added = tuple(_track(name, key_frames, values) for name, values in columns.items())
+    extra = dict(tracks.extra)
+    extra.update(
+        blinks=tuple(blink_spans),
+        saccades=tuple((s.start, s.duration, s.amplitude) for s in plan.saccades),
+        pauses=structure.pauses,
+    )
+    return dataclasses.replace(
+        tracks,
+        tracks=(*kept, *added),
+        extra=extra,
+        head_and_eyes=HeadAndEyes(head=head, left_eye=left, right_eye=right)
+        if options.gaze > 0 or options.head > 0
+        else None,
+    )
+
+
+def _track(name: str, frames: np.ndarray, values: np.ndarray) -> Track:
+    """A look key keyed where its motion needs it (within LOOK_TOLERANCE, a tenth of a degree); the
+    blinks and brows exactly (sparse_track)."""
+    if name in LOOK_KEYS:
+        keep = decimated_keys(values, LOOK_TOLERANCE)
+        return Track(name=name, frames=frames[keep], values=values[keep])
+    return sparse_track(name, frames, values)
+
+
+def _look_columns(eye: str, angles: np.ndarray) -> dict[str, np.ndarray]:
+    """The eye's four look keys from its yaw and pitch (weight 1 = LOOK_KEY_DEGREES)."""
+    yaw, pitch = angles[:, 0] / LOOK_KEY_DEGREES, angles[:, 1] / LOOK_KEY_DEGREES
+    return {
+        look_key_name(eye, "left"): np.maximum(yaw, 0.0),
+        look_key_name(eye, "right"): np.maximum(-yaw, 0.0),
+        look_key_name(eye, "up"): np.maximum(pitch, 0.0),
+        look_key_name(eye, "down"): np.maximum(-pitch, 0.0),
+    }
+
+
+def _eye_closure(tracks: WeightTracks, closure: dict[str, float]) -> np.ndarray:
+    """How far the emotions on the face close the eyes at each frame."""
+    frames = np.arange(tracks.frame_count, dtype=np.float64)
+    total = np.zeros(tracks.frame_count)
+    for emotion in EMOTIONS:
+        track = tracks.track(emotion_key_name(emotion))
+        if track is not None and closure.get(emotion, 0.0):
+            total += closure[emotion] * np.interp(frames, track.frames, track.values)
+    return total
+
+
+def _with_life(tracks: list[Track], factor: np.ndarray) -> list[Track]:
+    """Emotion tracks (and their mouth releases, by the same factor) multiplied by the life factor."""
+    frames = np.arange(factor.size, dtype=np.float64)
+    result = []
+    for track in tracks:
+        if track.name.startswith(EMOTION_KEY_PREFIX) and _is_emotion_or_release(track.name):
+            values = np.interp(frames, track.frames, track.values) * factor
+            result.append(sparse_track(track.name, frames, values))
+        else:
+            result.append(track)
+    return result
+
+
+def _is_emotion_or_release(name: str) -> bool:
+    return any(name in (emotion_key_name(e), emotion_release_key_name(e)) for e in EMOTIONS)

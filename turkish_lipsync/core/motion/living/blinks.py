@@ -1,0 +1,99 @@
+"""Blinks at today's rate and shape, placed where people blink: at pauses, phrase ends and large gaze shifts.
+
+Speakers blink as a phrase ends and in pauses (Nakano and Kitazawa 2010), and nearly every gaze shift over
+30 degrees carries a blink (Evinger 1994). So the blinks the rate calls for are moved to the nearest pause
+or gaze shift within reach, large shifts bring their own, no two come closer than min_gap and none is
+further than max_interval from the last while speaking. None while the emotions on the face narrow the
+eyes (a smile half-closes them already).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .gaze import Saccade
+from .phrases import SpeechStructure
+
+
+def place_blinks(
+    structure: SpeechStructure,
+    saccades: tuple[Saccade, ...],
+    duration: float,
+    rng: np.random.Generator,
+    settings: dict,
+    amount: float,
+) -> list[float]:
+    """Start times of the blinks, in order."""
+    if amount <= 0 or duration <= settings["first_after"]:
+        return []
+    forced, candidates = [], []
+    low, high = settings["gaze_shift_blink"], settings["gaze_shift_always"]
+    for saccade in saccades:
+        if saccade.amplitude >= high:
+            forced.append(saccade.start)
+        elif saccade.amplitude >= low:
+            chance = settings["gaze_shift_share"] + (1 - settings["gaze_shift_share"]) * (
+                (saccade.amplitude - low) / max(high - low, 1e-6)
+            )
+            (forced if rng.random() < chance * amount else candidates).append(saccade.start)
+    for start, end in structure.pauses:
+        if start > 0.0 and end - start >= 0.25:
+            candidates.append(start + settings["pause_lead"])
+    for _start, end in structure.phrases:
+        candidates.append(end + settings["pause_lead"])
+    candidates = np.unique(np.array([c for c in candidates if c >= settings["first_after"]]))
+
+    times = sorted(t for t in forced if settings["first_after"] <= t < duration)
+    mean = settings["mean_interval"] / amount
+    shape = 4.0  # gamma shape: intervals cluster around the mean without being regular
+    last = settings["first_after"] - mean / 2
+    blinks: list[float] = []
+    while True:
+        due = last + float(
+            np.clip(rng.gamma(shape, mean / shape), settings["min_interval"], settings["max_interval"])
+        )
+        upcoming = next((t for t in times if t > last + settings["min_gap"]), None)
+        reachable = min(due + settings["pause_pull"], last + settings["max_interval"])
+        if upcoming is not None and upcoming <= reachable:
+            when = upcoming  # a large gaze shift's own blink comes first
+        else:
+            reach = (candidates >= max(last + settings["min_interval"], due - settings["pause_pull"])) & (
+                candidates <= min(due + settings["pause_pull"], last + settings["max_interval"])
+            )
+            near = candidates[reach]
+            when = float(near[np.argmin(np.abs(near - due))]) if near.size else due
+        if when >= duration - settings["max_duration"]:
+            break
+        blinks.append(when)
+        last = when
+    return blinks
+
+
+def blink_curve(
+    starts: list[float],
+    fps: float,
+    frame_count: int,
+    eye_closure: np.ndarray,
+    rng: np.random.Generator,
+    settings: dict,
+) -> tuple[np.ndarray, list[tuple[float, float]]]:
+    """The lids' closure at each frame and the (start, end) of each blink kept; every blink is shut on a
+    frame (its start moves by less than half a frame so that one falls where the lids meet)."""
+    times = np.arange(frame_count) / fps
+    curve = np.zeros(times.size)
+    spans = []
+    for planned in starts:
+        duration = rng.uniform(settings["min_duration"], settings["max_duration"])
+        closing = duration * settings["close_share"]
+        hold = duration * settings["hold_share"]
+        opening = duration - closing - hold
+        start = round((planned + closing) * fps) / fps - closing
+        inside = (times >= start) & (times <= start + duration)
+        if not inside.any() or eye_closure[inside].max() >= settings["blink_suppress_closure"]:
+            continue
+        local = times[inside] - start
+        profile = np.minimum(local / closing, (duration - local) / opening)
+        profile[np.abs(local - closing) < 1e-9] = 1.0
+        curve[inside] = np.maximum(curve[inside], np.clip(profile, 0.0, 1.0))
+        spans.append((float(start), float(start + duration)))
+    return curve, spans

@@ -1,0 +1,199 @@
+"""Where the eyes look while the character talks: eye contact, look-aways and the saccades between them.
+
+Lee, Badler and Badler's "Eyes Alive" (2002), talking mode: spells of eye contact with the listener alternate
+with look-aways in which the eyes rest on a few places in turn; saccade amplitudes fall off exponentially
+(mostly under 15 degrees), mostly along the horizontal or vertical, and each saccade lasts as long as the
+main sequence says (about 25 + 2.4 A ms) with a minimum-jerk profile. Speakers look away as a phrase begins
+and back to the listener as it ends (Kendon 1967), so gaze shifts are drawn toward phrase boundaries; in a
+long pause the eyes hold the listener. Both eyes fixate the same point, so they converge on a near target,
+and they keep it while the head moves: the eye-in-head angles are what is left of the gaze after the head.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .phrases import SpeechStructure
+from .rotations import angles_of, direction, head_matrices
+
+
+@dataclass(frozen=True)
+class GazeSetup:
+    """The target and the eyes, in the head's rest frame (x toward the character's left, y up, z forward)."""
+
+    target_yaw: float = 0.0  # degrees from the head's rest facing, seen from between the eyes
+    target_pitch: float = 0.0
+    target_distance: float = 1.0  # metres from between the eyes
+    eye_separation: float = 0.063  # metres between the eyes' centres
+    eyes_above_pivot: float = 0.075  # metres from the head's pivot (the top of the neck) up to the eyes
+    eyes_before_pivot: float = 0.085  # ... and forward
+    counter_roll: float = 0.15  # share of the head's roll the eyes roll back (ocular counter-roll, 0.1-0.2)
+
+    def eye_positions(self) -> np.ndarray:
+        """(2, 3) left and right eye centres relative to the pivot."""
+        half = self.eye_separation / 2
+        return np.array(
+            [
+                [half, self.eyes_above_pivot, self.eyes_before_pivot],
+                [-half, self.eyes_above_pivot, self.eyes_before_pivot],
+            ]
+        )
+
+    def target_point(self) -> np.ndarray:
+        middle = self.eye_positions().mean(axis=0)
+        return middle + self.target_distance * direction(self.target_yaw, self.target_pitch)
+
+
+@dataclass(frozen=True)
+class Saccade:
+    start: float  # seconds
+    duration: float  # seconds
+    amplitude: float  # degrees
+    to_contact: bool  # ends on the target
+
+
+@dataclass(frozen=True, eq=False)
+class GazePlan:
+    offsets: np.ndarray  # (frames, 2) yaw, pitch of the fixation relative to the target's direction
+    saccades: tuple[Saccade, ...]
+
+
+def plan_gaze(
+    structure: SpeechStructure, times: np.ndarray, rng: np.random.Generator, settings: dict, amount: float
+) -> GazePlan:
+    """Fixations and saccades over the frame times (deterministic for the generator's seed)."""
+    duration = float(times[-1]) if times.size else 0.0
+    fixations = _fixations(structure, duration, rng, settings, amount)
+    offsets = np.zeros((times.size, 2))
+    saccades = []
+    position = np.zeros(2)
+    bounds = np.searchsorted(times, [start for start, _ in fixations] + [np.inf])
+    for index, (start, target) in enumerate(fixations):
+        amplitude = float(np.hypot(*(target - position)))
+        frames = slice(bounds[index], bounds[index + 1])
+        if amplitude < 1e-6:
+            offsets[frames] = position
+            continue
+        length = (settings["duration_base"] + settings["duration_slope"] * amplitude) / 1000.0
+        share = _minimum_jerk((times[frames] - start) / length)
+        offsets[frames] = position + (target - position) * share[:, None]
+        saccades.append(Saccade(start, length, amplitude, bool(np.all(target == 0))))
+        position = target
+    return GazePlan(offsets=offsets, saccades=tuple(saccades))
+
+
+def _minimum_jerk(x: np.ndarray) -> np.ndarray:
+    x = np.clip(x, 0.0, 1.0)
+    return x**3 * (10 - 15 * x + 6 * x * x)
+
+
+def _fixations(
+    structure, duration: float, rng, settings: dict, amount: float
+) -> list[tuple[float, np.ndarray]]:
+    """(time the saccade starts, where it lands relative to the target) for every gaze shift."""
+    if amount <= 0 or duration <= 0:
+        return []
+    phrase_starts = np.array([start for start, _ in structure.phrases])
+    phrase_ends = np.array([end for _, end in structure.phrases])
+    listening = [(s, e) for s, e in structure.pauses if e - s >= settings["listening_pause"]]
+    shifts: list[tuple[float, np.ndarray]] = []
+    time = _gamma(rng, settings["contact_mean"] / 2, settings["contact_shape"])
+    position = np.zeros(2)
+    while time < duration:
+        time = _pulled(time, phrase_starts, rng, settings)
+        time = _after_listening(time, listening)
+        if time >= duration:
+            break
+        # Look away: a few places in turn, then back to the listener.
+        visits = rng.geometric(1.0 / max(settings["away_fixations_mean"], 1.0))
+        for _ in range(int(visits)):
+            position = _next_place(position, rng, settings, amount)
+            shifts.append((time, position))
+            time += _gamma(rng, settings["away_fixation_mean"], settings["away_fixation_shape"])
+        time = _pulled(time, phrase_ends, rng, settings)
+        pause = next(((s, e) for s, e in listening if s - 0.3 <= time <= e), None)
+        if pause is not None:
+            time = min(time, pause[0])  # back on the listener as the long pause begins
+        if time >= duration:
+            break
+        position = np.zeros(2)
+        shifts.append((time, position))
+        time += _gamma(rng, settings["contact_mean"], settings["contact_shape"])
+    shifts.sort(key=lambda shift: shift[0])
+    # A saccade must finish before the next one starts.
+    kept: list[tuple[float, np.ndarray]] = []
+    for when, where in shifts:
+        if kept and when - kept[-1][0] < 0.15:
+            continue
+        kept.append((when, where))
+    return kept
+
+
+def _gamma(rng, mean: float, shape: float) -> float:
+    return float(rng.gamma(shape, mean / shape))
+
+
+def _pulled(time: float, boundaries: np.ndarray, rng, settings: dict) -> float:
+    """The time moved to the nearest phrase boundary within reach, as often as the settings say."""
+    if boundaries.size == 0:
+        return time
+    nearest = boundaries[np.argmin(np.abs(boundaries - time))]
+    if abs(nearest - time) <= settings["phrase_pull"] and rng.random() < settings["phrase_pull_share"]:
+        return float(nearest)
+    return time
+
+
+def _after_listening(time: float, listening: list[tuple[float, float]]) -> float:
+    for start, end in listening:
+        if start <= time < end:
+            return end
+    return time
+
+
+def _next_place(position: np.ndarray, rng, settings: dict, amount: float) -> np.ndarray:
+    """A saccade of an exponentially distributed amplitude, mostly along an axis, kept near the target."""
+    low, high = settings["amplitude_min"], settings["amplitude_max"]
+    for _ in range(12):
+        amplitude = amount * float(np.clip(rng.exponential(settings["amplitude_scale"]), low, high))
+        if rng.random() < settings["cardinal_share"]:
+            angle = rng.integers(4) * np.pi / 2
+        else:
+            angle = np.pi / 4 + rng.integers(4) * np.pi / 2
+        step = amplitude * np.array([np.cos(angle), np.sin(angle)])
+        place = position + step
+        vertical_limit = settings["up_limit"] if place[1] > 0 else settings["down_limit"]
+        inside = (
+            abs(place[0]) <= settings["horizontal_limit"] * amount
+            and abs(place[1]) <= vertical_limit * amount
+        )
+        if inside and np.hypot(*place) >= 0.5 * low * amount:
+            return place
+    return position * 0.5
+
+
+def eye_angles(
+    plan: GazePlan, head: np.ndarray, setup: GazeSetup
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(left, right eye yaw/pitch relative to the head, gaze direction in the rest frame) per frame.
+
+    Each eye turns toward the fixation point: the target, or the point a look-away's angles from it at the
+    target's distance. The head's rotation about its pivot moves the eyes too; what is left is the eyes'.
+    """
+    eyes = setup.eye_positions()
+    middle = eyes.mean(axis=0)
+    fixation_direction = direction(
+        setup.target_yaw + plan.offsets[:, 0], setup.target_pitch + plan.offsets[:, 1]
+    )
+    fixation = middle + setup.target_distance * fixation_direction
+    rotations = head_matrices(head)
+    # The eyes roll a little against the head's tilt (ocular counter-roll).
+    roll = -setup.counter_roll * head[:, 2:3]
+    result = []
+    for eye in eyes:
+        placed = rotations @ eye
+        looking = fixation - placed
+        in_head = np.einsum("nji,nj->ni", rotations, looking)
+        result.append(np.hstack([angles_of(in_head), roll]))
+    return result[0], result[1], fixation_direction

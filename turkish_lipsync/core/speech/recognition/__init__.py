@@ -1,0 +1,68 @@
+"""Lip sync from the audio alone: the Turkish letters of a recording without its text, and their times.
+
+acoustics.py describes the audio, network.py runs the trained network (numpy alone; the weights beside
+it come from scripts/train_recogniser.py), decoder.py finds the letter sequence (Viterbi with minimum
+durations and Turkish letter transitions), recogniser.py keeps doubtful closures off the lips and groups
+letters into phrases, transcript.py turns them into the Utterance and Timeline every stage after speech
+takes. `speech_from_audio(path)` does it all for a recording.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ...base.errors import AudioError
+from ...base.model import Utterance
+from ..audio import MAX_OUTPUT_RATE, read_audio, resample, resampled_pcm
+from ..base import Synthesis
+from ..features import ANALYSIS_RATE
+from ..timeline import Speech
+from .recogniser import Recognition, recognise
+from .transcript import RECOGNISED_TIMING, heard_timeline, heard_utterance
+
+SILENT_PEAK_DB = -70.0  # a recording never louder than this (dB full scale) holds nothing
+LEAST_SPEECH = 0.3  # seconds of heard letters below which a take has no speech
+# The confidence (recogniser.py) below which a take is reported as doubtful. Measured on the tuning voices
+# (scripts/measure_recogniser.py --bad): Turkish 0.94-1.0 in noise, after a breath, through MP3, 0.81-0.97
+# in a reverberant room; eSpeak NG's English, German, French and Japanese 0.80-0.91 (Spanish and
+# Azerbaijani, whose sounds are close to Turkish ones, 0.90-0.98).
+DOUBTFUL_CONFIDENCE = 0.92
+
+
+def speech_from_audio(path: Path | str) -> tuple[Utterance, Speech]:
+    """The utterance heard in a recording and its speech: the timeline and the recording as its audio."""
+    path = Path(path)
+    native, native_rate = read_audio(path)
+    output_rate = min(native_rate, MAX_OUTPUT_RATE)
+    output = resampled_pcm(native, native_rate, output_rate)
+    del native
+    samples = resample(output, output_rate, ANALYSIS_RATE, 1 / 32768)
+    peak = float(np.abs(samples).max(initial=0.0))
+    if 20 * np.log10(peak + 1e-12) < SILENT_PEAK_DB:
+        raise AudioError(f"no speech found in {path}: it is silent; give a recording of someone speaking")
+    recognition = recognise(samples)
+    del samples
+    if recognition.speech_seconds < LEAST_SPEECH:
+        raise AudioError(
+            f"no speech found in {path}: it sounds like silence, noise or music without a voice; "
+            "give a recording of someone speaking Turkish, or type the text it says"
+        )
+    utterance = heard_utterance(recognition)
+    timeline = heard_timeline(utterance, recognition, output.size / output_rate)
+    synthesis = Synthesis(output, output_rate, (), (), "recording")
+    return utterance, Speech(timeline, synthesis, _warnings(path, recognition))
+
+
+def _warnings(path: Path, recognition: Recognition) -> tuple[str, ...]:
+    if recognition.confidence >= DOUBTFUL_CONFIDENCE:
+        return ()
+    return (
+        f"the speech in {path} was recognised with low confidence ({recognition.confidence:.0%}, Turkish "
+        f"gives {DOUBTFUL_CONFIDENCE:.0%} or more): it may not be Turkish, or be very noisy or reverberant; "
+        "the mouth follows what was heard, but give the text it says for exact lip sync",
+    )
+
+
+__all__ = ["RECOGNISED_TIMING", "Recognition", "recognise", "speech_from_audio"]

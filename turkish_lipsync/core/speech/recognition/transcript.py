@@ -1,0 +1,44 @@
+"""What was heard, as the rest of the pipeline takes it: an Utterance of the heard letters and its Timeline.
+
+Each phrase (letters between pauses) becomes one word: the recogniser hears no word boundaries inside
+fluent speech, and a phrase is what a pause delimits in the exports too. The words go through the text
+stage's last step (text/utterance.py's assemble_utterance), so their syllables and the vowel-context
+visemes of Table 5.1 come from the same tables as a typed text's, and each letter keeps the span in which
+it was heard.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...base.model import Pause, SpokenWord, Style, Timeline, Utterance
+from ...text.utterance import assemble_utterance
+from ..timing import build_timeline
+from .recogniser import Recognition
+
+RECOGNISED_TIMING = "recognised"
+
+
+def heard_utterance(recognition: Recognition) -> Utterance:
+    """The heard phrases as words of an utterance; its source is their text, one word per phrase."""
+    items: list[SpokenWord | Pause] = []
+    position = 0
+    previous_end = 0.0
+    texts = []
+    for phrase in recognition.phrases:
+        text = "".join(letter.letter for letter in phrase)
+        if items:
+            items.append(Pause(phrase[0].start - previous_end, position - 1, "break"))
+        items.append(SpokenWord(text, tuple(range(position, position + len(text))), Style()))
+        texts.append(text)
+        position += len(text) + 1
+        previous_end = phrase[-1].end
+    return assemble_utterance(" ".join(texts), items)
+
+
+def heard_timeline(utterance: Utterance, recognition: Recognition, duration: float) -> Timeline:
+    """Each letter of the heard utterance timed where it was heard."""
+    letters = [letter for phrase in recognition.phrases for letter in phrase]
+    starts = np.array([letter.start for letter in letters])
+    ends = np.array([letter.end for letter in letters])
+    return build_timeline(utterance, starts, ends, duration, RECOGNISED_TIMING)
