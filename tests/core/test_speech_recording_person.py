@@ -109,6 +109,17 @@ def test_a_voice_in_the_background_is_not_followed(tmp_path):
     assert speech.warnings == ()
 
 
+def test_a_hesitation_filled_by_a_voice_in_the_background_is_held(tmp_path):
+    """The voice activity detector hears the other voice in the pause: the pause is told by its level."""
+    clean = take_of(OTHER_TEXT)
+    take = takes.hesitate(clean, np.random.default_rng(5), shortest=0.6, longest=0.8)
+    held = np.flatnonzero(np.diff(take.words) - np.diff(clean.words) > 0.5) + 1
+    speech, error = aligned(quiet_room(with_a_talker(take, seed=4), snr=60), tmp_path)
+    assert error[held].max() < 0.050  # the word after the hesitation starts when it is said
+    assert np.median(error) < 0.020 and error.max() < 0.100
+    assert speech.warnings == ()
+
+
 def test_a_shorter_vocal_tract_is_aligned(tmp_path):
     speech, error = aligned(quiet_room(another_tract(take_of(OTHER_TEXT, "tr+f3", 20, -10))), tmp_path)
     assert np.median(error) < 0.020 and np.percentile(error, 90) < 0.050 and error.max() < 0.100

@@ -61,10 +61,14 @@ WARP_SEARCH_FRAMES = 3_000  # the warp is chosen on the first 30 seconds of a lo
 STEP_PENALTY = 2.0
 PAUSE_COST = 1.0  # per frame of a pause one signal makes and the other does not
 BOUNDARY_SLACK = 1  # frames either side of a synthetic word onset where a recorded pause may be held
-# A stretch this long of recorded silence, or of "speech" this close to the noise floor, is a pause (a
-# voice in the background fills it; the voice activity detector takes that for speech).
+# A stretch of recorded silence, of "speech" this close to the noise floor (150 ms) or this far under the
+# speaker's loud frames (300 ms) is a pause: a voice in the background or a room's tail fills it, and the
+# voice activity detector takes that for speech. (Person's takes, held-out voices: a hesitation filled so
+# was keyed 665 ms early, a comma's pause 178 ms, before the second rule; clean takes unchanged by it.)
 FLOOR_PAUSE_DB = 10.0
 FLOOR_PAUSE_FRAMES = 15
+UNDER_SPEECH_PAUSE_DB = 15.0
+UNDER_SPEECH_PAUSE_FRAMES = 30
 
 
 @dataclass(frozen=True, eq=False)
@@ -168,7 +172,9 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
     )
     del recorded
     word_onsets = _word_onsets(reference)
-    pauses = _pauses(word_onsets, lead, synthetic_speech, recorded_speech, recorded_loudness)
+    pauses = _pauses(
+        word_onsets, lead, synthetic_speech, recorded_speech, recorded_loudness, recorded_under_speech
+    )
     path_x, path_y = dtw_path(x, y, step_penalty=STEP_PENALTY, pauses=pauses)
     recorded_pause = np.isfinite(pauses.y_hold_cost)
     duration = output.size / output_rate
@@ -180,10 +186,10 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
         warp,
         output,
     )
-    ranks = match_ranks(x, y, path_x, path_y, synthetic_speech, recorded_speech)
-    fit = Fit(
-        path_x, path_y, ranks, synthetic_speech, recorded_speech, recorded_under_speech, lead, order_ratio
-    )
+    # What a pause holds (a voice in the background, a room's tail) is not the speaker's: not judged.
+    judged = recorded_speech & ~recorded_pause
+    ranks = match_ranks(x, y, path_x, path_y, synthetic_speech, judged)
+    fit = Fit(path_x, path_y, ranks, synthetic_speech, judged, recorded_under_speech, lead, order_ratio)
     phrases, warnings = judge(utterance, reference.phone_events, warp, fit, path)
     return RecordingAlignment(warp, synthesis, phrases, warnings)
 
@@ -211,23 +217,30 @@ def _pauses(
     synthetic_speech: np.ndarray,
     recorded_speech: np.ndarray,
     recorded_loudness: np.ndarray,
+    recorded_under_speech: np.ndarray,
 ) -> Pauses:
     """Where the recording may pause though the synthetic speech does not: at any word boundary.
 
     A person hesitates between words where the text has no comma, and leaves out pauses it has: the
     DTW may hold a synthetic word boundary through a recorded pause, and a synthetic pause against
-    any recorded frame, at PAUSE_COST a frame. With a voice in the background a pause is not silent:
-    a long enough stretch close to the recording's noise floor (which the background voice is part
-    of) is a pause too.
+    any recorded frame, at PAUSE_COST a frame. With a voice in the background or in a live room a
+    pause is not silent: a long enough stretch close to the recording's noise floor (which a steady
+    background voice is part of), or far under the speaker's own loud frames (a background voice in a
+    quiet take, a room's tail), is a pause too.
     """
+    box = np.ones(5) / 5
     free = ~synthetic_speech
     boundaries = lead + np.round(word_onsets[1:] * ANALYSIS_RATE / HOP).astype(np.int64)
     for offset in range(-BOUNDARY_SLACK, BOUNDARY_SLACK + 1):
         free[np.clip(boundaries + offset, 0, free.size - 1)] = True
-    quiet = ~recorded_speech | (np.convolve(recorded_loudness, np.ones(5) / 5, "same") < FLOOR_PAUSE_DB)
+    near_floor = ~recorded_speech | (np.convolve(recorded_loudness, box, "same") < FLOOR_PAUSE_DB)
+    # Only the detector's "speech" counts here: a silence joined to the quiet start of the word after it
+    # would take that start for a pause.
+    far_under = recorded_speech & (np.convolve(recorded_under_speech, box, "same") > UNDER_SPEECH_PAUSE_DB)
     pause = ~recorded_speech
-    for start, stop in runs(quiet):
-        pause[start:stop] |= stop - start >= FLOOR_PAUSE_FRAMES
+    for quiet, shortest in ((near_floor, FLOOR_PAUSE_FRAMES), (far_under, UNDER_SPEECH_PAUSE_FRAMES)):
+        for start, stop in runs(quiet):
+            pause[start:stop] |= stop - start >= shortest
     hold = np.where(pause, PAUSE_COST, np.inf)
     return Pauses(free, ~synthetic_speech, hold, PAUSE_COST)
 
