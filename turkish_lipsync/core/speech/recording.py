@@ -61,14 +61,19 @@ WARP_SEARCH_FRAMES = 3_000  # the warp is chosen on the first 30 seconds of a lo
 STEP_PENALTY = 2.0
 PAUSE_COST = 1.0  # per frame of a pause one signal makes and the other does not
 BOUNDARY_SLACK = 1  # frames either side of a synthetic word onset where a recorded pause may be held
-# A stretch of recorded silence, of "speech" this close to the noise floor (150 ms) or this far under the
-# speaker's loud frames (300 ms) is a pause: a voice in the background or a room's tail fills it, and the
-# voice activity detector takes that for speech. (Person's takes, held-out voices: a hesitation filled so
-# was keyed 665 ms early, a comma's pause 178 ms, before the second rule; clean takes unchanged by it.)
+# A stretch of recorded silence, or of "speech" this close to the noise floor (150 ms), is a pause: a voice
+# in the background or a room's tail fills it, and the voice activity detector takes that for speech.
 FLOOR_PAUSE_DB = 10.0
 FLOOR_PAUSE_FRAMES = 15
+# "Speech" this far under the speaker's loud frames for 300 ms may be a pause too (a voice in the
+# background in a quiet take), or the speaker's own quiet sounds (a slow voice's "ülm" in a reverberant
+# room): holding a word boundary through it costs FAR_UNDER_HOLD_COST a frame, which only a stretch
+# that matches nothing of the text is worth. (Person's takes, held-out voices: a hesitation filled so
+# was keyed 665 ms early, a comma's pause 178 ms, before this; at PAUSE_COST a reverberant take's
+# quiet word start was held as a pause, 323 ms late.)
 UNDER_SPEECH_PAUSE_DB = 15.0
 UNDER_SPEECH_PAUSE_FRAMES = 30
+FAR_UNDER_HOLD_COST = 12.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -237,11 +242,15 @@ def _pauses(
     # Only the detector's "speech" counts here: a silence joined to the quiet start of the word after it
     # would take that start for a pause.
     far_under = recorded_speech & (np.convolve(recorded_under_speech, box, "same") > UNDER_SPEECH_PAUSE_DB)
-    pause = ~recorded_speech
-    for quiet, shortest in ((near_floor, FLOOR_PAUSE_FRAMES), (far_under, UNDER_SPEECH_PAUSE_FRAMES)):
+    hold = np.full(recorded_speech.size, np.inf)
+    for quiet, shortest, cost in (
+        (far_under, UNDER_SPEECH_PAUSE_FRAMES, FAR_UNDER_HOLD_COST),
+        (near_floor, FLOOR_PAUSE_FRAMES, PAUSE_COST),
+    ):
         for start, stop in runs(quiet):
-            pause[start:stop] |= stop - start >= shortest
-    hold = np.where(pause, PAUSE_COST, np.inf)
+            if stop - start >= shortest:
+                hold[start:stop] = cost
+    hold[~recorded_speech] = PAUSE_COST
     return Pauses(free, ~synthetic_speech, hold, PAUSE_COST)
 
 
