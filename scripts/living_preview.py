@@ -1,7 +1,7 @@
 """A contact strip of a head speaking with gaze, blinks and head motion: docs/living_face.png.
 
     .venv/bin/python scripts/living_preview.py [--out docs/living_face.png] [--size 240] [--samples 8]
-        [--head PATH [--object NAME]]   (default: the default head)
+        [--head PATH [--object NAME] [--own-keys-at-rest]]   (default: the default head)
 
 Generates a few sentences at 25 fps on the default head, picks frames that show eye contact, a look away,
 a blink and the head turned, renders them with Cycles on the CPU and lays them side by side, labelled
@@ -20,7 +20,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from turkish_lipsync.blender import heads, pipeline, render  # noqa: E402
+from turkish_lipsync.blender import heads, pipeline  # noqa: E402
 from turkish_lipsync.core.base.model import BLINK_KEYS  # noqa: E402
 from turkish_lipsync.core.pipeline import LipSyncOptions  # noqa: E402
 
@@ -51,6 +51,9 @@ def main() -> int:
     parser.add_argument("--samples", type=int, default=8)
     parser.add_argument("--head", type=Path, help="a head file (.glb .obj .fbx .blend) instead of ours")
     parser.add_argument("--object", help="the head's object where the file holds several meshes")
+    parser.add_argument(
+        "--own-keys-at-rest", action="store_true", help="set the head's own held shape keys to 0"
+    )
     args = parser.parse_args()
     bpy.ops.wm.read_factory_settings(use_empty=True)
     context = bpy.context
@@ -61,8 +64,10 @@ def main() -> int:
     if args.head is not None:
         imported = heads.import_head(args.head)
         head = bpy.data.objects[args.object] if args.object else heads.find_head(imported)
+        if args.own_keys_at_rest:
+            pipeline.put_own_keys_at_rest(head)
     head = bpy.data.objects[pipeline.build_keys(context, head).head]
-    render.frame_face(scene, pipeline.head_objects(head))
+    pipeline.frame_head(scene, head)
     tiles = []
     with tempfile.TemporaryDirectory() as folder:
         result = pipeline.generate(context, head, TEXT, LipSyncOptions(), audio_folder=folder)
