@@ -1,11 +1,12 @@
 """A contact strip of a head speaking with gaze, blinks and head motion: docs/living_face.png.
 
     .venv/bin/python scripts/living_preview.py [--out docs/living_face.png] [--size 240] [--samples 8]
-        [--head PATH [--object NAME]]   (default: the default head)
+        [--head PATH [--head PATH ...] [--object NAME] [--own-keys-at-rest]]   (default: the default head)
 
-Generates a few sentences at 25 fps on the default head, picks frames that show eye contact, a look away,
-a blink and the head turned, renders them with Cycles on the CPU and lays them side by side, labelled
-underneath by what the tracks say at that frame.
+A row for each head (docs/living_heads.jpg: --head default and each shared head, --own-keys-at-rest
+--size 200 --samples 6). Generates a few sentences at 25 fps on each head, picks frames that show eye
+contact, a look away, a blink and the head turned, renders them with Cycles on the CPU and lays them side by
+side; the labels (what the tracks say at that frame) are printed.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from turkish_lipsync.blender import heads, pipeline, render  # noqa: E402
+from turkish_lipsync.blender import heads, pipeline  # noqa: E402
 from turkish_lipsync.core.base.model import BLINK_KEYS  # noqa: E402
 from turkish_lipsync.core.pipeline import LipSyncOptions  # noqa: E402
 
@@ -44,25 +45,21 @@ def chosen_frames(tracks) -> list[tuple[int, str]]:
     return picks
 
 
-def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=Path("docs/living_face.png"))
-    parser.add_argument("--size", type=int, default=240)
-    parser.add_argument("--samples", type=int, default=8)
-    parser.add_argument("--head", type=Path, help="a head file (.glb .obj .fbx .blend) instead of ours")
-    parser.add_argument("--object", help="the head's object where the file holds several meshes")
-    args = parser.parse_args()
+def strip_of(head_path: Path | None, object_name: str | None, own_keys_at_rest: bool, args) -> np.ndarray:
+    """A row of tiles: the head (ours where head_path is None) built, speaking, rendered at chosen frames."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
     context = bpy.context
     scene = context.scene
     scene.render.fps = 25
     scene.render.resolution_x = scene.render.resolution_y = args.size
     head = None
-    if args.head is not None:
-        imported = heads.import_head(args.head)
-        head = bpy.data.objects[args.object] if args.object else heads.find_head(imported)
+    if head_path is not None:
+        imported = heads.import_head(head_path)
+        head = bpy.data.objects[object_name] if object_name else heads.find_head(imported)
+        if own_keys_at_rest:
+            pipeline.put_own_keys_at_rest(head)
     head = bpy.data.objects[pipeline.build_keys(context, head).head]
-    render.frame_face(scene, pipeline.head_objects(head))
+    pipeline.frame_head(scene, head)
     tiles = []
     with tempfile.TemporaryDirectory() as folder:
         result = pipeline.generate(context, head, TEXT, LipSyncOptions(), audio_folder=folder)
@@ -79,13 +76,38 @@ def main() -> int:
             image = bpy.data.images.load(path)
             pixels = np.array(image.pixels[:], dtype=np.float32).reshape(args.size, args.size, 4)
             tiles.append(pixels)
-            print(f"frame {frame}: {label}", flush=True)
-    strip = np.concatenate(tiles, axis=1)
-    out = bpy.data.images.new("strip", strip.shape[1], strip.shape[0])
-    out.pixels.foreach_set(strip.ravel())
+            print(f"{head.name}, frame {frame}: {label}", flush=True)
+    return np.concatenate(tiles, axis=1)
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=Path("docs/living_face.png"))
+    parser.add_argument("--size", type=int, default=240)
+    parser.add_argument("--samples", type=int, default=8)
+    parser.add_argument(
+        "--head",
+        type=Path,
+        action="append",
+        help="a head file (.glb .obj .fbx .blend) instead of ours; again for a row each ('default': ours)",
+    )
+    parser.add_argument("--object", help="the head's object where the file holds several meshes")
+    parser.add_argument(
+        "--own-keys-at-rest", action="store_true", help="set the heads' own held shape keys to 0"
+    )
+    args = parser.parse_args()
+    chosen = args.head or [Path("default")]
+    rows = [
+        strip_of(None if str(path) == "default" else path, args.object, args.own_keys_at_rest, args)
+        for path in chosen
+    ]
+    # Blender's pixels start at the bottom row: the first head's row goes on top.
+    sheet = np.concatenate(rows[::-1], axis=0)
+    out = bpy.data.images.new("strip", sheet.shape[1], sheet.shape[0])
+    out.pixels.foreach_set(sheet.ravel())
     args.out.parent.mkdir(parents=True, exist_ok=True)
     out.filepath_raw = str(args.out.resolve())
-    out.file_format = "PNG"
+    out.file_format = "JPEG" if args.out.suffix.lower() in (".jpg", ".jpeg") else "PNG"
     out.save()
     print(f"wrote {args.out}")
     return 0

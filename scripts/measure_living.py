@@ -25,7 +25,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from turkish_lipsync.blender import compat, eye_keys, heads, living, mesh, pipeline, render  # noqa: E402
+from turkish_lipsync.blender import compat, eye_keys, heads, living, mesh, pipeline  # noqa: E402
 from turkish_lipsync.blender.living_rig import find_rig  # noqa: E402
 from turkish_lipsync.core.base.model import BLINK_KEYS, OWNED_PREFIX  # noqa: E402
 from turkish_lipsync.core.faces.eyes import own_look_keys, sphere_fit  # noqa: E402
@@ -307,7 +307,7 @@ def measure(head_path: Path | None, seconds: float, fps: float, seed: int, text:
     head = None if head_path is None else heads.find_head(heads.import_head(head_path))
     report = pipeline.build_keys(context, head)
     head = bpy.data.objects[report.head]
-    render.frame_face(scene, pipeline.head_objects(head))
+    pipeline.frame_head(scene, head)
     context.view_layer.update()
     camera = np.array(scene.camera.matrix_world.translation)
     with tempfile.TemporaryDirectory() as folder:

@@ -1,45 +1,26 @@
 """Farm rendering: a saved scene rendered in three chunks and joined gives the frames and samples of one."""
 
-import subprocess
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
 bpy = pytest.importorskip("bpy")
 av = pytest.importorskip("av")
+from tests.render_runs import decoded_media, run_render  # noqa: E402
 
-REPOSITORY = Path(__file__).resolve().parents[2]
-SCRIPT = REPOSITORY / "scripts" / "render.py"
 CHUNKS = ((1, 3), (4, 6), (7, None))  # None: the scene's last frame
 
 
-def _run(*arguments: str) -> subprocess.CompletedProcess:
-    result = subprocess.run(
-        [sys.executable, str(SCRIPT), *arguments], capture_output=True, text=True, timeout=600, check=False
-    )
+def _rendered(*arguments: str):
+    result = run_render(*arguments)
     assert result.returncode == 0, result.stderr[-2000:]
     return result
-
-
-def _decoded(path: Path) -> tuple[list[np.ndarray], np.ndarray]:
-    """Every video frame (RGB) and audio sample of a file, in one pass over its packets."""
-    frames, audio = [], []
-    with av.open(str(path)) as container:
-        for frame in container.decode(*container.streams):
-            if isinstance(frame, av.VideoFrame):
-                frames.append(frame.to_ndarray(format="rgb24"))
-            else:
-                audio.append(frame.to_ndarray())
-    return frames, np.concatenate(audio, axis=1)
 
 
 @pytest.fixture(scope="module")
 def renders(tmp_path_factory):
     folder = tmp_path_factory.mktemp("farm")
     blend = folder / "scene.blend"
-    _run(
+    _rendered(
         "--text",
         "Ama baba",
         "--no-render",
@@ -54,21 +35,21 @@ def renders(tmp_path_factory):
     bpy.ops.wm.open_mainfile(filepath=str(blend))
     last = bpy.context.scene.frame_end
     common = ("--head", str(blend), "--engine", "cycles", "--samples", "1")
-    _run(*common, "--frames", f"1-{last}", "--out", str(folder / "whole.mp4"))
+    _rendered(*common, "--frames", f"1-{last}", "--out", str(folder / "whole.mp4"))
     chunks = []
     for first, end in CHUNKS:
         chunks.append(folder / f"chunk-{first}.mp4")
-        _run(*common, "--frames", f"{first}-{end or last}", "--out", str(chunks[-1]))
+        _rendered(*common, "--frames", f"{first}-{end or last}", "--out", str(chunks[-1]))
     # the join needs no Blender: it runs as a plain script
-    _run("--join", str(folder / "whole.mp4"), "--audio", str(wav), "--out", str(folder / "one.mp4"))
-    joined = _run("--join", *map(str, chunks), "--audio", str(wav), "--out", str(folder / "three.mp4"))
+    _rendered("--join", str(folder / "whole.mp4"), "--audio", str(wav), "--out", str(folder / "one.mp4"))
+    joined = _rendered("--join", *map(str, chunks), "--audio", str(wav), "--out", str(folder / "three.mp4"))
     return folder, last, chunks, joined.stdout
 
 
 def test_three_chunks_and_a_join_give_the_frames_and_samples_of_one_render(renders):
     folder, last, _, _ = renders
-    frames_one, audio_one = _decoded(folder / "one.mp4")
-    frames_three, audio_three = _decoded(folder / "three.mp4")
+    frames_one, audio_one = decoded_media(folder / "one.mp4")
+    frames_three, audio_three = decoded_media(folder / "three.mp4")
     assert len(frames_one) == len(frames_three) == last
     for frame, (whole, joined) in enumerate(zip(frames_one, frames_three, strict=True), start=1):
         np.testing.assert_array_equal(whole, joined, err_msg=f"frame {frame}")
@@ -92,17 +73,27 @@ def test_chunks_are_silent_lossless_and_the_join_lasts_as_long_as_the_scene(rend
 
 def test_a_range_outside_the_scene_is_refused(renders):
     folder, last, _, _ = renders
-    result = subprocess.run(
-        [sys.executable, str(SCRIPT), "--head", str(folder / "scene.blend"), "--engine", "cycles",
-         "--frames", f"{last}-{last + 5}", "--out", str(folder / "bad.mp4")],
-        capture_output=True, text=True, timeout=300, check=False,
-    )  # fmt: skip
+    scene = str(folder / "scene.blend")
+    result = run_render(
+        "--head", scene, "--engine", "cycles", "--frames", f"{last}-{last + 5}", "--out", folder / "bad.mp4"
+    )
     assert result.returncode == 1 and "not inside the scene's frames" in result.stderr
     assert not (folder / "bad.mp4").exists()
 
 
 def test_a_chunk_can_be_a_folder_of_png_frames(renders):
     folder, _, _, _ = renders
-    _run("--head", str(folder / "scene.blend"), "--engine", "cycles", "--samples", "1", "--frames", "2-3",
-         "--out", str(folder / "frames"))  # fmt: skip
+    scene = str(folder / "scene.blend")
+    _rendered(
+        "--head",
+        scene,
+        "--engine",
+        "cycles",
+        "--samples",
+        "1",
+        "--frames",
+        "2-3",
+        "--out",
+        str(folder / "frames"),
+    )
     assert sorted(path.name for path in (folder / "frames").iterdir()) == ["000002.png", "000003.png"]

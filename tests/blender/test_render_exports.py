@@ -1,33 +1,23 @@
 """render.py --export and --cues: the batch script writes the exports and reads cue files as the timing."""
 
 import json
-import subprocess
-import sys
-from pathlib import Path
 
 import pytest
 
 bpy = pytest.importorskip("bpy")
 
+from tests.render_runs import run_render  # noqa: E402
 from turkish_lipsync.blender import compat, keyframes  # noqa: E402
 from turkish_lipsync.core.interchange.arkit_csv import read_arkit_csv  # noqa: E402
 from turkish_lipsync.core.speech.cues import read_cue_file  # noqa: E402
 
-REPOSITORY = Path(__file__).resolve().parents[2]
-SCRIPT = REPOSITORY / "scripts" / "render.py"
 TEXT = "Merhaba, benim adım Erdem."
-
-
-def _run(*arguments: str) -> subprocess.CompletedProcess:
-    return subprocess.run(
-        [sys.executable, str(SCRIPT), *arguments], capture_output=True, text=True, timeout=600, check=False
-    )
 
 
 @pytest.fixture(scope="module")
 def exported(tmp_path_factory):
     folder = tmp_path_factory.mktemp("exports")
-    result = _run(
+    result = run_render(
         "--text", TEXT, "--no-render", "--save-blend", str(folder / "scene.blend"), "--fps", "24",
         "--export", f"rhubarb-json={folder / 'cues' / 'speech.json'}",
         "--export", f"papagayo-pgo={folder / 'speech.pgo'}",
@@ -51,7 +41,7 @@ def test_exports_are_written_and_name_the_speech(exported):
 
 def test_a_papagayo_project_times_the_animation_with_its_own_text(exported, tmp_path):
     blend = tmp_path / "from_cues.blend"
-    result = _run(
+    result = run_render(
         "--cues", str(exported / "speech.pgo"), "--no-render", "--save-blend", str(blend), "--fps", "24"
     )
     assert result.returncode == 0, result.stderr
@@ -71,5 +61,5 @@ def test_a_papagayo_project_times_the_animation_with_its_own_text(exported, tmp_
 
 
 def test_an_unknown_export_format_is_refused():
-    result = _run("--text", TEXT, "--no-render", "--export", "rhubarb-srt=x.srt")
+    result = run_render("--text", TEXT, "--no-render", "--export", "rhubarb-srt=x.srt")
     assert result.returncode == 2 and "rhubarb-srt" in result.stderr

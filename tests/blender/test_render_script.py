@@ -2,7 +2,6 @@
 
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -11,17 +10,10 @@ bpy = pytest.importorskip("bpy")
 av = pytest.importorskip("av")
 soundfile = pytest.importorskip("soundfile")
 
+from tests.render_runs import REPOSITORY, run_render  # noqa: E402
 from turkish_lipsync.blender import compat, heads, keyframes, living, owned_keys, sequencer  # noqa: E402
 
-REPOSITORY = Path(__file__).resolve().parents[2]
-SCRIPT = REPOSITORY / "scripts" / "render.py"
 SENTENCE = "Şu köşe yaz köşesi"
-
-
-def _run(*arguments: str) -> subprocess.CompletedProcess:
-    return subprocess.run(
-        [sys.executable, str(SCRIPT), *arguments], capture_output=True, text=True, timeout=600, check=False
-    )
 
 
 def _our_key_names(obj) -> set[str]:
@@ -64,7 +56,7 @@ def _snapshot() -> dict:
 def first_run(tmp_path_factory):
     folder = tmp_path_factory.mktemp("render_script")
     out, blend = folder / "x.mp4", folder / "x.blend"
-    result = _run(
+    result = run_render(
         "--text", SENTENCE, "--out", str(out), "--save-blend", str(blend),
         "--resolution", "64x36", "--samples", "1", "--engine", "cycles",
     )  # fmt: skip
@@ -124,7 +116,9 @@ def test_a_second_run_on_the_saved_blend_changes_only_ours(first_run, tmp_path):
     before = _snapshot()
 
     second = tmp_path / "second.blend"
-    result = _run("--head", str(edited), "--text", "merhaba", "--save-blend", str(second), "--no-render")
+    result = run_render(
+        "--head", str(edited), "--text", "merhaba", "--save-blend", str(second), "--no-render"
+    )
     assert result.returncode == 0, result.stderr
 
     bpy.ops.wm.open_mainfile(filepath=str(second))
@@ -149,7 +143,7 @@ def test_a_second_run_on_the_saved_blend_changes_only_ours(first_run, tmp_path):
     ],
 )
 def test_errors_are_one_clear_line_and_a_nonzero_exit(arguments, message):
-    result = _run(*arguments)
+    result = run_render(*arguments)
     assert result.returncode != 0
     assert "Traceback" not in result.stderr
     error_lines = [line for line in result.stderr.splitlines() if line.startswith("render.py: error:")]
@@ -166,7 +160,7 @@ def test_a_users_recording_replaces_the_synthetic_voice(tmp_path):
     )  # fmt: skip
     assert made.returncode == 0, made.stderr
     recorded_seconds = soundfile.info(str(recording)).duration
-    result = _run(
+    result = run_render(
         "--text",
         SENTENCE,
         "--audio",
@@ -179,7 +173,7 @@ def test_a_users_recording_replaces_the_synthetic_voice(tmp_path):
     generated = next(line for line in result.stdout.splitlines() if line.startswith("Generated"))
     seconds = float(generated.split(",")[1].split()[0])
     assert seconds == pytest.approx(recorded_seconds, abs=0.15)
-    missing = _run("--text", SENTENCE, "--audio", str(tmp_path / "none.wav"), "--no-render")
+    missing = run_render("--text", SENTENCE, "--audio", str(tmp_path / "none.wav"), "--no-render")
     assert missing.returncode != 0 and "--audio" in missing.stderr and "Traceback" not in missing.stderr
 
 
@@ -197,7 +191,7 @@ def test_a_users_own_tr_keys_survive_a_rebuild_and_are_never_keyed(tmp_path):
     mine = tmp_path / "mine.blend"
     bpy.ops.wm.save_as_mainfile(filepath=str(mine))
     out = tmp_path / "out.blend"
-    result = _run(
+    result = run_render(
         "--head", str(mine), "--text", "merhaba", "--rebuild-keys", "--no-render", "--save-blend", str(out)
     )
     assert result.returncode == 0, result.stderr
@@ -220,7 +214,7 @@ def test_a_recording_alone_is_recognised(tmp_path):
         "Bu sabah babam bana mavi bir kalem aldı.", TEST_VOICES["Andrea"], "clean 60 dB", tmp_path,
         np.random.default_rng(1),
     )  # fmt: skip
-    result = _run("--audio", str(take), "--no-render", "--save-blend", str(tmp_path / "r.blend"))
+    result = run_render("--audio", str(take), "--no-render", "--save-blend", str(tmp_path / "r.blend"))
     assert result.returncode == 0, result.stderr
     generated = next(line for line in result.stdout.splitlines() if line.startswith("Generated"))
     assert int(generated.split()[1]) >= 0.7 * len(truth.phones)

@@ -3,7 +3,6 @@ before anything is written; two scenes saved in one folder keep their own speech
 
 import hashlib
 import subprocess
-import sys
 import wave
 from pathlib import Path
 
@@ -13,17 +12,8 @@ import pytest
 bpy = pytest.importorskip("bpy")
 soundfile = pytest.importorskip("soundfile")
 
+from tests.render_runs import run_render  # noqa: E402
 from turkish_lipsync.blender import sequencer  # noqa: E402
-
-REPOSITORY = Path(__file__).resolve().parents[2]
-SCRIPT = REPOSITORY / "scripts" / "render.py"
-
-
-def _run(*arguments, cwd=None) -> subprocess.CompletedProcess:
-    return subprocess.run(
-        [sys.executable, str(SCRIPT), *map(str, arguments)],
-        capture_output=True, text=True, timeout=600, check=False, cwd=cwd,
-    )  # fmt: skip
 
 
 def _digest(path: Path) -> str:
@@ -61,19 +51,21 @@ def test_outputs_that_are_inputs_are_refused_and_the_inputs_stay_as_they_were(tm
          "another output"),
     ]  # fmt: skip
     for arguments, message in cases:
-        _refused(_run(*arguments), message)
+        _refused(run_render(*arguments), message)
     assert _digest(take) == before and _digest(text) == text_before
     assert not (tmp_path / "take.glb").exists()
 
 
 def test_outputs_that_cannot_be_written_are_refused_in_one_line(tmp_path):
     (tmp_path / "folder.glb").mkdir()
-    _refused(_run("--text", "Merhaba", "--no-render", "--gltf", tmp_path / "folder.glb"), "is a folder")
-    _refused(_run("--text", "Merhaba", "--no-render", "--gltf", "/sys/x.glb"), "cannot write the output")
+    _refused(run_render("--text", "Merhaba", "--no-render", "--gltf", tmp_path / "folder.glb"), "is a folder")
+    _refused(
+        run_render("--text", "Merhaba", "--no-render", "--gltf", "/sys/x.glb"), "cannot write the output"
+    )
 
 
 def test_a_still_frame_outside_the_animation_is_warned(tmp_path):
-    result = _run(
+    result = run_render(
         "--text", "Ama", "--no-render", "--still", tmp_path / "still.png", "--still-frame", "900",
         "--engine", "cycles", "--samples", "1", "--resolution", "32x32",
     )  # fmt: skip
@@ -83,11 +75,15 @@ def test_a_still_frame_outside_the_animation_is_warned(tmp_path):
 
 def test_two_scenes_saved_in_one_folder_keep_their_own_speech(tmp_path):
     """a.blend, then b.blend at half the rate: each plays its own WAV, and a.blend's is unchanged."""
-    assert _run("--text", "Merhaba", "--no-render", "--save-blend", tmp_path / "a.blend").returncode == 0
+    assert (
+        run_render("--text", "Merhaba", "--no-render", "--save-blend", tmp_path / "a.blend").returncode == 0
+    )
     bpy.ops.wm.open_mainfile(filepath=str(tmp_path / "a.blend"))
     first = sequencer.speech_wav_of(bpy.context.scene)
     first_digest, first_frames = _digest(first), bpy.context.scene.frame_end
-    result = _run("--text", "Merhaba", "--no-render", "--save-blend", tmp_path / "b.blend", "--rate", "0.5")
+    result = run_render(
+        "--text", "Merhaba", "--no-render", "--save-blend", tmp_path / "b.blend", "--rate", "0.5"
+    )
     assert result.returncode == 0, result.stderr
     bpy.ops.wm.open_mainfile(filepath=str(tmp_path / "b.blend"))
     second = sequencer.speech_wav_of(bpy.context.scene)
@@ -110,9 +106,13 @@ def _emotion_size(blend: Path) -> float:
 def test_the_panels_build_settings_are_flags_too(tmp_path):
     """--key-source, --empowered and --rho build the keys as the panel's Head settings do."""
     plain, empowered = tmp_path / "plain.blend", tmp_path / "empowered.blend"
-    assert _run("--text", "Ama", "--no-render", "--save-blend", plain).returncode == 0
-    result = _run("--text", "Ama", "--no-render", "--save-blend", empowered, "--empowered", "--rho", "2")
+    assert run_render("--text", "Ama", "--no-render", "--save-blend", plain).returncode == 0
+    result = run_render(
+        "--text", "Ama", "--no-render", "--save-blend", empowered, "--empowered", "--rho", "2"
+    )
     assert result.returncode == 0, result.stderr
     assert _emotion_size(empowered) == pytest.approx(2 * _emotion_size(plain), rel=1e-4)
-    _refused(_run("--text", "Ama", "--no-render", "--key-source", "obj_folder"), "go together")
-    _refused(_run("--text", "Ama", "--no-render", "--rho", "50"), "--rho 50.0 must lie between 1 and 10")
+    _refused(run_render("--text", "Ama", "--no-render", "--key-source", "obj_folder"), "go together")
+    _refused(
+        run_render("--text", "Ama", "--no-render", "--rho", "50"), "--rho 50.0 must lie between 1 and 10"
+    )

@@ -7,6 +7,7 @@ from turkish_lipsync.core.interchange.video import VideoError, join_videos
 
 av = pytest.importorskip("av")
 soundfile = pytest.importorskip("soundfile")
+from tests.render_runs import decoded_media  # noqa: E402
 
 FPS = 25
 SIZE = 32
@@ -33,18 +34,6 @@ def _encode(path, frames, *, size=SIZE):
             out.mux(packet)
 
 
-def _decoded(path):
-    """Every video frame (RGB) and every audio sample of a file, in one pass over its packets."""
-    frames, audio = [], []
-    with av.open(str(path)) as container:
-        for frame in container.decode(*container.streams):
-            if isinstance(frame, av.VideoFrame):
-                frames.append(frame.to_ndarray(format="rgb24"))
-            else:
-                audio.append(frame.to_ndarray())
-    return frames, np.concatenate(audio, axis=1) if audio else np.zeros((1, 0))
-
-
 @pytest.fixture()
 def speech(tmp_path):
     seconds = 30 / FPS
@@ -65,8 +54,8 @@ def test_three_chunks_join_into_the_same_frames_and_samples_as_one(tmp_path, spe
     one = join_videos([tmp_path / "whole.mp4"], tmp_path / "one.mp4", speech)
     three = join_videos(chunks, tmp_path / "three.mp4", speech)
     assert one.frame_count == three.frame_count == 30 and three.chunk_frames == (11, 9, 10)
-    frames_one, audio_one = _decoded(one.path)
-    frames_three, audio_three = _decoded(three.path)
+    frames_one, audio_one = decoded_media(one.path)
+    frames_three, audio_three = decoded_media(three.path)
     assert len(frames_one) == len(frames_three) == 30
     for a, b in zip(frames_one, frames_three, strict=True):
         np.testing.assert_array_equal(a, b)

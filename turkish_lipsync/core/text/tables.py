@@ -121,6 +121,19 @@ def text_tables() -> Tables:
             raise DataError(f"data file {DATA_DIR / file}: [{name}] {key} must be a list of {count}words")
         return tuple(value and spoken(file, f"[{name}] {key}", value) for value in values)
 
+    def records(table: dict, file: str, name: str, kind: type) -> dict:
+        """A section of inline tables, each with exactly the spoken fields of kind (a dataclass)."""
+        fields = tuple(kind.__dataclass_fields__)
+        found = {}
+        for key, value in section(table, file, name).items():
+            if not isinstance(value, dict):
+                shape = ", ".join(fields)
+                raise DataError(f"data file {DATA_DIR / file}: [{name}] {key!r} must be {{ {shape} }}")
+            found[key] = kind(
+                **{field: spoken(file, f"[{name}] {key!r} {field}", value.get(field)) for field in fields}
+            )
+        return found
+
     main = "abbreviations.toml"
     units = "units.toml"
     numbers = section(words_table, main, "numbers")
@@ -135,22 +148,8 @@ def text_tables() -> Tables:
     missing = sorted(TURKISH_LETTERS - set(letter_names))
     if missing:
         raise DataError(f"data file {DATA_DIR / main}: [letter_names] lacks {', '.join(missing)}")
-    currencies = {}
-    for key, value in section(units_table, units, "currencies").items():
-        if not isinstance(value, dict):
-            raise DataError(f"data file {DATA_DIR / units}: [currencies] {key!r} must be {{ name, subunit }}")
-        currencies[key] = Currency(
-            name=spoken(units, f"[currencies] {key!r} name", value.get("name")),
-            subunit=spoken(units, f"[currencies] {key!r} subunit", value.get("subunit")),
-        )
-    per_time = {}
-    for key, value in section(units_table, units, "per_time").items():
-        if not isinstance(value, dict):
-            raise DataError(f"data file {DATA_DIR / units}: [per_time] {key!r} must be {{ before, after }}")
-        per_time[key] = PerTimeUnit(
-            before=spoken(units, f"[per_time] {key!r} before", value.get("before")),
-            after=spoken(units, f"[per_time] {key!r} after", value.get("after")),
-        )
+    currencies = records(units_table, units, "currencies", Currency)
+    per_time = records(units_table, units, "per_time", PerTimeUnit)
     return Tables(
         abbreviations=mapping(words_table, main, "abbreviations"),
         units_after_number=mapping(units_table, units, "after_number"),

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...speech.voice_activity import runs
 from .rotations import angles_of
 
 SACCADE_SPEED = 20.0  # degrees a second of gaze that count as a saccade, not a fixation
@@ -48,19 +49,10 @@ def saccades(gaze: np.ndarray, fps: float) -> list[tuple[int, int, float]]:
     """(first frame, frames it lasts, amplitude in degrees) of each run of fast gaze (N, 3 directions)."""
     step = angle_between(gaze[1:], gaze[:-1])
     fast = step * fps > SACCADE_SPEED
-    found = []
-    index = 0
-    while index < fast.size:
-        if not fast[index]:
-            index += 1
-            continue
-        end = index
-        while end + 1 < fast.size and fast[end + 1]:
-            end += 1
-        amplitude = float(angle_between(gaze[end + 1], gaze[index]))
-        found.append((index, end - index + 1, amplitude))
-        index = end + 1
-    return found
+    return [
+        (int(start), int(stop - start), float(angle_between(gaze[stop], gaze[start])))
+        for start, stop in runs(fast)
+    ]
 
 
 def blinks(closure: np.ndarray, fps: float) -> list[dict]:
@@ -69,14 +61,11 @@ def blinks(closure: np.ndarray, fps: float) -> list[dict]:
     eyes look down, so each blink's travel is measured from where its rise begins."""
     shut = closure >= BLINK_CLOSED
     found = []
-    index = 0
-    while index < shut.size:
-        if not shut[index]:
-            index += 1
+    resume = 0  # a run of shut frames inside the last blink's fall belongs to it
+    for index, stop in runs(shut):
+        if index < resume:
             continue
-        last = index
-        while last + 1 < shut.size and shut[last + 1]:
-            last += 1
+        last = stop - 1
         peak = float(closure[index : last + 1].max())
         rise = index
         while rise > 0 and closure[rise - 1] < closure[rise]:
@@ -98,7 +87,7 @@ def blinks(closure: np.ndarray, fps: float) -> list[dict]:
                 "opening": max(opened_at - opening_from, 1) / fps,
             }
         )
-        index = max(fall, last) + 1
+        resume = max(fall, last) + 1
     return found
 
 

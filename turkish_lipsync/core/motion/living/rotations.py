@@ -11,7 +11,7 @@ import numpy as np
 def head_matrices(angles: np.ndarray) -> np.ndarray:
     """(N, 3, 3) rotations from (N, 3) yaw, pitch, roll in degrees: R = R_yaw R_pitch R_roll."""
     yaw, pitch, roll = np.radians(np.asarray(angles, np.float64)).T
-    return _about_y(yaw) @ _about_x(-pitch) @ _about_z(roll)
+    return _about(1, yaw) @ _about(0, -pitch) @ _about(2, roll)
 
 
 def eye_matrices(angles: np.ndarray) -> np.ndarray:
@@ -19,7 +19,7 @@ def eye_matrices(angles: np.ndarray) -> np.ndarray:
     angles = np.asarray(angles, np.float64)
     yaw, pitch = np.radians(angles[:, :2]).T
     roll = np.radians(angles[:, 2]) if angles.shape[1] > 2 else np.zeros(len(angles))
-    return _about_y(yaw) @ _about_x(-pitch) @ _about_z(roll)
+    return _about(1, yaw) @ _about(0, -pitch) @ _about(2, roll)
 
 
 def direction(yaw: np.ndarray, pitch: np.ndarray) -> np.ndarray:
@@ -34,25 +34,11 @@ def angles_of(vectors: np.ndarray) -> np.ndarray:
     return np.degrees(np.stack([np.arctan2(x, z), np.arctan2(y, np.hypot(x, z))], axis=1))
 
 
-def _about_x(angle: np.ndarray) -> np.ndarray:
+def _about(axis: int, angle: np.ndarray) -> np.ndarray:
+    """(N, 3, 3) right-handed rotations by angle (radians) about the x (0), y (1) or z (2) axis."""
     c, s = np.cos(angle), np.sin(angle)
+    first, second = (axis + 1) % 3, (axis + 2) % 3
     m = np.zeros((np.size(angle), 3, 3))
-    m[:, 0, 0] = 1
-    m[:, 1, 1], m[:, 1, 2], m[:, 2, 1], m[:, 2, 2] = c, -s, s, c
-    return m
-
-
-def _about_y(angle: np.ndarray) -> np.ndarray:
-    c, s = np.cos(angle), np.sin(angle)
-    m = np.zeros((np.size(angle), 3, 3))
-    m[:, 1, 1] = 1
-    m[:, 0, 0], m[:, 0, 2], m[:, 2, 0], m[:, 2, 2] = c, s, -s, c
-    return m
-
-
-def _about_z(angle: np.ndarray) -> np.ndarray:
-    c, s = np.cos(angle), np.sin(angle)
-    m = np.zeros((np.size(angle), 3, 3))
-    m[:, 2, 2] = 1
-    m[:, 0, 0], m[:, 0, 1], m[:, 1, 0], m[:, 1, 1] = c, -s, s, c
+    m[:, axis, axis] = 1
+    m[:, first, first], m[:, first, second], m[:, second, first], m[:, second, second] = c, -s, s, c
     return m
