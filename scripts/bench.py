@@ -24,7 +24,6 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-CORPUS = ROOT / "examples" / "corpus_tr.txt"
 TEN_MINUTE_WORDS = 1500
 FPS = 25
 PLAYBACK_FRAMES = 500
@@ -35,7 +34,9 @@ def ten_minute_text() -> str:
     """About 1,500 words of real Turkish sentences (the corpus, repeated in a shuffled order)."""
     import random
 
-    sentences = [line.strip() for line in CORPUS.read_text(encoding="utf-8").splitlines() if line.strip()]
+    from scripts.corpus import corpus_sentences
+
+    sentences = corpus_sentences()
     chosen, words, generator = [], 0, random.Random(7)
     while words < TEN_MINUTE_WORDS:
         order = sentences[:]

@@ -25,6 +25,7 @@ import numpy as np
 REPOSITORY = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPOSITORY))
 
+from scripts.corpus import corpus_sentences  # noqa: E402
 from turkish_lipsync.core.speech import synthesize_timeline  # noqa: E402
 from turkish_lipsync.core.speech.cue_timing import timeline_from_cues  # noqa: E402
 from turkish_lipsync.core.speech.cues import cue_formats, read_cue_file  # noqa: E402
@@ -114,8 +115,7 @@ def main() -> int:
     parser.add_argument("--fps", type=float, default=25.0)
     parser.add_argument("--sentences", type=int, default=20)
     arguments = parser.parse_args()
-    lines = (REPOSITORY / "examples" / "corpus_tr.txt").read_text(encoding="utf-8").splitlines()
-    measure_cue_timing([line for line in lines if line.strip()][: arguments.sentences], arguments.fps)
+    measure_cue_timing(corpus_sentences()[: arguments.sentences], arguments.fps)
     measure_join()
     return 0
 

@@ -25,6 +25,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from scripts.corpus import corpus_sentences  # noqa: E402
 from turkish_lipsync.blender import compat, eye_keys, heads, living, mesh, pipeline  # noqa: E402
 from turkish_lipsync.blender.living_rig import find_rig  # noqa: E402
 from turkish_lipsync.core.base.model import BLINK_KEYS, OWNED_PREFIX  # noqa: E402
@@ -34,13 +35,12 @@ from turkish_lipsync.core.interchange.arkit_csv import HEADER, ROTATION_COLUMNS 
 from turkish_lipsync.core.motion.living import measures  # noqa: E402
 from turkish_lipsync.core.pipeline import LipSyncOptions  # noqa: E402
 
-CORPUS = Path(__file__).resolve().parents[1] / "examples" / "corpus_tr.txt"
 WORDS_PER_SECOND = 1.9  # eSpeak's Turkish voice reading the corpus, pauses included
 CONTACT_DEGREES = 2.0  # gaze within this of the target is eye contact
 
 
 def speech_text(seconds: float) -> str:
-    sentences = [line.strip() for line in CORPUS.read_text(encoding="utf-8").splitlines() if line.strip()]
+    sentences = corpus_sentences()
     chosen, words = [], 0
     for sentence in sentences * 10:
         if words >= seconds * WORDS_PER_SECOND:

@@ -34,8 +34,9 @@ import numpy as np
 REPOSITORY = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPOSITORY))
 
+from scripts.corpus import held_out_sentences, tuning_sentences  # noqa: E402
 from scripts.measure_recordings import CONDITIONS, takes, write_wav  # noqa: E402
-from scripts.train_recogniser import held_out_sentences, speak  # noqa: E402
+from scripts.train_recogniser import speak  # noqa: E402
 from turkish_lipsync.core.base.errors import AudioError  # noqa: E402
 from turkish_lipsync.core.base.model import Timeline  # noqa: E402
 from turkish_lipsync.core.base.visemes import BILABIAL_VISEMES, VOWEL_VISEMES  # noqa: E402
@@ -379,13 +380,6 @@ def tune(folder: Path) -> None:
             f"vowels closed {vowels_closed / vowels:.1%}",
             flush=True,
         )
-
-
-def tuning_sentences() -> list[str]:
-    from scripts.train_recogniser import CORPUS, TUNING_LINES
-
-    lines = [line.strip() for line in CORPUS.read_text(encoding="utf-8").splitlines() if line.strip()]
-    return lines[:TUNING_LINES]
 
 
 def main(argv: list[str] | None = None) -> int:

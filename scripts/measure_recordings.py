@@ -62,6 +62,7 @@ sys.path.insert(0, str(REPOSITORY))
 sys.path.insert(0, str(REPOSITORY / "scripts"))
 
 import takes  # noqa: E402
+from corpus import held_out_sentences, tuning_sentences  # noqa: E402
 from takes import RATE, Take  # noqa: E402
 
 from turkish_lipsync.core.base.errors import AudioError, LipSyncError  # noqa: E402
@@ -69,8 +70,6 @@ from turkish_lipsync.core.speech import espeak, synthesize_timeline  # noqa: E40
 from turkish_lipsync.core.speech.audio import resample  # noqa: E402
 from turkish_lipsync.core.text.utterance import build_utterance  # noqa: E402
 
-CORPUS = REPOSITORY / "examples" / "corpus_tr.txt"
-TUNING_LINES = 30
 AENEAS_PYTHON = Path(os.environ.get("AENEAS_PYTHON", "/work/venvs/aeneas/bin/python"))
 
 
@@ -173,8 +172,7 @@ def write_wav(path: Path, samples: np.ndarray, rate: int) -> Path:
 
 
 def sentences(which: str) -> list[str]:
-    lines = [line.strip() for line in CORPUS.read_text(encoding="utf-8").splitlines() if line.strip()]
-    return lines[:TUNING_LINES] if which == "tuning" else lines[TUNING_LINES:]
+    return tuning_sentences() if which == "tuning" else held_out_sentences()
 
 
 # Run inside aeneas' own venv: aligns a WAV to one word a line, prints the onsets and the seconds it took.

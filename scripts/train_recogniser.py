@@ -46,6 +46,7 @@ import numpy as np
 REPOSITORY = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPOSITORY))
 
+from scripts.corpus import held_out_sentences, tuning_sentences  # noqa: E402
 from turkish_lipsync.core.speech import espeak, synthesize_timeline  # noqa: E402
 from turkish_lipsync.core.speech.audio import resample  # noqa: E402
 from turkish_lipsync.core.speech.features import ANALYSIS_RATE  # noqa: E402
@@ -60,8 +61,6 @@ from turkish_lipsync.core.speech.recognition.network import (  # noqa: E402
 )
 from turkish_lipsync.core.text.utterance import build_utterance  # noqa: E402
 
-CORPUS = REPOSITORY / "examples" / "corpus_tr.txt"
-TUNING_LINES = 30
 # Spoken only by scripts/measure_recogniser.py: voices the network never heard.
 HELD_OUT_VARIANTS = ("m3", "f4", "klatt3", "Andrea", "benjamin", "steph2", "iven2", "grandpa")
 TURKISH_WORD = re.compile(r"^[abcçdefgğhıijklmnoöprsştuüvyz]+$")
@@ -77,22 +76,16 @@ def training_variants() -> list[str]:
     return sorted(name.name for name in folder.iterdir() if name.name not in HELD_OUT_VARIANTS)
 
 
-def held_out_sentences() -> list[str]:
-    lines = [line.strip() for line in CORPUS.read_text(encoding="utf-8").splitlines() if line.strip()]
-    return lines[TUNING_LINES:]
-
-
 def training_texts(count: int, rng: np.random.Generator) -> list[str]:
     """The tuning sentences and random sentences of real Turkish words (none of the held-out ones)."""
     import wordfreq
 
-    lines = [line.strip() for line in CORPUS.read_text(encoding="utf-8").splitlines() if line.strip()]
     forbidden = {word for line in held_out_sentences() for word in re.findall(r"\w+", line.lower())}
     words = [word for word in wordfreq.top_n_list("tr", 30_000) if TURKISH_WORD.match(word)]
     words = [word for word in words if word not in forbidden]
     weights = 1.0 / np.sqrt(np.arange(1, len(words) + 1))
     weights /= weights.sum()
-    texts = list(lines[:TUNING_LINES])
+    texts = tuning_sentences()
     while len(texts) < count:
         chosen = rng.choice(len(words), size=int(rng.integers(3, 15)), p=weights)
         sentence = ""
