@@ -84,10 +84,15 @@ def test_tempo_that_changes_inside_a_phrase_is_followed(tmp_path):
     assert speech.warnings == ()
 
 
-def test_a_hesitation_where_the_text_has_no_comma_keeps_the_next_word_after_it(tmp_path):
+def hesitating() -> tuple[takes.Take, np.ndarray]:
+    """A take of OTHER_TEXT with hesitations of 0.6-0.8 s, and the words that come after one."""
     clean = take_of(OTHER_TEXT)
     take = takes.hesitate(clean, np.random.default_rng(5), shortest=0.6, longest=0.8)
-    held = np.flatnonzero(np.diff(take.words) - np.diff(clean.words) > 0.5) + 1
+    return take, np.flatnonzero(np.diff(take.words) - np.diff(clean.words) > 0.5) + 1
+
+
+def test_a_hesitation_where_the_text_has_no_comma_keeps_the_next_word_after_it(tmp_path):
+    take, held = hesitating()
     assert held.size >= 1 and not take.commas[held].any()  # hesitations where the text has no pause
     speech, error = aligned(quiet_room(take), tmp_path)
     assert error[held].max() < 0.050  # the word after the hesitation starts when it is said, not before
@@ -111,9 +116,8 @@ def test_a_voice_in_the_background_is_not_followed(tmp_path):
 
 def test_a_hesitation_filled_by_a_voice_in_the_background_is_held(tmp_path):
     """The voice activity detector hears the other voice in the pause: the pause is told by its level."""
-    clean = take_of(OTHER_TEXT)
-    take = takes.hesitate(clean, np.random.default_rng(5), shortest=0.6, longest=0.8)
-    held = np.flatnonzero(np.diff(take.words) - np.diff(clean.words) > 0.5) + 1
+    take, held = hesitating()
+    assert held.size >= 1
     speech, error = aligned(quiet_room(with_a_talker(take, seed=4), snr=60), tmp_path)
     assert error[held].max() < 0.050  # the word after the hesitation starts when it is said
     assert np.median(error) < 0.020 and error.max() < 0.100
