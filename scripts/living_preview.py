@@ -45,7 +45,7 @@ def chosen_frames(tracks) -> list[tuple[int, str]]:
     return picks
 
 
-def strip_of(head_path: Path | None, object_name: str | None, own_keys_at_rest: bool, args) -> np.ndarray:
+def strip_of(head_path: Path | None, args) -> np.ndarray:
     """A row of tiles: the head (ours where head_path is None) built, speaking, rendered at chosen frames."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
     context = bpy.context
@@ -55,8 +55,8 @@ def strip_of(head_path: Path | None, object_name: str | None, own_keys_at_rest: 
     head = None
     if head_path is not None:
         imported = heads.import_head(head_path)
-        head = bpy.data.objects[object_name] if object_name else heads.find_head(imported)
-        if own_keys_at_rest:
+        head = bpy.data.objects[args.object] if args.object else heads.find_head(imported)
+        if args.own_keys_at_rest:
             pipeline.put_own_keys_at_rest(head)
     head = bpy.data.objects[pipeline.build_keys(context, head).head]
     pipeline.frame_head(scene, head)
@@ -74,8 +74,9 @@ def strip_of(head_path: Path | None, object_name: str | None, own_keys_at_rest: 
                 resolution=(args.size, args.size),
             )
             image = bpy.data.images.load(path)
-            pixels = np.array(image.pixels[:], dtype=np.float32).reshape(args.size, args.size, 4)
-            tiles.append(pixels)
+            pixels = np.empty(args.size * args.size * 4, np.float32)
+            image.pixels.foreach_get(pixels)
+            tiles.append(pixels.reshape(args.size, args.size, 4))
             print(f"{head.name}, frame {frame}: {label}", flush=True)
     return np.concatenate(tiles, axis=1)
 
@@ -97,10 +98,7 @@ def main() -> int:
     )
     args = parser.parse_args()
     chosen = args.head or [Path("default")]
-    rows = [
-        strip_of(None if str(path) == "default" else path, args.object, args.own_keys_at_rest, args)
-        for path in chosen
-    ]
+    rows = [strip_of(None if str(path) == "default" else path, args) for path in chosen]
     # Blender's pixels start at the bottom row: the first head's row goes on top.
     sheet = np.concatenate(rows[::-1], axis=0)
     out = bpy.data.images.new("strip", sheet.shape[1], sheet.shape[0])

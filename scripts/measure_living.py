@@ -26,7 +26,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from scripts.corpus import corpus_sentences  # noqa: E402
-from turkish_lipsync.blender import compat, eye_keys, heads, living, mesh, pipeline  # noqa: E402
+from turkish_lipsync.blender import compat, eye_keys, heads, keyframes, living, mesh, pipeline  # noqa: E402
 from turkish_lipsync.blender.living_rig import find_rig  # noqa: E402
 from turkish_lipsync.core.base.model import BLINK_KEYS, OWNED_PREFIX  # noqa: E402
 from turkish_lipsync.core.faces.eyes import own_look_keys, sphere_fit  # noqa: E402
@@ -128,12 +128,9 @@ def _without_our_keys(head: bpy.types.Object):
     head's own keys at the values it came with)."""
     keys = head.data.shape_keys
     action = keys.animation_data.action if keys.animation_data else None
-    curves = (
-        [fc for fc in compat.all_action_fcurves(action) if fc.data_path.startswith('key_blocks["TR_')]
-        if action
-        else []
-    )
     values = {block.name: block.value for block in keys.key_blocks if block.name.startswith(OWNED_PREFIX)}
+    paths = {keyframes.curve_data_path(name) for name in values}
+    curves = [fc for fc in compat.all_action_fcurves(action) if fc.data_path in paths] if action else []
     for fcurve in curves:
         fcurve.mute = True
     for name in values:

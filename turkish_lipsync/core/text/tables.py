@@ -7,7 +7,7 @@ Every spoken form must be lowercase Turkish words, so a typo in a table fails at
 from __future__ import annotations
 
 import unicodedata
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from functools import cache, lru_cache
 
 from ..base.data import DATA_DIR, load_table
@@ -122,15 +122,15 @@ def text_tables() -> Tables:
         return tuple(value and spoken(file, f"[{name}] {key}", value) for value in values)
 
     def records(table: dict, file: str, name: str, kind: type) -> dict:
-        """A section of inline tables, each with exactly the spoken fields of kind (a dataclass)."""
-        fields = tuple(kind.__dataclass_fields__)
+        """A section of inline tables, each giving the spoken fields of kind (a dataclass)."""
+        names = tuple(field.name for field in fields(kind))
         found = {}
         for key, value in section(table, file, name).items():
             if not isinstance(value, dict):
-                shape = ", ".join(fields)
+                shape = ", ".join(names)
                 raise DataError(f"data file {DATA_DIR / file}: [{name}] {key!r} must be {{ {shape} }}")
             found[key] = kind(
-                **{field: spoken(file, f"[{name}] {key!r} {field}", value.get(field)) for field in fields}
+                **{field: spoken(file, f"[{name}] {key!r} {field}", value.get(field)) for field in names}
             )
         return found
 
