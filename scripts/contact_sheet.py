@@ -19,7 +19,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from turkish_lipsync.blender import compat, heads, shapekeys  # noqa: E402
+from turkish_lipsync.blender import compat, heads, pipeline, render, shapekeys  # noqa: E402
+from turkish_lipsync.blender.living_rig import find_rig  # noqa: E402
 from turkish_lipsync.core.base.errors import LipSyncError  # noqa: E402
 from turkish_lipsync.core.base.model import EMOTIONS, emotion_key_name, viseme_key_name  # noqa: E402
 from turkish_lipsync.core.base.visemes import VISEME_NAMES  # noqa: E402
@@ -33,7 +34,8 @@ LABEL_BAR = 0.16  # share of a tile's height kept below the chin for its label
 
 
 def _setup_scene(head: bpy.types.Object, tile: int) -> None:
-    """Camera on the face from brows to chin, a dark bar under the chin with the key's name on it."""
+    """Camera on the face from brows to chin, whichever way it looks, a dark bar under the chin with the
+    key's name on it."""
     scene = bpy.context.scene
     scene.render.engine = "CYCLES"
     scene.cycles.device = "CPU"
@@ -44,44 +46,57 @@ def _setup_scene(head: bpy.types.Object, tile: int) -> None:
     world = bpy.data.worlds.new("TR_ContactWorld")
     world.color = BACKGROUND
     scene.world = world
-    matrix = np.array(head.matrix_world)
-    box = np.array([tuple(c) for c in head.bound_box]) @ matrix[:3, :3].T + matrix[:3, 3]
-    lower, upper = box.min(axis=0), box.max(axis=0)
-    height = float(upper[2] - lower[2])
-    # The face band of a head-and-neck crop: from above the brows (71 % up) down to below the chin (12 %).
-    face_top, face_bottom = lower[2] + 0.71 * height, lower[2] + 0.12 * height
-    view_height = (face_top - face_bottom) / (1 - LABEL_BAR)
-    centre_z = face_top - view_height / 2
+    # The face's own axes (columns: left, up, forward) and the band our keys move, brows to chin.
+    frame = find_rig(head).frame
+    up, forward = frame[:, 1], frame[:, 2]
+    right = np.cross(up, forward)  # the camera's x: the viewer's right, facing the face
+    points = render.face_points(pipeline.head_objects(head))
+    along_up, along_right, along_forward = points @ up, points @ right, points @ forward
+    margin = 0.12 * float(np.ptp(along_up))
+    face_top, face_bottom = along_up.max() + margin, along_up.min() - margin
+    height = face_top - face_bottom
+    view_height = height / (1 - LABEL_BAR)
+    centre_up = face_top - view_height / 2
+    centre_right = float(along_right.max() + along_right.min()) / 2
+    front = float(along_forward.max())
+    rotation = np.column_stack([right, up, forward])  # x right, y up, looking along -forward
+
+    def placed(obj: bpy.types.Object, ahead: float, rise: float) -> None:
+        from mathutils import Matrix
+
+        matrix = np.eye(4)
+        matrix[:3, :3] = rotation
+        matrix[:3, 3] = right * centre_right + up * rise + forward * (front + ahead)
+        obj.matrix_world = Matrix(matrix.tolist())
+
     camera_data = bpy.data.cameras.new("TR_ContactCamera")
     camera_data.type = "ORTHO"
     camera_data.sensor_fit = "VERTICAL"
     camera_data.ortho_scale = view_height
+    camera_data.clip_end = 10 * view_height + 100
     camera = bpy.data.objects.new("TR_ContactCamera", camera_data)
-    centre_x = float(lower[0] + upper[0]) / 2
-    camera.location = (centre_x, float(lower[1]) - 3 * height, centre_z)
-    camera.rotation_euler = (math.pi / 2, 0, 0)
+    placed(camera, 3 * view_height, centre_up)
     scene.collection.objects.link(camera)
     scene.camera = camera
-    for name, energy, offset in (("key", 4.0, (-1, -2, 1.6)), ("fill", 1.5, (1.5, -2, 0.2))):
+    for name, energy, (sideways, ahead, rise) in (("key", 4.0, (-1, 2, 1.6)), ("fill", 1.5, (1.5, 2, 0.2))):
         light_data = bpy.data.lights.new(f"TR_Contact_{name}", "SUN")
         light_data.energy = energy
         light = bpy.data.objects.new(light_data.name, light_data)
-        light.rotation_euler = _aim(-np.array(offset, dtype=float))
+        light.rotation_euler = _aim(-(sideways * right + ahead * forward + rise * up))
         scene.collection.objects.link(light)
-    # The label bar sits between the camera and the head, so it hides the neck and never the chin.
+    # The label bar sits between the camera and the face, so it hides the neck and never the chin.
     bar_height = LABEL_BAR * view_height
-    bar_front = float(lower[1]) - 1.5 * height
-    bar_z = centre_z - view_height / 2 + bar_height / 2
+    bar_rise = centre_up - view_height / 2 + bar_height / 2
     bar_mesh = bpy.data.meshes.new("TR_ContactLabelBar")
     half_width, half_height = view_height, bar_height / 2
     bar_mesh.from_pydata(
-        [(-half_width, 0, -half_height), (half_width, 0, -half_height), (half_width, 0, half_height),
-         (-half_width, 0, half_height)],
+        [(-half_width, -half_height, 0), (half_width, -half_height, 0), (half_width, half_height, 0),
+         (-half_width, half_height, 0)],
         [],
         [(0, 1, 2, 3)],
     )  # fmt: skip
     bar = bpy.data.objects.new("TR_ContactLabelBar", bar_mesh)
-    bar.location = (centre_x, bar_front, bar_z)
+    placed(bar, 1.5 * view_height, bar_rise)
     bar_mesh.materials.append(_emission_material("TR_ContactLabelBar", LABEL_BAR_COLOUR, 1.0))
     scene.collection.objects.link(bar)
     label_data = bpy.data.curves.new("TR_ContactLabel", "FONT")
@@ -90,8 +105,7 @@ def _setup_scene(head: bpy.types.Object, tile: int) -> None:
     label_data.align_y = "CENTER"
     label_data.materials.append(_emission_material("TR_ContactLabel", (1.0, 0.92, 0.45), 1.0))
     label = bpy.data.objects.new("TR_ContactLabel", label_data)
-    label.location = (centre_x, bar_front - 0.01 * height, bar_z)
-    label.rotation_euler = (math.pi / 2, 0, 0)
+    placed(label, 1.51 * view_height, bar_rise)
     scene.collection.objects.link(label)
 
 
