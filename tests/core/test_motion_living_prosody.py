@@ -49,7 +49,8 @@ def test_espeak_speech_agrees_with_praat():
     # of Praat's voiced 10 ms points (each unvoiced frame of ours leaves 40 ms around it without a value).
     assert np.median(error) < 0.2 and (error > 1).mean() < 0.01
     assert both.sum() / np.isfinite(praat).sum() > 0.55
-    assert (np.isfinite(ours) & ~np.isfinite(praat)).sum() < 0.02 * np.isfinite(ours).sum()
+    # Voiced where Praat hears none: 0.9-2.2 % over 32 syntheses (eSpeak's samples differ from run to run).
+    assert (np.isfinite(ours) & ~np.isfinite(praat)).sum() < 0.035 * np.isfinite(ours).sum()
 
 
 def test_phrases_pauses_and_accents_come_from_the_audio_and_from_the_text_without_it():

@@ -2,9 +2,16 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..base.model import Track, WeightTracks
+
+
+def frame_count_for(duration: float, fps: float) -> int:
+    """Frames an utterance of duration seconds covers at fps: its start, its end and every frame between."""
+    return math.ceil(duration * fps) + 1
 
 
 def sparse_track(name: str, frames: np.ndarray, values: np.ndarray) -> Track:

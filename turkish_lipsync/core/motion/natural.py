@@ -40,7 +40,7 @@ from ..base.model import (
 )
 from ..base.visemes import BILABIAL_VISEMES, LABIODENTAL_VISEMES, NEUTRAL, VISEME_NAMES, visemes_of_kind
 from .base import MOTION_MODELS, MotionModel
-from .frames import shape_runs, shown_shapes, sparse_track
+from .frames import frame_count_for, shape_runs, shown_shapes, sparse_track
 
 HARD_TARGETS = BILABIAL_VISEMES | LABIODENTAL_VISEMES
 TABLE = "motion"
@@ -145,7 +145,7 @@ def natural_weight_tracks(
     if fps <= 0:
         raise ValueError(f"frame rate must be positive, got {fps}")
     params = motion_parameters()
-    frame_count = math.ceil(timeline.duration * fps) + 1
+    frame_count = frame_count_for(timeline.duration, fps)
     times = np.arange(frame_count) / fps
 
     visemes, weights, closure_frames = viseme_weights(timeline, fps, frame_count, params)

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from ..base.data import DATA_DIR, load_table, require
@@ -11,7 +9,7 @@ from ..base.errors import DataError
 from ..base.model import Timeline, WeightTracks, emotion_key_name, viseme_key_name
 from ..base.visemes import NEUTRAL
 from .base import MOTION_MODELS, MotionModel
-from .frames import sparse_track
+from .frames import frame_count_for, sparse_track
 
 
 def thesis_weight_tracks(timeline: Timeline, fps: float, emotion_strength: float = 1.0) -> WeightTracks:
@@ -42,7 +40,7 @@ def thesis_weight_tracks(timeline: Timeline, fps: float, emotion_strength: float
     tracks = tuple(sparse_track(name, frames, values[:, column[name]]) for name in names)
     return WeightTracks(
         fps=fps,
-        frame_count=math.ceil(timeline.duration * fps) + 1,
+        frame_count=frame_count_for(timeline.duration, fps),
         interpolation="LINEAR",
         tracks=tracks,
         mode="thesis",

@@ -32,7 +32,7 @@ from ...base.model import (
     look_key_name,
 )
 from ..frames import decimated_keys, sparse_track
-from .blinks import blink_curve, place_blinks
+from .blinks import blink_curve, blink_durations, place_blinks
 from .brows import brow_curve
 from .expression import emotion_life
 from .gaze import GazeSetup, eye_angles, plan_gaze
@@ -95,8 +95,9 @@ def living_tracks(
         starts = place_blinks(
             structure, plan.saccades, timeline.duration, blink_rng, settings["blinks"], options.blinks
         )
+        planned = zip(starts, blink_durations(starts, blink_rng, settings["blinks"]), strict=True)
         closure = _eye_closure(tracks, settings["blinks"]["eye_closure"])
-        curve, blink_spans = blink_curve(starts, fps, frame_count, closure, blink_rng, settings["blinks"])
+        curve, blink_spans = blink_curve(tuple(planned), fps, frame_count, closure, settings["blinks"])
         for name in BLINK_KEYS:
             columns[name] = curve
     if options.expression > 0:

@@ -69,31 +69,35 @@ def place_blinks(
     return blinks
 
 
+def blink_durations(starts: list[float], rng: np.random.Generator, settings: dict) -> np.ndarray:
+    """How long each placed blink lasts (closing, shut and opening together), seconds."""
+    return rng.uniform(settings["min_duration"], settings["max_duration"], len(starts))
+
+
 def blink_curve(
-    starts: list[float],
+    blinks: tuple[tuple[float, float], ...],
     fps: float,
     frame_count: int,
     eye_closure: np.ndarray,
-    rng: np.random.Generator,
     settings: dict,
 ) -> tuple[np.ndarray, list[tuple[float, float]]]:
-    """The lids' closure at each frame and the (start, end) of each blink kept; every blink is shut on a
-    frame (its start moves by less than half a frame so that one falls where the lids meet)."""
-    times = np.arange(frame_count) / fps
-    curve = np.zeros(times.size)
+    """The lids' closure at each frame and the (start, end) of each blink kept, from the planned (start,
+    duration) of each; every blink is shut on a frame (its start moves by less than half a frame so that one
+    falls where the lids meet), none where the emotions already narrow the eyes."""
+    curve = np.zeros(frame_count)
     spans = []
-    for planned in starts:
-        duration = rng.uniform(settings["min_duration"], settings["max_duration"])
+    for planned, duration in blinks:
         closing = duration * settings["close_share"]
         hold = duration * settings["hold_share"]
         opening = duration - closing - hold
         start = round((planned + closing) * fps) / fps - closing
-        inside = (times >= start) & (times <= start + duration)
-        if not inside.any() or eye_closure[inside].max() >= settings["blink_suppress_closure"]:
+        first, last = max(0, int(np.ceil(start * fps - 1e-9))), int(np.floor((start + duration) * fps + 1e-9))
+        last = min(last, frame_count - 1)
+        if last < first or eye_closure[first : last + 1].max() >= settings["blink_suppress_closure"]:
             continue
-        local = times[inside] - start
+        local = np.arange(first, last + 1) / fps - start
         profile = np.minimum(local / closing, (duration - local) / opening)
         profile[np.abs(local - closing) < 1e-9] = 1.0
-        curve[inside] = np.maximum(curve[inside], np.clip(profile, 0.0, 1.0))
+        curve[first : last + 1] = np.maximum(curve[first : last + 1], np.clip(profile, 0.0, 1.0))
         spans.append((float(start), float(start + duration)))
     return curve, spans

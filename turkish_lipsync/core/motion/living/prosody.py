@@ -22,6 +22,7 @@ YIN_THRESHOLD = 0.15  # cumulative mean normalised difference below this is a pe
 VOICING_THRESHOLD = 0.35  # frames whose best dip stays above this are unvoiced
 SILENCE_DB = -45.0  # frames this far below the loudest 5 % are silence
 _BLOCK = 2048  # frames analysed at once (bounds memory on long takes)
+_PIECE = 1 << 16  # decimated samples summed at once
 
 
 @dataclass(frozen=True, eq=False)
@@ -58,17 +59,9 @@ class Prosody:
 def measure_prosody(samples: np.ndarray, sample_rate: int) -> Prosody:
     """F0 and energy of mono speech samples (int16 or float)."""
     audio = np.asarray(samples)
-    # Averaging blocks of samples decimates to about ANALYSIS_RATE: its gentle low-pass keeps the voice's
-    # first harmonics, all YIN needs, at a tenth of a band-limited resampler's cost.
     factor = max(1, round(sample_rate / ANALYSIS_RATE))
     rate = sample_rate / factor
-    blocks = audio[: audio.size // factor * factor].reshape(-1, factor)
-    # Column by column: summing along the short axis of a long array is several times slower in numpy.
-    summed = blocks[:, 0].astype(np.float32)
-    for column in range(1, factor):
-        summed += blocks[:, column]
-    scale = 32768.0 * factor if audio.dtype.kind == "i" else float(factor)
-    audio = summed / np.float32(scale)
+    audio = _decimated(audio, factor)
     hop = rate / FRAME_RATE
     count = max(1, int(np.ceil(audio.size / hop)))
     window = round(WINDOW_SECONDS * rate)
@@ -77,8 +70,10 @@ def measure_prosody(samples: np.ndarray, sample_rate: int) -> Prosody:
     span = window + longest + 1
     padded = np.concatenate([np.zeros(span // 2, np.float32), audio, np.zeros(span + int(hop), np.float32)])
     starts = np.round(np.arange(count) * hop).astype(np.int64)
-    squares = np.concatenate([[0.0], np.cumsum(padded.astype(np.float64) ** 2)])
-    power = (squares[starts + window] - squares[starts]) / window
+    power = np.empty(count)
+    for first in range(0, count, _BLOCK):
+        windows = padded[starts[first : first + _BLOCK, None] + np.arange(window)]
+        power[first : first + _BLOCK] = np.einsum("ij,ij->i", windows, windows) / window
     loud = np.percentile(power, 95) if power.size else 1.0
     energy = 10.0 * np.log10(np.maximum(power, 1e-12) / max(loud, 1e-12))
     f0 = np.full(count, np.nan)
@@ -86,12 +81,31 @@ def measure_prosody(samples: np.ndarray, sample_rate: int) -> Prosody:
     lags = np.arange(longest + 2)
     for first in range(0, audible.size, _BLOCK):
         rows = audible[first : first + _BLOCK]
-        offsets = starts[rows, None]
-        frames = padded[offsets + np.arange(span)]
-        # Energy of the window shifted by each lag, from the take's running sum of squares.
-        shifted = squares[offsets + lags + window] - squares[offsets + lags]
+        frames = padded[starts[rows, None] + np.arange(span)]
+        # Energy of the window shifted by each lag, from the frame's running sum of squares.
+        squares = np.zeros((rows.size, span + 1))
+        np.cumsum(np.square(frames, dtype=np.float64), axis=1, out=squares[:, 1:])
+        shifted = squares[:, lags + window] - squares[:, lags]
         f0[rows] = _yin(frames, shifted, window, shortest, longest, rate)
     return Prosody(f0=_without_octave_jumps(f0), energy=energy, rate=FRAME_RATE)
+
+
+def _decimated(audio: np.ndarray, factor: int) -> np.ndarray:
+    """Float samples at 1/factor the rate, each the mean of factor samples (int16 scaled to -1..1).
+
+    Averaging blocks decimates with a gentle low-pass that keeps the voice's first harmonics, all YIN needs,
+    at a tenth of a band-limited resampler's cost; summed by a matrix product over pieces of the take, the
+    fastest way numpy has without a copy of the whole take in floats.
+    """
+    count = audio.size // factor
+    blocks = audio[: count * factor].reshape(count, factor)
+    scale = 32768.0 * factor if audio.dtype.kind == "i" else float(factor)
+    weights = np.full(factor, 1.0 / scale, np.float32)
+    result = np.empty(count, np.float32)
+    for first in range(0, count, _PIECE):
+        piece = slice(first, first + _PIECE)
+        np.matmul(blocks[piece].astype(np.float32), weights, out=result[piece])
+    return result
 
 
 def _yin(
@@ -101,11 +115,10 @@ def _yin(
 
     shifted[:, lag] is the energy of the row's window moved lag samples on.
     """
-    # Circular correlation wraps only negative lags, which land past the lags needed.
-    size = 1 << int(np.ceil(np.log2(frames.shape[1] + 1)))
-    spectrum = np.fft.rfft(frames, size)
-    head = np.fft.rfft(frames[:, :window], size)
-    correlation = np.fft.irfft(np.conj(head) * spectrum, size)[:, : longest + 2]
+    # The window's product with itself shifted by each lag: a direct sum over a strided view of the frame,
+    # several times faster than FFT correlation for these short frames.
+    shifts = np.lib.stride_tricks.sliding_window_view(frames, window, axis=1)[:, : longest + 2]
+    correlation = np.einsum("nj,nlj->nl", frames[:, :window], shifts)
     difference = shifted[:, :1] + shifted - 2.0 * correlation
     difference[:, 0] = 0.0
     cumulative = np.cumsum(difference[:, 1:], axis=1) / np.arange(1, longest + 2)
