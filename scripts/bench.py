@@ -27,6 +27,14 @@ sys.path.insert(0, str(ROOT))
 TEN_MINUTE_WORDS = 1500
 FPS = 25
 PLAYBACK_FRAMES = 500
+# Generate's progress reports, by the share of the work they announce: the stage each begins.
+GENERATE_STAGES = {
+    0.05: "text_to_tracks",
+    0.45: "speech_wav",
+    0.6: "head_and_eyes",
+    0.7: "shape_key_curves",
+    0.85: "sound_strip",
+}
 SLOW_KEYFRAME_SUBSET = 5000  # per-key keyframe_insert is timed on whole tracks of about this many keys
 
 
@@ -88,64 +96,48 @@ def _dense_head(context):
 
 
 def run_end_to_end(head_kind: str, living_on: bool = True) -> dict:
-    """Text to a speaking head, no render: parse, speak, time, build keys, key them, place the sound; with
-    the living layers (gaze, blinks, head motion, expression: pitch tracking included) or without."""
+    """Text to a speaking head as Build Shape Keys and Generate Animation make it, no render: the keys built,
+    the text read, spoken, timed and keyed, its record kept, the sound written and placed; with the living
+    layers (gaze, blinks, head motion, expression: pitch tracking included) or without."""
     context = _fresh_scene()
-    from turkish_lipsync.blender import heads, keyframes, living, pipeline, sequencer, shapekeys
-    from turkish_lipsync.blender.living_rig import find_rig
-    from turkish_lipsync.core.motion import weight_tracks
-    from turkish_lipsync.core.motion.living import LivingOptions, living_tracks
-    from turkish_lipsync.core.speech import synthesize_timeline, write_wav
-    from turkish_lipsync.core.text.utterance import build_utterance
+    import bpy
+
+    from turkish_lipsync.blender import compat, heads, pipeline, shapekeys
+    from turkish_lipsync.core.pipeline import LIVING_LAYERS, LipSyncOptions
 
     text = ten_minute_text()
     head = heads.create_reference_head(context)["head"] if head_kind == "default" else _dense_head(context)
-    stages = {}
-    started, cpu_started = time.perf_counter(), time.process_time()
-    utterance = build_utterance(text)
-    stages["parse_s"] = time.perf_counter() - started
-    mark = time.perf_counter()
-    speech = synthesize_timeline(utterance, "phone")
-    timeline, synthesis = speech.timeline, speech.synthesis
-    stages["speech_and_timeline_s"] = time.perf_counter() - mark
-    mark = time.perf_counter()
-    tracks = weight_tracks(timeline, FPS)
-    if living_on:
-        rig = find_rig(head)
-        tracks = living_tracks(
-            tracks,
-            timeline,
-            LivingOptions(setup=rig.gaze_setup(None)[0]),
-            synthesis.samples,
-            synthesis.sample_rate,
-        )
-    stages["tracks_s"] = time.perf_counter() - mark
-    mark = time.perf_counter()
-    report = shapekeys.build_shape_keys(head)
-    stages["shape_keys_s"] = time.perf_counter() - mark
-    mark = time.perf_counter()
-    living_keys = living.key_living_motion(context, rig, tracks, 1).key_count if living_on else 0
-    written = keyframes.write_weight_tracks(pipeline.head_objects(head), tracks, 1, "TR_bench")
-    stages["keyframes_s"] = time.perf_counter() - mark
-    mark = time.perf_counter()
+    options = LipSyncOptions(fps=FPS, **({} if living_on else dict.fromkeys(LIVING_LAYERS, False)))
+    stages, marks = {}, []
+
+    def progress(fraction: float, message: str) -> None:
+        marks.append((time.perf_counter(), GENERATE_STAGES.get(fraction, message)))
+
     with tempfile.TemporaryDirectory() as folder:
-        wav = Path(folder) / "speech.wav"
-        write_wav(wav, synthesis)
-        sequencer.place_speech_strip(context.scene, wav, 1, timeline.duration)
-        frame_count = sequencer.frame_count_for(timeline.duration, sequencer.scene_fps(context.scene))
-        sequencer.fit_frame_range(context.scene, 1, frame_count)
-    stages["sound_s"] = time.perf_counter() - mark
-    total = time.perf_counter() - started
-    speech_minutes = timeline.duration / 60
+        started, cpu_started = time.perf_counter(), time.process_time()
+        report = shapekeys.build_shape_keys(head)
+        stages["shape_keys_s"] = time.perf_counter() - started
+        result = pipeline.generate(context, head, text, options, audio_folder=folder, progress=progress)
+        total = time.perf_counter() - started
+        cpu = time.process_time() - cpu_started
+    # Generate's own stages, between its progress reports.
+    for (mark, stage), (following, _) in zip(marks, marks[1:], strict=False):
+        stages[f"{stage}_s"] = following - mark
+    speech_minutes = result.duration / 60
+    keys = sum(
+        len(fcurve.keyframe_points)
+        for action in bpy.data.actions
+        for fcurve in compat.all_action_fcurves(action)
+    )
     return {
         "end_to_end_s": total,
         # The process's own CPU time: on a shared machine it varies less than the wall clock.
-        "end_to_end_cpu_s": time.process_time() - cpu_started,
+        "end_to_end_cpu_s": cpu,
         "speech_minutes": speech_minutes,
         "s_per_minute_of_speech": total / speech_minutes,
-        "words": len(utterance.words),
-        "phones": len(timeline.phones),
-        "keyframes": sum(w.key_count for w in written) + living_keys,
+        "words": len(result.timeline.words),
+        "phones": result.phone_count,
+        "keyframes": keys,
         "vertices": len(head.data.vertices),
         "key_source": report.source,
         "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,

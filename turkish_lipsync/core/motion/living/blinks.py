@@ -49,9 +49,8 @@ def place_blinks(
     last = settings["first_after"] - mean / 2
     blinks: list[float] = []
     while True:
-        due = last + float(
-            np.clip(rng.gamma(shape, mean / shape), settings["min_interval"], settings["max_interval"])
-        )
+        interval = float(rng.gamma(shape, mean / shape))
+        due = last + min(max(interval, settings["min_interval"]), settings["max_interval"])
         upcoming = next((t for t in times if t > last + settings["min_gap"]), None)
         reachable = min(due + settings["pause_pull"], last + settings["max_interval"])
         if upcoming is not None and upcoming <= reachable:
@@ -98,6 +97,6 @@ def blink_curve(
         local = np.arange(first, last + 1) / fps - start
         profile = np.minimum(local / closing, (duration - local) / opening)
         profile[np.abs(local - closing) < 1e-9] = 1.0
-        curve[first : last + 1] = np.maximum(curve[first : last + 1], np.clip(profile, 0.0, 1.0))
+        curve[first : last + 1] = np.maximum(curve[first : last + 1], np.minimum(profile, 1.0))  # >= 0
         spans.append((float(start), float(start + duration)))
     return curve, spans

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .easing import smoothstep
 from .phrases import SpeechStructure
 
 
@@ -27,12 +28,7 @@ def brow_curve(
     for start, end, weight in raises:
         near = slice(*np.searchsorted(times, [start - settings["lead"], end + settings["fall"]]))
         local = times[near]
-        rising = _smoothstep((local - (start - settings["lead"])) / max(settings["rise"], 1e-6))
-        falling = 1.0 - _smoothstep((local - end) / max(settings["fall"], 1e-6))
+        rising = smoothstep((local - (start - settings["lead"])) / max(settings["rise"], 1e-6))
+        falling = 1.0 - smoothstep((local - end) / max(settings["fall"], 1e-6))
         curve[near] = np.maximum(curve[near], weight * np.minimum(rising, falling))
     return np.clip(curve, 0.0, 1.0)
-
-
-def _smoothstep(x: np.ndarray) -> np.ndarray:
-    x = np.clip(x, 0.0, 1.0)
-    return x * x * (3.0 - 2.0 * x)

@@ -11,10 +11,12 @@ and they keep it while the head moves: the eye-in-head angles are what is left o
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
+from .easing import minimum_jerk
 from .phrases import SpeechStructure
 from .rotations import angles_of, direction, head_matrices
 
@@ -66,27 +68,25 @@ def plan_gaze(
     """Fixations and saccades over the frame times (deterministic for the generator's seed)."""
     duration = float(times[-1]) if times.size else 0.0
     fixations = _fixations(structure, duration, rng, settings, amount)
+    # Each shift's saccade starts at its time from where the last one landed and lasts as the main sequence
+    # says; a frame is on the way of the last shift begun by then (or at rest on the target before any).
+    starts = np.array([start for start, _ in fixations])
+    targets = np.array([target for _, target in fixations]).reshape(-1, 2)
+    sources = np.vstack([np.zeros((1, 2)), targets[:-1]]) if len(targets) else targets
+    amplitudes = np.hypot(*(targets - sources).T) if len(targets) else np.zeros(0)
+    lengths = (settings["duration_base"] + settings["duration_slope"] * amplitudes) / 1000.0
+    current = np.searchsorted(starts, times, side="right") - 1
     offsets = np.zeros((times.size, 2))
-    saccades = []
-    position = np.zeros(2)
-    bounds = np.searchsorted(times, [start for start, _ in fixations] + [np.inf])
-    for index, (start, target) in enumerate(fixations):
-        amplitude = float(np.hypot(*(target - position)))
-        frames = slice(bounds[index], bounds[index + 1])
-        if amplitude < 1e-6:
-            offsets[frames] = position
-            continue
-        length = (settings["duration_base"] + settings["duration_slope"] * amplitude) / 1000.0
-        share = _minimum_jerk((times[frames] - start) / length)
-        offsets[frames] = position + (target - position) * share[:, None]
-        saccades.append(Saccade(start, length, amplitude, bool(np.all(target == 0))))
-        position = target
-    return GazePlan(offsets=offsets, saccades=tuple(saccades))
-
-
-def _minimum_jerk(x: np.ndarray) -> np.ndarray:
-    x = np.clip(x, 0.0, 1.0)
-    return x**3 * (10 - 15 * x + 6 * x * x)
+    moving = current >= 0
+    shift = current[moving]
+    share = minimum_jerk((times[moving] - starts[shift]) / lengths[shift])
+    offsets[moving] = sources[shift] + (targets[shift] - sources[shift]) * share[:, None]
+    saccades = tuple(
+        Saccade(float(start), float(length), float(amplitude), bool(np.all(target == 0)))
+        for start, length, amplitude, target in zip(starts, lengths, amplitudes, targets, strict=True)
+        if amplitude >= 1e-6
+    )
+    return GazePlan(offsets=offsets, saccades=saccades)
 
 
 def _fixations(
@@ -156,19 +156,18 @@ def _next_place(position: np.ndarray, rng, settings: dict, amount: float) -> np.
     """A saccade of an exponentially distributed amplitude, mostly along an axis, kept near the target."""
     low, high = settings["amplitude_min"], settings["amplitude_max"]
     for _ in range(12):
-        amplitude = amount * float(np.clip(rng.exponential(settings["amplitude_scale"]), low, high))
+        amplitude = amount * min(max(float(rng.exponential(settings["amplitude_scale"])), low), high)
         if rng.random() < settings["cardinal_share"]:
             angle = rng.integers(4) * np.pi / 2
         else:
             angle = np.pi / 4 + rng.integers(4) * np.pi / 2
-        step = amplitude * np.array([np.cos(angle), np.sin(angle)])
-        place = position + step
+        place = position + amplitude * np.array([math.cos(angle), math.sin(angle)])
         vertical_limit = settings["up_limit"] if place[1] > 0 else settings["down_limit"]
         inside = (
             abs(place[0]) <= settings["horizontal_limit"] * amount
             and abs(place[1]) <= vertical_limit * amount
         )
-        if inside and np.hypot(*place) >= 0.5 * low * amount:
+        if inside and math.hypot(*place) >= 0.5 * low * amount:
             return place
     return position * 0.5
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .easing import smoothstep
 from .phrases import SpeechStructure
 
 
@@ -31,10 +32,7 @@ def head_angles(
         semitones = _bridged(structure.prosody.semitones(), structure.prosody.rate, 0.25)
         pitch += settings["pitch_per_semitone"] * np.nan_to_num(structure.prosody.at(times, semitones))
         pitch *= _eased(speaking.astype(float), fps, 0.15)
-    width = settings["nod_width"]
-    for accent in structure.accents:
-        near = slice(*np.searchsorted(times, [accent.time - 0.5 * width, accent.time + 1.25 * width]))
-        pitch[near] += settings["nod"] * accent.strength * _nod((times[near] - accent.time) / width)
+    pitch += settings["nod"] * _nods(structure.accents, times, fps, settings["nod_width"])
 
     postures = _postures(structure, times, rng, settings)
     sway = _sway(times, rng, settings) * (loudness * ~still)[:, None]
@@ -68,6 +66,20 @@ def _bridged(values: np.ndarray, rate: float, longest: float) -> np.ndarray:
     return np.where(np.isfinite(values) | (gap <= longest), filled, np.nan)
 
 
+def _nods(accents, times: np.ndarray, fps: float, width: float) -> np.ndarray:
+    """The sum of every accent's nod (its strength high) over the frames, all accents at once."""
+    if not accents or times.size == 0:
+        return np.zeros(times.size)
+    at = np.array([accent.time for accent in accents])
+    strength = np.array([accent.strength for accent in accents])
+    first = np.searchsorted(times, at - 0.5 * width)
+    frames = first[:, None] + np.arange(int(np.ceil(1.75 * width * fps)) + 2)
+    reached = times[np.minimum(frames, times.size - 1)]
+    inside = (frames < times.size) & (reached < (at + 1.25 * width)[:, None])
+    nods = strength[:, None] * _nod((reached - at[:, None]) / width)
+    return np.bincount(frames[inside], weights=nods[inside], minlength=times.size)
+
+
 def _nod(x: np.ndarray) -> np.ndarray:
     """Up into the accent (apex at 0), then a little below rest as the head settles."""
     rise = np.where(np.abs(x) < 0.5, 0.5 + 0.5 * np.cos(2 * np.pi * x), 0.0)
@@ -77,18 +89,19 @@ def _nod(x: np.ndarray) -> np.ndarray:
 
 def _postures(structure: SpeechStructure, times: np.ndarray, rng, settings: dict) -> np.ndarray:
     """A turn, a nod offset and a tilt taken at each phrase's start and held through it."""
-    postures = np.zeros((times.size, 3))
-    current = np.zeros(3)
     spread = np.array([settings["posture_yaw"], settings["posture_pitch"], settings["posture_roll"]])
     ease = max(settings["posture_ease"], 1e-3)
-    begins = [start - 0.3 * ease for start, _end in structure.phrases]
-    bounds = np.searchsorted(times, [*begins, np.inf])
-    for index, begin in enumerate(begins):
-        target = np.clip(rng.normal(0.0, spread), -settings["posture_limit"], settings["posture_limit"])
-        frames = slice(bounds[index], bounds[index + 1])
-        share = _smoothstep((times[frames] - begin) / ease)
-        postures[frames] = current + (target - current) * share[:, None]
-        current = target
+    begins = np.array([start - 0.3 * ease for start, _end in structure.phrases])
+    limit = settings["posture_limit"]
+    targets = np.clip(rng.normal(0.0, spread, (begins.size, 3)), -limit, limit)
+    sources = np.vstack([np.zeros((1, 3)), targets[:-1]])
+    # Each frame eases from the last phrase's posture toward that of the phrase begun by then.
+    current = np.searchsorted(begins, times, side="right") - 1
+    postures = np.zeros((times.size, 3))
+    moving = current >= 0
+    phrase = current[moving]
+    share = smoothstep((times[moving] - begins[phrase]) / ease)
+    postures[moving] = sources[phrase] + (targets[phrase] - sources[phrase]) * share[:, None]
     return postures
 
 
@@ -101,11 +114,6 @@ def _sway(times: np.ndarray, rng, settings: dict) -> np.ndarray:
         wave = sum(np.sin(2 * np.pi * f * times + p) for f, p in zip(frequencies, phases, strict=True))
         sway[:, axis] = settings["sway"] * wave / np.sqrt(1.5)
     return sway
-
-
-def _smoothstep(x: np.ndarray) -> np.ndarray:
-    x = np.clip(x, 0.0, 1.0)
-    return x * x * (3.0 - 2.0 * x)
 
 
 def _eased(values: np.ndarray, fps: float, seconds: float) -> np.ndarray:

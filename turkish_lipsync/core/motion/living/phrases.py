@@ -122,15 +122,16 @@ def _phrases(pauses: list[tuple[float, float]], duration: float) -> list[tuple[f
 def _syllable_spans(timeline: Timeline) -> list[tuple[float, float, int, bool]]:
     """(start, end, word index, is the word's last syllable) of each spoken syllable, in order."""
     spans: list[list] = []
+    last_key = None
     for phone in sorted(timeline.phones, key=lambda p: p.start):
         key = (phone.word_index, phone.syllable)
-        if spans and spans[-1][4] == key and phone.start - spans[-1][1] < 0.1:
+        if key == last_key and phone.start - spans[-1][1] < 0.1:
             spans[-1][1] = max(spans[-1][1], phone.end)
         else:
-            spans.append([phone.start, phone.end, phone.word_index, False, key])
-    for index, span in enumerate(spans):
-        span[3] = index + 1 == len(spans) or spans[index + 1][2] != span[2]
-    return [(s[0], s[1], s[2], s[3]) for s in spans]
+            spans.append([phone.start, phone.end, phone.word_index])
+            last_key = key
+    following = [span[2] for span in spans[1:]] + [None]  # the next syllable's word (none after the last)
+    return [(s[0], s[1], s[2], s[2] != word) for s, word in zip(spans, following, strict=False)]
 
 
 def _pitch_accents(syllables, phrases, prosody: Prosody) -> list[Accent]:
@@ -151,12 +152,7 @@ def _pitch_accents(syllables, phrases, prosody: Prosody) -> list[Accent]:
     time = np.where(voiced, index[rows, best] / rate, spans.mean(axis=1))
     if not phrases or not voiced.any():
         return []
-    baselines = np.full(len(phrases), np.nan)
-    for number, (start, end) in enumerate(phrases):
-        window = semitones[int(start * rate) : int(np.ceil(end * rate)) + 1]
-        window = window[np.isfinite(window)]
-        if window.size:
-            baselines[number] = np.median(window)
+    baselines = _phrase_medians(semitones, phrases, rate)
     phrase_starts = np.array([start for start, _ in phrases])
     phrase_ends = np.array([end for _, end in phrases])
     phrase = np.clip(np.searchsorted(phrase_starts, time + 0.05, side="right") - 1, 0, len(phrases) - 1)
@@ -168,6 +164,26 @@ def _pitch_accents(syllables, phrases, prosody: Prosody) -> list[Accent]:
     chosen = voiced & inside & np.isfinite(rise) & (rise >= ACCENT_RISE) & highest
     strength = np.clip(rise / ACCENT_FULL, 0.0, 1.0)
     return [Accent(float(time[k]), float(strength[k]), float(rise[k])) for k in np.flatnonzero(chosen)]
+
+
+def _phrase_medians(values: np.ndarray, phrases, rate: float) -> np.ndarray:
+    """The median of each phrase's finite values (NaN for a phrase without one), all phrases at once."""
+    bounds = [(int(start * rate), min(int(np.ceil(end * rate)) + 1, values.size)) for start, end in phrases]
+    frames = np.concatenate([np.zeros(0, int), *(np.arange(first, last) for first, last in bounds)])
+    phrase = np.repeat(np.arange(len(bounds)), [max(last - first, 0) for first, last in bounds])
+    finite = np.isfinite(values[frames])
+    frames, phrase = frames[finite], phrase[finite]
+    medians = np.full(len(bounds), np.nan)
+    if not frames.size:
+        return medians
+    ordered = values[frames][np.lexsort((values[frames], phrase))]  # by phrase, then by value
+    counts = np.bincount(phrase, minlength=len(bounds))
+    first = np.cumsum(counts) - counts
+    found = counts > 0
+    low = ordered[(first + (counts - 1) // 2)[found]]
+    high = ordered[(first + counts // 2)[found]]
+    medians[found] = (low + high) / 2
+    return medians
 
 
 def _stress_accents(syllables, timeline: Timeline) -> list[Accent]:

@@ -70,9 +70,10 @@ def measure_prosody(samples: np.ndarray, sample_rate: int) -> Prosody:
     span = window + longest + 1
     padded = np.concatenate([np.zeros(span // 2, np.float32), audio, np.zeros(span + int(hop), np.float32)])
     starts = np.round(np.arange(count) * hop).astype(np.int64)
+    spans = np.lib.stride_tricks.sliding_window_view(padded, span)  # the frame starting at each sample
     power = np.empty(count)
     for first in range(0, count, _BLOCK):
-        windows = padded[starts[first : first + _BLOCK, None] + np.arange(window)]
+        windows = spans[starts[first : first + _BLOCK], :window]
         power[first : first + _BLOCK] = np.einsum("ij,ij->i", windows, windows) / window
     loud = np.percentile(power, 95) if power.size else 1.0
     energy = 10.0 * np.log10(np.maximum(power, 1e-12) / max(loud, 1e-12))
@@ -81,7 +82,7 @@ def measure_prosody(samples: np.ndarray, sample_rate: int) -> Prosody:
     lags = np.arange(longest + 2)
     for first in range(0, audible.size, _BLOCK):
         rows = audible[first : first + _BLOCK]
-        frames = padded[starts[rows, None] + np.arange(span)]
+        frames = spans[starts[rows]]
         # Energy of the window shifted by each lag, from the frame's running sum of squares.
         squares = np.zeros((rows.size, span + 1))
         np.cumsum(np.square(frames, dtype=np.float64), axis=1, out=squares[:, 1:])
@@ -167,11 +168,10 @@ def _running_median(values: np.ndarray, width: int) -> np.ndarray:
     finite = np.isfinite(values)
     overall = float(np.median(values[finite]))
     padded = np.pad(values, width // 2, constant_values=np.nan)
-    windows = np.lib.stride_tricks.sliding_window_view(padded, width)
-    with np.errstate(all="ignore"):
-        import warnings
-
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)
-            medians = np.nanmedian(windows, axis=1)
-    return np.where(np.isfinite(medians), medians, overall)[: values.size]
+    # Sorted, each window's NaNs come last: its median sits in the middle of its finite values.
+    ordered = np.sort(np.lib.stride_tricks.sliding_window_view(padded, width), axis=1)[: values.size]
+    count = np.isfinite(ordered).sum(axis=1)
+    rows = np.arange(ordered.shape[0])
+    low = ordered[rows, np.maximum(count - 1, 0) // 2]
+    high = ordered[rows, np.minimum(count // 2, width - 1)]
+    return np.where(count > 0, (low + high) / 2, overall)
