@@ -25,7 +25,7 @@ import numpy as np
 from ..core.base.errors import HeadError
 from ..core.base.model import EYE_SIDES, WeightTracks
 from ..core.motion.frames import decimated_keys
-from ..core.motion.living.rotations import eye_matrices, head_matrices
+from ..core.motion.living.rotations import eye_matrices, head_matrices, stack_product
 from . import compat, render
 from .living_rig import LivingRig, find_rig
 
@@ -160,10 +160,11 @@ def key_living_motion(
 
 def _about(point: np.ndarray, frame: np.ndarray, rotations: np.ndarray) -> np.ndarray:
     """(N, 4, 4) world motions: the head-frame rotations turned about a world point."""
-    world = frame @ rotations @ frame.T
-    motion = np.tile(np.eye(4), (len(rotations), 1, 1))
+    world = stack_product(frame, rotations, frame.T)
+    motion = np.zeros((len(rotations), 4, 4))
     motion[:, :3, :3] = world
     motion[:, :3, 3] = point - world @ point
+    motion[:, 3, 3] = 1.0
     return motion
 
 
@@ -204,11 +205,11 @@ def _key_object(obj: bpy.types.Object, motion_world: np.ndarray, frames: np.ndar
     location = np.array(obj.location)
     rest_location = np.array(rest["location"])
     parent_frame = np.array(obj.matrix_world) @ np.linalg.inv(basis)  # parent's world and its inverse
-    local = np.linalg.inv(parent_frame) @ motion_world @ parent_frame
+    local = stack_product(np.linalg.inv(parent_frame), motion_world, parent_frame)
     rotation, shift = local[:, :3, :3], local[:, :3, 3]
     rest_rotation = _rest_delta_matrix(rest, mode)
     delta_location = np.einsum("nij,j->ni", rotation, location + rest_location) + shift - location
-    delta_rotation = rotation @ rest_rotation
+    delta_rotation = stack_product(None, rotation, rest_rotation)
     channels = {"delta_location": delta_location}
     if mode == "QUATERNION":
         channels[rotation_path] = _quaternions(delta_rotation)
@@ -234,7 +235,7 @@ def _key_bones(
     for bone_name, motion in bones.items():
         bone = armature.data.bones[bone_name]
         rest = armature_rotation @ np.array(bone.matrix_local)[:3, :3]
-        local = np.linalg.inv(rest) @ motion[:, :3, :3] @ rest
+        local = stack_product(np.linalg.inv(rest), motion[:, :3, :3], rest)
         pose = armature.pose.bones[bone_name]
         path = f'pose.bones["{bpy.utils.escape_identifier(bone_name)}"].'
         if pose.rotation_mode == "QUATERNION":

@@ -75,10 +75,10 @@ def decimated_keys(values: np.ndarray, tolerance: float, passes: int = 4) -> np.
         # neighbouring anchors, one around each candidate, cover the frames without overlapping.
         anchors = keep[::2] if keep.size % 2 else np.append(keep[::2], keep[-1])
         line = np.interp(frames, anchors, values[anchors])
-        off = (np.abs(values - line) > tolerance).astype(np.int8)
-        worst = np.maximum.reduceat(off, anchors[:-1])  # per span between anchors
+        # Frames off the line so far; a span between anchors fits where none of its frames is off.
+        off = np.cumsum(np.abs(values - line) > tolerance, dtype=np.int32)
         candidates = np.arange(1, keep.size - 1, 2)
-        fits = worst[: candidates.size] == 0
+        fits = (off[anchors[1:]] - off[anchors[:-1]])[: candidates.size] == 0
         if not fits.any():
             break
         drop = np.zeros(keep.size, bool)
