@@ -25,7 +25,7 @@ import numpy as np
 from ..core.base.errors import HeadError
 from ..core.base.model import EYE_SIDES, WeightTracks
 from ..core.motion.frames import decimated_keys
-from ..core.motion.living.rotations import eye_matrices, head_matrices, stack_product
+from ..core.motion.living.rotations import eye_matrices, head_matrices
 from . import compat, render
 from .living_rig import LivingRig, find_rig
 
@@ -160,11 +160,10 @@ def key_living_motion(
 
 def _about(point: np.ndarray, frame: np.ndarray, rotations: np.ndarray) -> np.ndarray:
     """(N, 4, 4) world motions: the head-frame rotations turned about a world point."""
-    world = stack_product(frame, rotations, frame.T)
-    motion = np.zeros((len(rotations), 4, 4))
+    world = frame @ rotations @ frame.T
+    motion = np.tile(np.eye(4), (len(rotations), 1, 1))
     motion[:, :3, :3] = world
     motion[:, :3, 3] = point - world @ point
-    motion[:, 3, 3] = 1.0
     return motion
 
 
@@ -201,15 +200,17 @@ def _key_object(obj: bpy.types.Object, motion_world: np.ndarray, frames: np.ndar
             )
     rest = obj.get(REST_PROPERTY) or _deltas_of(obj)
     obj[REST_PROPERTY] = rest
-    basis = np.array(obj.matrix_basis)
     location = np.array(obj.location)
     rest_location = np.array(rest["location"])
-    parent_frame = np.array(obj.matrix_world) @ np.linalg.inv(basis)  # parent's world and its inverse
-    local = stack_product(np.linalg.inv(parent_frame), motion_world, parent_frame)
+    # The parent's world frame and its inverse. Small matrices by mathutils: numpy would hand each to BLAS,
+    # whose threads then spin a tenth of a second on the other cores.
+    parent = obj.matrix_world @ obj.matrix_basis.inverted_safe()
+    parent_frame, parent_inverse = np.array(parent), np.array(parent.inverted_safe())
+    local = parent_inverse @ motion_world @ parent_frame
     rotation, shift = local[:, :3, :3], local[:, :3, 3]
     rest_rotation = _rest_delta_matrix(rest, mode)
     delta_location = np.einsum("nij,j->ni", rotation, location + rest_location) + shift - location
-    delta_rotation = stack_product(None, rotation, rest_rotation)
+    delta_rotation = rotation @ rest_rotation
     channels = {"delta_location": delta_location}
     if mode == "QUATERNION":
         channels[rotation_path] = _quaternions(delta_rotation)
@@ -223,8 +224,8 @@ def _key_bones(
 ) -> tuple[int, str]:
     """Each bone turned by its world motion relative to its rest, keyed in the armature's action (ours when
     it has none); refused for a bone whose rotation the user animates there."""
-    armature_rotation = np.array(armature.matrix_world)[:3, :3]
-    armature_rotation /= np.cbrt(abs(np.linalg.det(armature_rotation)))
+    armature_rotation = armature.matrix_world.to_3x3()  # mathutils, as in _key_object
+    armature_rotation *= 1.0 / (np.cbrt(abs(armature_rotation.determinant())) or 1.0)
     action = armature.animation_data.action if armature.animation_data else None
     theirs = set()
     if action is not None:
@@ -234,8 +235,8 @@ def _key_bones(
     channels = {}
     for bone_name, motion in bones.items():
         bone = armature.data.bones[bone_name]
-        rest = armature_rotation @ np.array(bone.matrix_local)[:3, :3]
-        local = stack_product(np.linalg.inv(rest), motion[:, :3, :3], rest)
+        rest = armature_rotation @ bone.matrix_local.to_3x3()
+        local = np.array(rest.inverted_safe()) @ motion[:, :3, :3] @ np.array(rest)
         pose = armature.pose.bones[bone_name]
         path = f'pose.bones["{bpy.utils.escape_identifier(bone_name)}"].'
         if pose.rotation_mode == "QUATERNION":

@@ -151,7 +151,8 @@ def natural_weight_tracks(
     visemes, weights, closure_frames = viseme_weights(timeline, fps, frame_count, params)
     columns: dict[str, np.ndarray] = {viseme_key_name(v): weights[:, i] for i, v in enumerate(visemes)}
 
-    lip_need = weights @ np.array([params.classes[v].lip_need for v in visemes])
+    # einsum, not a matrix product: that wakes BLAS threads that spin a tenth of a second on the other cores
+    lip_need = np.einsum("fv,v->f", weights, np.array([params.classes[v].lip_need for v in visemes]))
     emotion_curves = _emotion_curves(timeline, times, emotion_strength, params)
     for emotion, curve in emotion_curves.items():
         columns[emotion_key_name(emotion)] = curve

@@ -34,19 +34,6 @@ def angles_of(vectors: np.ndarray) -> np.ndarray:
     return np.degrees(np.stack([np.arctan2(x, z), np.arctan2(y, np.hypot(x, z))], axis=1))
 
 
-def stack_product(left: np.ndarray | None, stack: np.ndarray, right: np.ndarray | None = None) -> np.ndarray:
-    """left @ stack[n] @ right for every matrix of an (N, k, k) stack (either side may be None), as two
-    products of the whole stack: numpy's broadcast matmul of small matrices is several times slower."""
-    result = np.asarray(stack, np.float64)
-    count = result.shape[0]
-    if right is not None:
-        result = (result.reshape(-1, result.shape[2]) @ right).reshape(count, result.shape[1], -1)
-    if left is not None:  # (left @ m) is (m.T @ left.T).T
-        flipped = result.transpose(0, 2, 1).reshape(-1, result.shape[1]) @ np.asarray(left).T
-        result = flipped.reshape(count, result.shape[2], -1).transpose(0, 2, 1)
-    return result
-
-
 def _about(axis: int, angle: np.ndarray) -> np.ndarray:
     """(N, 3, 3) right-handed rotations by angle (radians) about the x (0), y (1) or z (2) axis."""
     c, s = np.cos(angle), np.sin(angle)
