@@ -105,14 +105,15 @@ def rig_and_target(
 
 
 def key_living_motion(
-    context: bpy.types.Context, rig: LivingRig, tracks: WeightTracks, start_frame: float
+    context: bpy.types.Context, rig: LivingRig | None, tracks: WeightTracks, start_frame: float
 ) -> LivingResult:
-    """Replace our living motion with the tracks' rotations (or just remove it when they have none)."""
+    """Replace our living motion with the tracks' rotations (or just remove it when they have none: then
+    the rig is not needed)."""
     scene = context.scene
     remove_living_motion(scene)
     context.view_layer.update()  # the rest pose, without our deltas, for the parents' frames
     motion = tracks.head_and_eyes
-    if motion is None or not len(motion.head):
+    if rig is None or motion is None or not len(motion.head):
         return LivingResult((), (), 0, ())
     frames = np.arange(len(motion.head), dtype=np.float64) + float(start_frame)
     head_world = _about(rig.pivot, rig.frame, head_matrices(motion.head))

@@ -187,9 +187,12 @@ def generate(
     start = scene.frame_start if start_frame is None else int(start_frame)
 
     objects = head_objects(head)
-    rig, target = living.rig_and_target(context, head, objects, gaze_target)
-    setup, target_warning = rig.gaze_setup(target)
-    options = dataclasses.replace(options or LipSyncOptions(), fps=fps, gaze_setup=setup)
+    options = dataclasses.replace(options or LipSyncOptions(), fps=fps)
+    rig, target_warning = None, ""
+    if options.living().any:  # the eyes, the head's pivot and the target matter only to the living layers
+        rig, target = living.rig_and_target(context, head, objects, gaze_target)
+        setup, target_warning = rig.gaze_setup(target)
+        options = dataclasses.replace(options, gaze_setup=setup)
     progress(0.05, "Reading the text and speaking it")
     spoken = lip_sync(source, options)
     timeline, synthesis, tracks = spoken.timeline, spoken.synthesis, spoken.tracks
