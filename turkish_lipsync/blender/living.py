@@ -162,9 +162,10 @@ def key_living_motion(
 def _about(point: np.ndarray, frame: np.ndarray, rotations: np.ndarray) -> np.ndarray:
     """(N, 4, 4) world motions: the head-frame rotations turned about a world point."""
     world = frame @ rotations @ frame.T
-    motion = np.tile(np.eye(4), (len(rotations), 1, 1))
+    motion = np.zeros((len(rotations), 4, 4))
     motion[:, :3, :3] = world
     motion[:, :3, 3] = point - world @ point
+    motion[:, 3, 3] = 1.0
     return motion
 
 
