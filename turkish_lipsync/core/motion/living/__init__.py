@@ -95,9 +95,9 @@ def living_tracks(
         starts = place_blinks(
             structure, plan.saccades, timeline.duration, blink_rng, settings["blinks"], options.blinks
         )
-        planned = zip(starts, blink_durations(starts, blink_rng, settings["blinks"]), strict=True)
+        planned = tuple(zip(starts, blink_durations(starts, blink_rng, settings["blinks"]), strict=True))
         closure = _eye_closure(tracks, settings["blinks"]["eye_closure"])
-        curve, blink_spans = blink_curve(tuple(planned), fps, frame_count, closure, settings["blinks"])
+        curve, blink_spans = blink_curve(planned, fps, frame_count, closure, settings["blinks"])
         for name in BLINK_KEYS:
             columns[name] = curve
     if options.expression > 0:

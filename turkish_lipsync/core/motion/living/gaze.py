@@ -72,8 +72,8 @@ def plan_gaze(
     # says; a frame is on the way of the last shift begun by then (or at rest on the target before any).
     starts = np.array([start for start, _ in fixations])
     targets = np.array([target for _, target in fixations]).reshape(-1, 2)
-    sources = np.vstack([np.zeros((1, 2)), targets[:-1]]) if len(targets) else targets
-    amplitudes = np.hypot(*(targets - sources).T) if len(targets) else np.zeros(0)
+    sources = np.vstack([np.zeros((1, 2)), targets])[:-1]  # each shift starts where the last one landed
+    amplitudes = np.hypot(*(targets - sources).T)
     lengths = (settings["duration_base"] + settings["duration_slope"] * amplitudes) / 1000.0
     current = np.searchsorted(starts, times, side="right") - 1
     offsets = np.zeros((times.size, 2))

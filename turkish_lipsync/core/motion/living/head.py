@@ -94,7 +94,7 @@ def _postures(structure: SpeechStructure, times: np.ndarray, rng, settings: dict
     begins = np.array([start - 0.3 * ease for start, _end in structure.phrases])
     limit = settings["posture_limit"]
     targets = np.clip(rng.normal(0.0, spread, (begins.size, 3)), -limit, limit)
-    sources = np.vstack([np.zeros((1, 3)), targets[:-1]])
+    sources = np.vstack([np.zeros((1, 3)), targets])[:-1]
     # Each frame eases from the last phrase's posture toward that of the phrase begun by then.
     current = np.searchsorted(begins, times, side="right") - 1
     postures = np.zeros((times.size, 3))
