@@ -80,9 +80,9 @@ def world_key_deltas(obj: bpy.types.Object) -> dict[str, np.ndarray]:
         return {}
     linear = mesh.world_matrix(obj)[:3, :3]
     count = len(obj.data.vertices)
-    rest = mesh.read_coordinates(keys.reference_key.data, count).astype(np.float64)
+    rest = mesh.read_coordinates(keys.reference_key.points, count).astype(np.float64)
     return {
-        block.name: (mesh.read_coordinates(block.data, count) - rest) @ linear.T
+        block.name: (mesh.read_coordinates(block.points, count) - rest) @ linear.T
         for block in keys.key_blocks
         if block != keys.reference_key
     }
@@ -455,7 +455,7 @@ def kit_object(name: str) -> bpy.types.Object:
     obj.shape_key_add(name="Basis", from_mix=False)
     for key, deltas in kit.truth.items():
         block = obj.shape_key_add(name=key, from_mix=False)
-        block.data.foreach_set("co", (kit.vertices + deltas).astype(np.float32).ravel())
+        block.points.foreach_set("co", (kit.vertices + deltas).astype(np.float32).ravel())
         block.value = 0.0
     print(f"test head: {kit.name}")
     return obj

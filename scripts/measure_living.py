@@ -83,12 +83,12 @@ def _probes(rig, head: bpy.types.Object) -> dict[str, tuple[str, np.ndarray]]:
         else:
             keys = head.data.shape_keys
             looks = {name for name, _ in own_look_keys(b.name for b in keys.key_blocks).values()}
-            rest = mesh.read_coordinates(keys.reference_key.data, len(world))
+            rest = mesh.read_coordinates(keys.reference_key.points, len(world))
             moved = np.zeros(len(world), bool)
             for name in looks:
                 moved |= (
                     np.linalg.norm(
-                        mesh.read_coordinates(keys.key_blocks[name].data, len(world)) - rest, axis=1
+                        mesh.read_coordinates(keys.key_blocks[name].points, len(world)) - rest, axis=1
                     )
                     > 1e-4
                 )
@@ -102,11 +102,13 @@ def _skull(head: bpy.types.Object) -> np.ndarray:
     moves, else the least-moved third."""
     keys = head.data.shape_keys
     count = len(head.data.vertices)
-    rest = mesh.read_coordinates(keys.reference_key.data, count)
+    rest = mesh.read_coordinates(keys.reference_key.points, count)
     moved = np.zeros(count)
     for block in keys.key_blocks:
         if block.name.startswith(OWNED_PREFIX):
-            moved = np.maximum(moved, np.linalg.norm(mesh.read_coordinates(block.data, count) - rest, axis=1))
+            moved = np.maximum(
+                moved, np.linalg.norm(mesh.read_coordinates(block.points, count) - rest, axis=1)
+            )
     still = np.flatnonzero(moved < 0.02 * moved.max())
     return still if len(still) >= 50 else np.argsort(moved)[: count // 3]
 
@@ -115,8 +117,8 @@ def _lid(head: bpy.types.Object) -> tuple[np.ndarray, np.ndarray]:
     """The vertices the left blink moves most and their motion under it (local), to read the closure."""
     keys = head.data.shape_keys
     count = len(head.data.vertices)
-    rest = mesh.read_coordinates(keys.reference_key.data, count)
-    delta = mesh.read_coordinates(keys.key_blocks[BLINK_KEYS[0]].data, count) - rest
+    rest = mesh.read_coordinates(keys.reference_key.points, count)
+    delta = mesh.read_coordinates(keys.key_blocks[BLINK_KEYS[0]].points, count) - rest
     size = np.linalg.norm(delta, axis=1)
     top = np.flatnonzero(size >= 0.8 * size.max())
     return top, delta[top]

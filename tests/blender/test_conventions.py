@@ -31,7 +31,7 @@ def _own_keys(head):
     blocks = head.data.shape_keys.key_blocks
     count = len(head.data.vertices)
     return {
-        block.name: (block.value, mesh.read_coordinates(block.data, count))
+        block.name: (block.value, mesh.read_coordinates(block.points, count))
         for block in blocks
         if not block.name.startswith("TR_")
     }
@@ -40,7 +40,7 @@ def _own_keys(head):
 def _shape(head, key_name):
     """World coordinates of the head with one key at full weight (the key's own coordinates)."""
     block = head.data.shape_keys.key_blocks[key_name]
-    return mesh.to_world(head, mesh.read_coordinates(block.data, len(head.data.vertices)))
+    return mesh.to_world(head, mesh.read_coordinates(block.points, len(head.data.vertices)))
 
 
 class MidlineLips:
@@ -255,17 +255,17 @@ def test_oculus_visemes_win_over_the_heads_other_basis_which_fills_the_rest():
     blocks = head.data.shape_keys.key_blocks
     count = len(head.data.vertices)
     for oculus, viseme in OCULUS_FROM_TR.items():
-        shape = mesh.read_coordinates(blocks[viseme_key_name(viseme)].data, count)
+        shape = mesh.read_coordinates(blocks[viseme_key_name(viseme)].points, count)
         head.shape_key_add(name=f"viseme_{oculus}", from_mix=False).data.foreach_set("co", shape.ravel())
-    blink = mesh.read_coordinates(blocks["TR_blink_left"].data, count)
+    blink = mesh.read_coordinates(blocks["TR_blink_left"].points, count)
     report = shapekeys.build_shape_keys(head)
     assert report.source == "convention" and report.convention == "Oculus / Meta visemes"
     assert report.key_sources[viseme_key_name("u")] == "own keys: viseme_ou 1"
     assert report.key_sources["TR_blink_left"] == "reference"  # Oculus has no blinks: the head's units
-    np.testing.assert_allclose(mesh.read_coordinates(blocks["TR_blink_left"].data, count), blink, atol=1e-6)
+    np.testing.assert_allclose(mesh.read_coordinates(blocks["TR_blink_left"].points, count), blink, atol=1e-6)
     rest = mesh.rest_coordinates(head)
-    rounded = mesh.read_coordinates(blocks["viseme_ou"].data, count) - rest
-    built = mesh.read_coordinates(blocks[viseme_key_name("u")].data, count) - rest
+    rounded = mesh.read_coordinates(blocks["viseme_ou"].points, count) - rest
+    built = mesh.read_coordinates(blocks[viseme_key_name("u")].points, count) - rest
     np.testing.assert_allclose(built, rounded, atol=1e-6)
 
 
@@ -277,7 +277,7 @@ def test_what_vrm_lacks_comes_from_the_heads_other_basis_for_that_part_only():
     blocks = head.data.shape_keys.key_blocks
     count = len(head.data.vertices)
     for vrm, viseme in {"A": "a", "I": "Ii", "U": "u", "E": "e", "O": "o"}.items():
-        shape = mesh.read_coordinates(blocks[viseme_key_name(viseme)].data, count)
+        shape = mesh.read_coordinates(blocks[viseme_key_name(viseme)].points, count)
         head.shape_key_add(name=f"Fcl_MTH_{vrm}", from_mix=False).data.foreach_set("co", shape.ravel())
     report = shapekeys.build_shape_keys(head)
     assert report.convention == "VRM vowels"
@@ -287,5 +287,5 @@ def test_what_vrm_lacks_comes_from_the_heads_other_basis_for_that_part_only():
     )
     units = shapekeys.reference_units(head, load_reference_head())
     press = 0.4 * (units["mouthPressLeft"] + units["mouthPressRight"])
-    built = mesh.read_coordinates(blocks[viseme_key_name("bpa")].data, count) - mesh.rest_coordinates(head)
+    built = mesh.read_coordinates(blocks[viseme_key_name("bpa")].points, count) - mesh.rest_coordinates(head)
     np.testing.assert_allclose(built, press, atol=1e-6)

@@ -84,8 +84,8 @@ def _key_motion(obj, key_name):
     keys = obj.data.shape_keys.key_blocks
     count = len(obj.data.vertices)
     rest, moved = np.empty(count * 3, np.float32), np.empty(count * 3, np.float32)
-    keys[0].data.foreach_get("co", rest)
-    keys[key_name].data.foreach_get("co", moved)
+    keys[0].points.foreach_get("co", rest)
+    keys[key_name].points.foreach_get("co", moved)
     return (moved - rest).reshape(-1, 3)
 
 

@@ -47,8 +47,8 @@ def key_deltas(obj, key_name: str) -> np.ndarray:
     if mesh.shape_keys is None or key_name not in mesh.shape_keys.key_blocks:
         return np.zeros((count, 3))
     basis, shaped = np.empty(count * 3), np.empty(count * 3)
-    mesh.shape_keys.key_blocks[0].data.foreach_get("co", basis)
-    mesh.shape_keys.key_blocks[key_name].data.foreach_get("co", shaped)
+    mesh.shape_keys.key_blocks[0].points.foreach_get("co", basis)
+    mesh.shape_keys.key_blocks[key_name].points.foreach_get("co", shaped)
     return (shaped - basis).reshape(-1, 3) @ np.array(obj.matrix_world)[:3, :3].T
 
 

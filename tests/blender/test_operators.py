@@ -258,8 +258,8 @@ def _world_deltas(obj, key_name: str) -> np.ndarray:
     blocks = obj.data.shape_keys.key_blocks
     count = len(obj.data.vertices)
     basis, shaped = np.empty(count * 3), np.empty(count * 3)
-    obj.data.shape_keys.reference_key.data.foreach_get("co", basis)
-    blocks[key_name].data.foreach_get("co", shaped)
+    obj.data.shape_keys.reference_key.points.foreach_get("co", basis)
+    blocks[key_name].points.foreach_get("co", shaped)
     return (shaped - basis).reshape(-1, 3) @ np.array(obj.matrix_world)[:3, :3].T
 
 
@@ -364,7 +364,7 @@ def _key_coordinates(obj) -> dict[str, np.ndarray]:
     result = {}
     for block in obj.data.shape_keys.key_blocks:
         flat = np.empty(len(obj.data.vertices) * 3)
-        block.data.foreach_get("co", flat)
+        block.points.foreach_get("co", flat)
         result[block.name] = flat
     return result
 

@@ -32,7 +32,7 @@ def _face(name: str = "Face", z: float = 1.6) -> bpy.types.Object:
     coordinates = np.array([tuple(v.co) for v in face.data.vertices])
     front = coordinates[:, 1] < -0.07
     coordinates[front, 2] -= 0.02
-    key.data.foreach_set("co", coordinates.ravel())
+    key.points.foreach_set("co", coordinates.ravel())
     return face
 
 

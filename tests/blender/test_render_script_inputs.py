@@ -97,9 +97,9 @@ def test_two_scenes_saved_in_one_folder_keep_their_own_speech(tmp_path):
 def _emotion_size(blend: Path) -> float:
     bpy.ops.wm.open_mainfile(filepath=str(blend))
     keys = bpy.data.objects["TR_Head"].data.shape_keys.key_blocks
-    basis, happy = np.empty(len(keys[0].data) * 3), np.empty(len(keys[0].data) * 3)
-    keys[0].data.foreach_get("co", basis)
-    keys["TR_emotion_happy"].data.foreach_get("co", happy)
+    basis, happy = np.empty(len(keys[0].points) * 3), np.empty(len(keys[0].points) * 3)
+    keys[0].points.foreach_get("co", basis)
+    keys["TR_emotion_happy"].points.foreach_get("co", happy)
     return float(np.abs(happy - basis).max())
 
 

@@ -126,7 +126,9 @@ def _own_world_deltas(obj: bpy.types.Object, name: str, world: np.ndarray) -> np
     if block is None:
         return np.zeros_like(world)
     count = len(obj.data.vertices)
-    local = mesh.read_coordinates(block.data, count) - mesh.read_coordinates(block.relative_key.data, count)
+    local = mesh.read_coordinates(block.points, count) - mesh.read_coordinates(
+        block.relative_key.points, count
+    )
     return local.astype(np.float64) @ mesh.world_matrix(obj)[:3, :3].T
 
 

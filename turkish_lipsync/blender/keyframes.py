@@ -155,7 +155,7 @@ def moving_keys(key: bpy.types.Key, names: dict[str, str]) -> set[str]:
     every key of the head (so the names line up), but a key that leaves it where it is (the teeth's
     blink) needs no curve."""
     blocks = key.key_blocks
-    count = len(blocks[0].data) if len(blocks) else 0
+    count = len(blocks[0].points) if len(blocks) else 0
     reference = {}
     moving = set()
     for name, key_name in names.items():
@@ -165,9 +165,9 @@ def moving_keys(key: bpy.types.Key, names: dict[str, str]) -> set[str]:
         relative = block.relative_key
         if relative.name not in reference:
             reference[relative.name] = np.empty(3 * count, np.float32)
-            relative.data.foreach_get("co", reference[relative.name])
+            relative.points.foreach_get("co", reference[relative.name])
         coordinates = np.empty(3 * count, np.float32)
-        block.data.foreach_get("co", coordinates)
+        block.points.foreach_get("co", coordinates)
         if block != relative and np.any(np.abs(coordinates - reference[relative.name]) > 1e-7):
             moving.add(name)
     return moving

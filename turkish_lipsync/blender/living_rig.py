@@ -197,10 +197,12 @@ def _look_key_centres(head: bpy.types.Object, world: np.ndarray) -> list[tuple[n
     if not names:
         return []
     count = len(head.data.vertices)
-    rest = mesh.read_coordinates(keys.reference_key.data, count)
+    rest = mesh.read_coordinates(keys.reference_key.points, count)
     moved = np.zeros(count, bool)
     for name in names:
-        displacement = np.linalg.norm(mesh.read_coordinates(keys.key_blocks[name].data, count) - rest, axis=1)
+        displacement = np.linalg.norm(
+            mesh.read_coordinates(keys.key_blocks[name].points, count) - rest, axis=1
+        )
         moved |= displacement > 0.1 * displacement.max(initial=0.0) + 1e-9
     if moved.sum() < 2:
         return []

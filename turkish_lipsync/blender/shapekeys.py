@@ -93,8 +93,8 @@ def own_key_deltas(obj: bpy.types.Object, key_names) -> dict[str, np.ndarray]:
     for key_name in key_names:
         block = shape_keys.key_blocks.get(key_name)
         if block is not None:
-            deltas[key_name] = mesh.read_coordinates(block.data, count) - mesh.read_coordinates(
-                block.relative_key.data, count
+            deltas[key_name] = mesh.read_coordinates(block.points, count) - mesh.read_coordinates(
+                block.relative_key.points, count
             )
     return deltas
 
@@ -483,7 +483,7 @@ def _write_keys(obj: bpy.types.Object, deltas_by_key: dict[str, np.ndarray]) -> 
         if ours not in deltas_by_key and block is not None and block != shape_keys.reference_key:
             obj.shape_key_remove(block)
     basis = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
-    shape_keys.reference_key.data.foreach_get("co", basis)
+    shape_keys.reference_key.points.foreach_get("co", basis)
     written, taken = {}, []
     for ours, deltas in deltas_by_key.items():
         name = owned.get(ours)
@@ -496,7 +496,7 @@ def _write_keys(obj: bpy.types.Object, deltas_by_key: dict[str, np.ndarray]) -> 
             block = obj.shape_key_add(name=name, from_mix=False)
             block.value = 0.0  # Blender 5.0 adds new keys at full weight
         block.relative_key = shape_keys.reference_key
-        block.data.foreach_set("co", basis + deltas.astype(np.float32).ravel())
+        block.points.foreach_set("co", basis + deltas.astype(np.float32).ravel())
         written[ours] = block.name
     mark_owned(obj, written)
     mesh.pop(LEGACY_ARKIT_PROPERTY, None)
