@@ -34,11 +34,11 @@ CURVES_PROPERTY = "tr_living_curves"  # on any action: the data paths of the cur
 REST_PROPERTY = "tr_living_rest"  # on an object: its static delta transform before ours
 GROUP = "TR living"
 OBJECT_ID = "OBJECT"
-# Keys are dropped where linear interpolation between their neighbours stays this close.
-# A tenth of a degree (a hundredth of the eyes' contact threshold), or the 0.17 mm a head turning that much
-# shifts 10 cm from its pivot.
-TOLERANCE = {"delta_location": 1.7e-4, "delta_rotation_euler": 1.7e-3, "delta_rotation_quaternion": 8.7e-4}
-TOLERANCE |= {"rotation_euler": 1.7e-3, "rotation_quaternion": 8.7e-4}
+# Keys are dropped where linear interpolation between their neighbours keeps every angle of the motion (yaw,
+# pitch, roll of the head and of an eye, degrees) this close: a hundredth of the eyes' contact threshold, or
+# the 0.17 mm a head turning that much shifts 10 cm from its pivot. Every channel of a moved object or bone
+# is keyed on the same frames.
+ANGLE_TOLERANCE = 0.1
 
 
 @dataclass(frozen=True)
@@ -115,12 +115,7 @@ def key_living_motion(
     motion = tracks.head_and_eyes
     if rig is None or motion is None or not len(motion.head):
         return LivingResult((), (), 0, ())
-    frames = np.arange(len(motion.head), dtype=np.float64) + float(start_frame)
-    head_world = _about(rig.pivot, rig.frame, head_matrices(motion.head))
-    eye_world = {
-        side: _about(rig.eyes[side].centre, rig.frame, eye_matrices(getattr(motion, f"{side}_eye")))
-        for side in rig.eyes
-    }
+    keyed = _KeyedMotion(rig, motion, float(start_frame))
     warnings: list[str] = list(rig.warnings)
     moved_objects, moved_bones, key_count = [], [], 0
     head_moved_by_bone = rig.armature is not None
@@ -132,14 +127,12 @@ def key_living_motion(
             continue
         parent_moves = _parent_moves(obj, rig, set(movers))
         if name in eye_objects:
-            motion_world = (
-                eye_world[eye_objects[name]] if parent_moves else head_world @ eye_world[eye_objects[name]]
-            )
+            parts = (eye_objects[name],) if parent_moves else ("head", eye_objects[name])
         elif parent_moves:
             continue  # a child of the head follows it
         else:
-            motion_world = head_world
-        written, problem = _key_object(obj, motion_world, frames)
+            parts = ("head",)
+        written, problem = _key_object(obj, *keyed.world(parts))
         if problem:
             warnings.append(problem)
         elif written:
@@ -147,16 +140,46 @@ def key_living_motion(
             key_count += written
     if rig.armature is not None:
         armature = bpy.data.objects[rig.armature]
-        bones = {rig.head_bone: head_world}
+        bones = {rig.head_bone: keyed.world(("head",))}
         if rig.eyes_turn_by == "bones":
-            bones |= {rig.eyes[side].bone_name: eye_world[side] for side in EYE_SIDES}
-        written, problem = _key_bones(armature, bones, frames)
+            bones |= {rig.eyes[side].bone_name: keyed.world((side,)) for side in EYE_SIDES}
+        written, problem = _key_bones(armature, bones)
         if problem:
             warnings.append(problem)
         else:
             key_count += written
             moved_bones.extend(bones)
     return LivingResult(tuple(moved_objects), tuple(moved_bones), key_count, tuple(warnings))
+
+
+class _KeyedMotion:
+    """World motions of the head, an eye, or an eye carried by the head, at the frames their keys need."""
+
+    def __init__(self, rig: LivingRig, motion, start_frame: float):
+        self.rig, self.motion, self.start_frame = rig, motion, start_frame
+        self._worlds: dict[tuple[str, ...], tuple[np.ndarray, np.ndarray]] = {}
+
+    def world(self, parts: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray]:
+        """(scene frames, (K, 4, 4) world motions) of the parts composed ('head', then an eye side): keyed
+        where linear interpolation would leave one of their angles more than ANGLE_TOLERANCE off, and
+        computed only there."""
+        if parts not in self._worlds:
+            angles = {"head": self.motion.head, **{side: self._eye(side) for side in self.rig.eyes}}
+            keep = decimated_keys(np.hstack([angles[part] for part in parts]), ANGLE_TOLERANCE)
+            world = np.broadcast_to(np.eye(4), (keep.size, 4, 4))
+            for part in parts:
+                if part == "head":
+                    turn = _about(self.rig.pivot, self.rig.frame, head_matrices(angles[part][keep]))
+                else:
+                    turn = _about(
+                        self.rig.eyes[part].centre, self.rig.frame, eye_matrices(angles[part][keep])
+                    )
+                world = world @ turn
+            self._worlds[parts] = (keep + self.start_frame, world)
+        return self._worlds[parts]
+
+    def _eye(self, side: str) -> np.ndarray:
+        return getattr(self.motion, f"{side}_eye")
 
 
 def _about(point: np.ndarray, frame: np.ndarray, rotations: np.ndarray) -> np.ndarray:
@@ -184,8 +207,9 @@ def _parent_moves(obj: bpy.types.Object, rig: LivingRig, movers: set[str]) -> bo
     return False
 
 
-def _key_object(obj: bpy.types.Object, motion_world: np.ndarray, frames: np.ndarray) -> tuple[int, str]:
-    """Key obj's delta transforms so that it moves by motion_world (N, 4, 4) from its rest pose."""
+def _key_object(obj: bpy.types.Object, frames: np.ndarray, motion_world: np.ndarray) -> tuple[int, str]:
+    """Key obj's delta transforms at the frames so that it moves by motion_world (N, 4, 4) from its rest
+    pose."""
     mode = obj.rotation_mode
     if mode == "AXIS_ANGLE":
         return 0, f"{obj.name!r} rotates by axis and angle, which has no delta rotation: it stays still."
@@ -213,19 +237,17 @@ def _key_object(obj: bpy.types.Object, motion_world: np.ndarray, frames: np.ndar
     rest_rotation = _rest_delta_matrix(rest, mode)
     delta_location = np.einsum("nij,j->ni", rotation, location + rest_location) + shift - location
     delta_rotation = rotation @ rest_rotation
-    channels = {"delta_location": delta_location}
-    if mode == "QUATERNION":
-        channels[rotation_path] = _quaternions(delta_rotation)
-    else:
-        channels[rotation_path] = _eulers(delta_rotation, mode)
-    return _write_channels(obj, obj, OBJECT_ID, channels, frames), ""
+    rotation_values = _quaternions(delta_rotation) if mode == "QUATERNION" else _eulers(delta_rotation, mode)
+    channels = {"delta_location": (frames, delta_location), rotation_path: (frames, rotation_values)}
+    return _write_channels(obj, channels), ""
 
 
 def _key_bones(
-    armature: bpy.types.Object, bones: dict[str, np.ndarray], frames: np.ndarray
+    armature: bpy.types.Object, bones: dict[str, tuple[np.ndarray, np.ndarray]]
 ) -> tuple[int, str]:
-    """Each bone turned by its world motion relative to its rest, keyed in the armature's action (ours when
-    it has none); refused for a bone whose rotation the user animates there."""
+    """Each bone turned by its world motion relative to its rest (bone -> (frames, (N, 4, 4) motions)),
+    keyed in the armature's action (ours when it has none); refused for a bone whose rotation the user
+    animates there."""
     armature_rotation = armature.matrix_world.to_3x3()  # mathutils, as in _key_object
     armature_rotation *= 1.0 / (np.cbrt(abs(armature_rotation.determinant())) or 1.0)
     action = armature.animation_data.action if armature.animation_data else None
@@ -235,7 +257,7 @@ def _key_bones(
             action.get(CURVES_PROPERTY, ())
         )
     channels = {}
-    for bone_name, motion in bones.items():
+    for bone_name, (frames, motion) in bones.items():
         bone = armature.data.bones[bone_name]
         rest = armature_rotation @ bone.matrix_local.to_3x3()
         local = np.array(rest.inverted_safe()) @ motion[:, :3, :3] @ np.array(rest)
@@ -255,39 +277,33 @@ def _key_bones(
                 f"The bone {bone_name!r} is animated by {action.name!r} already, so the head's motion was "
                 "not keyed on it; key it on a layer of your own (NLA) and generate again."
             )
-        channels[path] = values
-    return _write_channels(armature, armature, OBJECT_ID, channels, frames), ""
+        channels[path] = (frames, values)
+    return _write_channels(armature, channels), ""
 
 
-def _write_channels(
-    owner, target, id_type: str, channels: dict, frames: np.ndarray, assign: bool = True
-) -> int:
-    """F-curves for every channel (path -> (N, k) values), keys where they are needed; returns the count."""
-    if assign:
-        action = owner.animation_data.action if owner.animation_data else None
-        if action is None:
-            action = bpy.data.actions.new(f"TR_living.{owner.name}")
-            action[ACTION_TAG] = True
-        compat.assign_action(owner, action, id_type)
-    else:
-        action = target
-    bag = compat.action_channels(action, owner, id_type, create=True)
+def _write_channels(owner: bpy.types.Object, channels: dict) -> int:
+    """F-curves for every channel (path -> (frames, (N, k) values)) in the owner's action (ours where it has
+    none), keyed on those frames; returns the count."""
+    action = owner.animation_data.action if owner.animation_data else None
+    if action is None:
+        action = bpy.data.actions.new(f"TR_living.{owner.name}")
+        action[ACTION_TAG] = True
+    compat.assign_action(owner, action, OBJECT_ID)
+    bag = compat.action_channels(action, owner, OBJECT_ID, create=True)
     written = 0
-    for path, values in channels.items():
-        values = np.asarray(values, np.float64)
-        if values.ndim == 1:
-            values = values[:, None]
-        tolerance = TOLERANCE.get(path.rsplit(".", 1)[-1], 8.7e-4)
+    for path, (frames, values) in channels.items():
+        values = np.asarray(values, np.float64).reshape(len(frames), -1)
+        coordinates = np.empty((len(frames), 2), np.float32)
+        coordinates[:, 0] = frames
+        interpolations = np.ones(len(frames), np.int32)
         for index in range(values.shape[1]):
-            keep = decimated_keys(values[:, index], tolerance)
             fcurve = compat.new_fcurve(bag, path, GROUP, index=index)
-            fcurve.keyframe_points.add(len(keep))
-            coordinates = np.empty(2 * len(keep), np.float32)
-            coordinates[0::2], coordinates[1::2] = frames[keep], values[keep, index]
-            fcurve.keyframe_points.foreach_set("co", coordinates)
-            fcurve.keyframe_points.foreach_set("interpolation", np.ones(len(keep), np.int32))
-            written += len(keep)
-    action[CURVES_PROPERTY] = sorted({*action.get(CURVES_PROPERTY, ()), *(p for p in channels)})
+            fcurve.keyframe_points.add(len(frames))
+            coordinates[:, 1] = values[:, index]
+            fcurve.keyframe_points.foreach_set("co", coordinates.ravel())
+            fcurve.keyframe_points.foreach_set("interpolation", interpolations)
+            written += len(frames)
+    action[CURVES_PROPERTY] = sorted({*action.get(CURVES_PROPERTY, ()), *channels})
     return written
 
 

@@ -63,20 +63,24 @@ def sampled_weights(tracks: WeightTracks) -> tuple[tuple[str, ...], np.ndarray]:
 def decimated_keys(values: np.ndarray, tolerance: float, passes: int = 4) -> np.ndarray:
     """Indices of the frames to key so that linear interpolation between them stays within tolerance of
     every frame's value (smooth motion needs a key every few frames, a saccade every one); first and last
-    always kept. Each pass drops every other key whose neighbours' line stays within tolerance of every
-    frame between them."""
+    always kept. values (frames,) or (frames, channels): channels keyed together stay each within tolerance.
+    Each pass drops every other key whose neighbours' line stays within tolerance of every frame between
+    them."""
     values = np.asarray(values, np.float64)
-    keep = np.arange(values.size)
-    frames = np.arange(values.size)
+    columns = values.reshape(values.shape[0], -1).T
+    keep = np.arange(values.shape[0])
+    frames = np.arange(values.shape[0])
     for _ in range(passes):
         if keep.size <= 2:
             break
         # The candidates are the keys at odd positions; the others (anchors) stay, and the spans between
         # neighbouring anchors, one around each candidate, cover the frames without overlapping.
         anchors = keep[::2] if keep.size % 2 else np.append(keep[::2], keep[-1])
-        line = np.interp(frames, anchors, values[anchors])
+        missed = np.zeros(frames.size, bool)
+        for column in columns:
+            missed |= np.abs(column - np.interp(frames, anchors, column[anchors])) > tolerance
         # Frames off the line so far; a span between anchors fits where none of its frames is off.
-        off = np.cumsum(np.abs(values - line) > tolerance, dtype=np.int32)
+        off = np.cumsum(missed, dtype=np.int32)
         candidates = np.arange(1, keep.size - 1, 2)
         fits = (off[anchors[1:]] - off[anchors[:-1]])[: candidates.size] == 0
         if not fits.any():
