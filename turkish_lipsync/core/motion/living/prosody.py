@@ -22,6 +22,9 @@ YIN_THRESHOLD = 0.15  # cumulative mean normalised difference below this is a pe
 VOICING_THRESHOLD = 0.35  # frames whose best dip stays above this are unvoiced
 SILENCE_DB = -45.0  # frames this far below the loudest 5 % are silence
 _BLOCK = 2048  # frames analysed at once (bounds memory on long takes)
+_DECIMATION_STRETCH = (
+    1 << 16
+)  # output samples decimated at once: their input (1.4 MB as int16) stays in cache
 
 
 @dataclass(frozen=True, eq=False)
@@ -82,10 +85,13 @@ def measure_prosody(samples: np.ndarray, sample_rate: int) -> Prosody:
     for first in range(0, audible.size, _BLOCK):
         rows = audible[first : first + _BLOCK]
         frames = spans[starts[rows]]
-        # Energy of the window shifted by each lag, from the frame's running sum of squares.
-        squares = np.zeros((rows.size, span + 1))
-        np.cumsum(np.square(frames, dtype=np.float64), axis=1, out=squares[:, 1:])
-        shifted = squares[:, lags + window] - squares[:, lags]
+        # Energy of the window shifted by each lag: the first window's, then each lag's sample in and the
+        # one before it out.
+        squares = np.square(frames, dtype=np.float64)
+        steps = np.empty((rows.size, lags.size))
+        steps[:, 0] = squares[:, :window].sum(axis=1)
+        steps[:, 1:] = squares[:, window : window + lags.size - 1] - squares[:, : lags.size - 1]
+        shifted = np.cumsum(steps, axis=1)
         f0[rows] = _yin(frames, shifted, window, shortest, longest, rate)
     return Prosody(f0=_without_octave_jumps(f0), energy=energy, rate=FRAME_RATE)
 
@@ -94,14 +100,19 @@ def _decimated(audio: np.ndarray, factor: int) -> np.ndarray:
     """Float samples at 1/factor the rate, each the mean of factor samples (int16 scaled to -1..1).
 
     Averaging blocks decimates with a gentle low-pass that keeps the voice's first harmonics, all YIN needs,
-    at a tenth of a band-limited resampler's cost. Summed by einsum, which casts as it goes (no copy of the
-    take in floats) and, unlike a matrix product, wakes no BLAS threads that spin on the other cores.
+    at a tenth of a band-limited resampler's cost. A stretch at a time is cast to float32 while it is in the
+    cache, then its blocks summed by einsum, which (unlike a matrix product) wakes no BLAS threads that
+    spin on the other cores: twice as fast as casting while summing, and no copy of the whole take.
     """
     count = audio.size // factor
     blocks = audio[: count * factor].reshape(count, factor)
-    scale = 32768.0 * factor if audio.dtype.kind == "i" else float(factor)
-    summed = np.einsum("ij->i", blocks, dtype=np.float32, casting="unsafe")
-    return summed * np.float32(1.0 / scale)
+    scale = np.float32(1.0 / (32768.0 * factor if audio.dtype.kind == "i" else float(factor)))
+    decimated = np.empty(count, np.float32)
+    for first in range(0, count, _DECIMATION_STRETCH):
+        stretch = blocks[first : first + _DECIMATION_STRETCH].astype(np.float32)
+        np.einsum("ij->i", stretch, out=decimated[first : first + _DECIMATION_STRETCH])
+    decimated *= scale
+    return decimated
 
 
 def _yin(
