@@ -82,8 +82,14 @@ def plan_gaze(
     share = minimum_jerk((times[moving] - starts[shift]) / lengths[shift])
     offsets[moving] = sources[shift] + (targets[shift] - sources[shift]) * share[:, None]
     saccades = tuple(
-        Saccade(float(start), float(length), float(amplitude), bool(np.all(target == 0)))
-        for start, length, amplitude, target in zip(starts, lengths, amplitudes, targets, strict=True)
+        Saccade(start, length, amplitude, to_contact)
+        for start, length, amplitude, to_contact in zip(
+            starts.tolist(),
+            lengths.tolist(),
+            amplitudes.tolist(),
+            (~targets.any(axis=1)).tolist(),
+            strict=True,
+        )
         if amplitude >= 1e-6
     )
     return GazePlan(offsets=offsets, saccades=saccades)

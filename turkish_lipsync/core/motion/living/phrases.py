@@ -62,11 +62,11 @@ def speech_structure(timeline: Timeline, prosody: Prosody | None) -> SpeechStruc
         prosody = None if prosody is None or not (~prosody.silent()).any() else prosody
         pauses = _audio_pauses(prosody, duration) if prosody is not None else _timeline_pauses(timeline)
     phrases = _phrases(pauses, duration)
-    syllables = _syllable_spans(timeline)
+    syllables, last_syllables = _syllable_spans(timeline)
     if prosody is not None and np.isfinite(prosody.f0).any():
         accents = _pitch_accents(syllables, phrases, prosody)
     else:
-        accents = _stress_accents(syllables, timeline)
+        accents = _stress_accents(syllables, last_syllables, timeline)
     return SpeechStructure(duration, tuple(pauses), tuple(phrases), tuple(accents), prosody)
 
 
@@ -119,27 +119,32 @@ def _phrases(pauses: list[tuple[float, float]], duration: float) -> list[tuple[f
     return phrases
 
 
-def _syllable_spans(timeline: Timeline) -> list[tuple[float, float, int, bool]]:
-    """(start, end, word index, is the word's last syllable) of each spoken syllable, in order."""
-    spans: list[list] = []
-    last_key = None
+def _syllable_spans(timeline: Timeline) -> tuple[np.ndarray, np.ndarray]:
+    """(syllables, 2) start and end seconds of each spoken syllable in order, and whether each is its word's
+    last."""
+    starts, ends, words = [], [], []
+    last_key, end = None, -np.inf
     for phone in sorted(timeline.phones, key=lambda p: p.start):
         key = (phone.word_index, phone.syllable)
-        if key == last_key and phone.start - spans[-1][1] < 0.1:
-            spans[-1][1] = max(spans[-1][1], phone.end)
+        if key == last_key and phone.start - end < 0.1:
+            end = ends[-1] = max(end, phone.end)
         else:
-            spans.append([phone.start, phone.end, phone.word_index])
+            starts.append(phone.start)
+            end = phone.end
+            ends.append(end)
+            words.append(phone.word_index)
             last_key = key
-    following = [span[2] for span in spans[1:]] + [None]  # the next syllable's word (none after the last)
-    return [(s[0], s[1], s[2], s[2] != word) for s, word in zip(spans, following, strict=False)]
+    words = np.array(words, int)
+    last = np.ones(words.size, bool)  # the next syllable is another word's (none follows the last)
+    last[:-1] = words[1:] != words[:-1]
+    return np.array([starts, ends], np.float64).T.reshape(-1, 2), last
 
 
-def _pitch_accents(syllables, phrases, prosody: Prosody) -> list[Accent]:
+def _pitch_accents(spans: np.ndarray, phrases, prosody: Prosody) -> list[Accent]:
     semitones = prosody.semitones()
     rate = prosody.rate
     finite = np.isfinite(semitones)
     # Each syllable's highest voiced frame, all syllables at once (a syllable spans at most a few frames).
-    spans = np.array([(start, end) for start, end, _word, _last in syllables]).reshape(-1, 2)
     first = np.ceil(spans[:, 0] * rate).astype(int)
     last = np.maximum(np.ceil(np.maximum(spans[:, 1], spans[:, 0] + 1 / rate) * rate).astype(int), first + 1)
     width = int((last - first).max(initial=1))
@@ -186,10 +191,10 @@ def _phrase_medians(values: np.ndarray, phrases, rate: float) -> np.ndarray:
     return medians
 
 
-def _stress_accents(syllables, timeline: Timeline) -> list[Accent]:
+def _stress_accents(spans: np.ndarray, lasts: np.ndarray, timeline: Timeline) -> list[Accent]:
     emphasised = timeline.emphases
     accents = []
-    for start, end, _word, last in syllables:
+    for (start, end), last in zip(spans.tolist(), lasts.tolist(), strict=True):
         middle = (start + end) / 2
         strong = any(s <= middle <= e for s, e in emphasised)
         if last or strong:
