@@ -1,6 +1,7 @@
 """Benchmarks: speed, memory and scale of the whole pipeline. Prints one JSON object.
 
     .venv/bin/python scripts/bench.py [--runs 3] [--render-frames 3] [--no-render]
+    .venv/bin/python scripts/bench.py --noise PAIRS    (how far the living layers' cost strays where it is 0)
 
 Every figure is the median of --runs runs, each run in a fresh process (so peak memory is that run's own);
 comparisons are ratios measured inside one run. Heads: the default (reference) head and a 27,000-vertex head
@@ -287,19 +288,46 @@ def _in_fresh_process(part: str, *arguments: str) -> dict:
     return json.loads(result.stdout.strip().splitlines()[-1])
 
 
-def _paired_cost(with_runs: list[dict], without_runs: list[dict], key: str) -> float:
-    """The median over alternating pairs of runs of how much longer the one with took than the one without."""
-    return statistics.median(a[key] / b[key] - 1.0 for a, b in zip(with_runs, without_runs, strict=True))
+def _pair_costs(with_runs: list[dict], without_runs: list[dict], key: str) -> list[float]:
+    """For each pair of runs, how much longer the one with the layers took than the one without."""
+    return [a[key] / b[key] - 1.0 for a, b in zip(with_runs, without_runs, strict=True)]
 
 
-def _paired_cost_beside_speech(with_runs: list[dict], without_runs: list[dict]) -> float:
+def _pair_costs_beside_speech(with_runs: list[dict], without_runs: list[dict]) -> list[float]:
     """The same, each run's speech engine time set aside: what the layers add to the rest of the run, over
     the whole run without them."""
-    return statistics.median(
+    return [
         ((a["end_to_end_s"] - a["speech_engine_s"]) - (b["end_to_end_s"] - b["speech_engine_s"]))
         / b["end_to_end_s"]
         for a, b in zip(with_runs, without_runs, strict=True)
-    )
+    ]
+
+
+def _living_pairs(pairs: int, both_off: bool = False) -> tuple[list[dict], list[dict]]:
+    """Runs with and without the living layers in pairs, so both see the same load, each pair's first run the
+    other kind than the last pair's: a run's place in its pair is worth a few per cent on a shared machine.
+    both_off: the layers off in both (the estimators' noise)."""
+    default_runs, still_runs = [], []
+    for run in range(pairs):
+        for living_on in (True, False) if run % 2 == 0 else (False, True):
+            kind = [] if living_on and not both_off else ["--no-living"]
+            (default_runs if living_on else still_runs).append(
+                _in_fresh_process("end_to_end", "--head", "default", *kind)
+            )
+    return default_runs, still_runs
+
+
+def _noise(pairs: int) -> dict:
+    """The cost estimators over pairs of runs that differ in nothing: the spread a real cost must clear."""
+    first, second = _living_pairs(pairs, both_off=True)
+    spread = {
+        "living_layers_cost": _pair_costs(first, second, "end_to_end_s"),
+        "living_layers_cost_beside_speech": _pair_costs_beside_speech(first, second),
+    }
+    return {"pairs": pairs, "layers": "off in both runs of every pair"} | {
+        name: {"min": min(costs), "median": statistics.median(costs), "max": max(costs)}
+        for name, costs in spread.items()
+    }
 
 
 def _median_of(runs: list[dict]) -> dict:
@@ -331,6 +359,12 @@ def main() -> int:
     parser.add_argument("--part", help=argparse.SUPPRESS)
     parser.add_argument("--head", default="default", help=argparse.SUPPRESS)
     parser.add_argument("--no-living", action="store_true", help=argparse.SUPPRESS)
+    parser.add_argument(
+        "--noise",
+        type=int,
+        metavar="PAIRS",
+        help="only the cost estimators' spread with the layers off in both",
+    )
     args = parser.parse_args()
 
     if args.part:
@@ -343,19 +377,14 @@ def main() -> int:
         }
         print(json.dumps(parts[args.part]()))
         return 0
+    if args.noise:
+        print(json.dumps(_noise(args.noise), indent=1))
+        return 0
 
     import bpy
 
     runs = max(1, args.runs)
-    # With and without the living layers in pairs, so both see the same load, each pair's first run the
-    # other kind than the last pair's: a run's place in its pair is worth a few per cent on a shared machine.
-    default_runs, still_runs = [], []
-    for run in range(runs):
-        for living_on in (True, False) if run % 2 == 0 else (False, True):
-            kind = [] if living_on else ["--no-living"]
-            (default_runs if living_on else still_runs).append(
-                _in_fresh_process("end_to_end", "--head", "default", *kind)
-            )
+    default_runs, still_runs = _living_pairs(runs)
     default, still = _median_of(default_runs), _median_of(still_runs)
     dense = _median_of([_in_fresh_process("end_to_end", "--head", "dense") for _ in range(runs)])
     keyframe = _median_of([_in_fresh_process("keyframes") for _ in range(runs)])
@@ -371,11 +400,15 @@ def main() -> int:
         "end_to_end_s_10min_living_off": still["end_to_end_s"] * 10 / still["speech_minutes"],
         # Each run with the layers against the run without them beside it (the same load), the median
         # of those ratios: the speech engine's own time varies by a tenth from run to run.
-        "living_layers_cost": _paired_cost(default_runs, still_runs, "end_to_end_s"),
-        "living_layers_cost_cpu": _paired_cost(default_runs, still_runs, "end_to_end_cpu_s"),
+        "living_layers_cost": statistics.median(_pair_costs(default_runs, still_runs, "end_to_end_s")),
+        "living_layers_cost_cpu": statistics.median(
+            _pair_costs(default_runs, still_runs, "end_to_end_cpu_s")
+        ),
         # eSpeak NG's synthesis and alignment do the same work with the layers or without, and vary by a tenth
         # from run to run: the cost with each run's own engine time set aside.
-        "living_layers_cost_beside_speech": _paired_cost_beside_speech(default_runs, still_runs),
+        "living_layers_cost_beside_speech": statistics.median(
+            _pair_costs_beside_speech(default_runs, still_runs)
+        ),
         "keyframe_speedup": keyframe["keyframe_speedup"],
         "shape_keys_build_s": build["shape_keys_build_s"],
         "transfer_build_s": build["transfer_build_s"],
