@@ -14,11 +14,11 @@ all GPL or similar: measured with, never copied into the project):
 - ktuberling-data: single English words said by a person (KTuberling's English sound theme), spelt in
   Turkish letters by hand (ENGLISH_WORDS).
 
-The split keeps tuning apart from reporting: the acoustic model trains and the constants are tuned on the
-**tune** part only (Dutch lines of two thirds of the game's levels, Russian and Tswana syllables); figures
-are reported on the **report** part (the Dutch lines of the other third of the levels, the Ukrainian,
-French and Czech syllables) and on the two sets nobody tuned on (Czech lines: other actors and another
-language; English words).
+The split keeps tuning apart from reporting: the acoustic model trains on the **tune** part's Dutch lines
+(two thirds of the game's levels) and its Russian and Tswana syllables, and the judgement's constants are
+tuned on the tune part's Czech lines too (a third of the levels: voices the network never learnt from, as
+a user's are); figures are reported on the **report** part (the Dutch lines of the other third of the
+levels, the other Czech lines, the Ukrainian, French and Czech syllables, the English words).
 
 `lists_of_eight` joins eight recordings of one speaker with pauses of that speaker's own noise floor, as a
 list read aloud with pauses; the truth is where each item's sound starts.
@@ -42,6 +42,9 @@ DEV_VOICES = REPOSITORY.parent / "shared" / "voices" / "dev_voices.py"
 PACKAGES = ("fillets-ng-data-cs", "ktuberling-data")
 TUNING_SYLLABLES = ("klettres-ru", "klettres-tn")
 REPORT_EVERY_NTH_LEVEL = 3  # the Dutch lines of levels 0, 3, 6, ... of the sorted level names are reported
+# The Czech lines of levels 1, 4, 7, ... tune the judgement's constants (never the network: voices it has
+# not heard, as a user's are); the other Czech lines are reported.
+CZECH_TUNING_EVERY_NTH_LEVEL = 3
 
 # KTuberling's English words as a Turkish reader would spell what is said (the game names each sound by
 # the English word it says; a prefix such as "egypt_" names the playground).
@@ -152,6 +155,11 @@ def _english_words(folder: Path) -> list[tuple[str, ...]]:
     return rows
 
 
+def training_recordings(folder: Path = FOLDER) -> list[Recording]:
+    """What the acoustic model learns from: the tune part but its Czech lines."""
+    return [r for r in recordings(folder, "tune") if not r.source.startswith("fillets-cs")]
+
+
 def recordings(folder: Path = FOLDER, part: str | None = None, kind: str | None = None) -> list[Recording]:
     """Every recording (or those of one part and kind), in a fixed order."""
     found = []
@@ -163,13 +171,18 @@ def recordings(folder: Path = FOLDER, part: str | None = None, kind: str | None 
         }
     )
     reported_levels = set(levels[::REPORT_EVERY_NTH_LEVEL])
+    tuning_czech_levels = {
+        "fillets-cs/" + level.split("/")[1] for level in levels[1::CZECH_TUNING_EVERY_NTH_LEVEL]
+    }
     for manifest, base in (
         (folder / "dev" / "manifest.tsv", folder / "dev"),
         (folder / "held_out.tsv", None),
     ):
         for row_kind, source, ident, wav, text, turkish in _rows(manifest, base):
-            if source.startswith(("fillets-cs", "ktuberling")):
+            if source.startswith("ktuberling"):
                 row_part = "report"
+            elif source.startswith("fillets-cs"):
+                row_part = "tune" if source in tuning_czech_levels else "report"
             elif source.startswith("fillets-nl"):
                 row_part = "report" if source in reported_levels else "tune"
             else:
@@ -244,7 +257,7 @@ def lists_of_eight(items: list[Recording], rng: np.random.Generator, rate: int =
                 onsets.append((position + sound_onset(clip, rate) * rate) / rate)
                 position += clip.size
             pieces.append(np.resize(floor, int(0.5 * rate)))
-            text = ", ".join(item.turkish for item in chosen) + "."
+            text = ", ".join(item.turkish for item in chosen)
             takes.append(ListTake(np.concatenate(pieces), rate, text, np.array(onsets), speaker))
     return takes
 

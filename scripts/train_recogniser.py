@@ -334,7 +334,7 @@ def make_people_corpus(
         return path
     network = load_network(network_path)
     began = time.time()
-    labelled = [people_labels(recording, network) for recording in people.recordings(folder, part="tune")]
+    labelled = [people_labels(recording, network) for recording in people.training_recordings(folder)]
     labelled = [item for item in labelled if item is not None]
     fits = np.array([fit for _, _, fit in labelled])
     kept = [item for item in labelled if item[2] >= np.percentile(fits, 100 * WORST_FITTING_SHARE)]

@@ -50,7 +50,7 @@ def test_the_voices_measured_were_never_heard_in_training():
     for name in VOICES:
         assert TEST_VOICES[name][0] in metadata["held_out_variants"]
         assert TEST_VOICES[name][0] not in metadata["training_variants"]
-    assert "human" in metadata["trained_on"]  # it says what it was not trained on
+    assert "people" in metadata["trained_on"]  # it says it learnt from people
 
 
 def test_the_mouth_follows_held_out_voices_far_better_than_loudness(takes):

@@ -1,18 +1,22 @@
-"""A user's own recording of the text: read it, align the synthetic rendition to it, warp the events.
+"""A user's own recording of the text: read it, find the text's letters in it, warp the events.
 
 The recording is read, mixed to mono and resampled (audio.py) while the text is synthesised in a thread
-of its own, in chunks of sentences, so a take of any length needs only its features in memory, not the
-synthetic audio. Both signals become speaker- and room-normalised cepstra (features.py), a live room's
-late reverberation taken out of the recording first (reverberation.py); the recording's speech is
-found by voice activity detection (voice_activity.py), and the two are matched by dynamic time warping
-(dtw.py) with the synthetic speech padded by silence, so noise, a breath or a click before the first
-word is matched to silence instead of being taken for speech. The recording's vocal tract length is
-searched over a few warps. A person pauses where the text has no comma and skips pauses it has: the
-DTW may hold any word boundary through a recorded pause and any synthetic pause against the recording
-(_pauses). Only matches of speech with speech become knots of the warp (timewarp.py); pauses both make
-are crossed linearly, a pause only the recording makes is put before the word after it.
+of its own, in chunks of sentences, so a take of any length needs only what is heard in it in memory,
+not the synthetic audio. Both are heard by the acoustic model (acoustic/: a network trained on people's
+speech and eSpeak NG's), frame by frame, as posteriors of the Turkish letters and silence; where the speech
+detector hears speech in the recording, silence is made unlikely (voice_activity.py). Whether a recorded
+frame matches a sound of the text then no longer depends on how much the voice sounds like eSpeak's.
 
-How well each synthetic frame's match ranks among the text's sounds gives every word and phrase a
+Two passes. Dynamic time warping (dtw.py) of what is heard in the recording against what is heard in the
+synthetic speech, padded by silence (noise, a breath or a click before the first word is matched to
+silence), finds the text in the recording as a whole; a person pauses where the text has no comma and
+skips pauses it has, so the DTW may hold any word boundary through a recorded pause and any synthetic
+pause against the recording (_pauses). Then each letter is placed where the network hears it: forced
+alignment of the text's letters, a pause possible between any two words (letter_warp.py; a long take
+within reach of the DTW path). The warp joins each letter's synthetic span to its recorded one, so
+every phone eSpeak spoke lands where its letter is heard (timewarp.py).
+
+How much less likely the text's letters are than what the network hears gives every word and phrase a
 confidence: a recording of another text is refused, a word left out or added is named in a warning
 (judgement.py).
 """
@@ -30,22 +34,36 @@ from ..base.model import Utterance
 from .acoustic.features import recogniser_features
 from .acoustic.labels import CLASS_INDEX, SILENCE
 from .acoustic.network import load_network
+from .align import phone_letter_spans
 from .audio import MAX_OUTPUT_RATE, read_audio, resample, resampled_pcm
 from .base import PhoneEvent, SpeechEngine, Synthesis, WordEvent
 from .dtw import Pauses, dtw_path
 from .features import ANALYSIS_RATE, HOP, frame_count
-from .judgement import Fit, PhraseMatch, judge, match_ranks
-from .timewarp import TimeWarp, warp_from_path, warp_synthesis
+from .judgement import Fit, PhraseMatch, judge
+from .letter_warp import letter_warp
+from .timewarp import TimeWarp, warp_synthesis
 from .voice_activity import above_floor, clean_speech_frames, runs, speech_frames, under_speech
 
-MAX_LENGTH_RATIO = 3.0  # recordings with this many times more or less speech than the synthetic are refused
-LENGTH_SLACK = 1.5  # seconds of speech beyond that ratio a recording may have or lack
+MAX_LENGTH_RATIO = 4.0  # recordings with this many times more or less speech than the synthetic are refused
+LENGTH_SLACK = 3.0  # seconds of speech beyond that ratio a recording may have or lack (syllables drawn out)
 CHUNK_LETTERS = 3_000  # about 5 minutes of speech synthesised at a time (split at sentences)
 SENTENCE_PAUSE = 0.3  # seconds: a word after a pause this long may start a chunk
 PADDING_FRAMES = 50  # silence added around the synthetic speech beyond the recording's own lead and tail
+# The DTW's features are the square roots of the posteriors times HEARD_SCALE: two frames heard alike
+# are 0 apart, frames heard as different classes 3.5 (2.5 x the Hellinger distance's sqrt(2)). On the tune
+# part's lists of eight read with pauses, scales of 1, 2.5 and 4 gave item onsets p90 of 1,343, 224 and
+# 179 ms with the DTW alone (its costs below were set for distances of 1-3 a frame).
+HEARD_SCALE = 2.5
+SILENCE_IN_SPEECH = 0.05  # silence's posterior is this many times smaller where a voice is detected
+SPEECH_EDGE_FRAMES = 5  # the letters' alignment trusts the detector's speech this far inside its runs
+# Added to silence's score where the letters are placed (acoustic/forced.py): on the tune part's lists of
+# eight, with no bias an item the network heard as silence was left out (onsets p90 1,343 ms), at -3
+# some still were (p90 82, max 1,752 ms), at -8 none (p90 20 ms).
+SPEAKER_SILENCE_BIAS = -8.0
+QUIET_SILENCE_BIAS = 2.0
 ORDER_FRAMES = 3_000  # the text's order is tested on the first 30 seconds of a long take
-# Cost of a DTW step that stretches one signal (in units of the feature distance, 1-3 per frame between
-# two voices saying the same thing): keeps the path near the diagonal where the distances do not decide.
+# Cost of a DTW step that stretches one signal (in units of the feature distance, 0-3.5 a frame): keeps
+# the path near the diagonal where the distances do not decide.
 STEP_PENALTY = 2.0
 PAUSE_COST = 1.0  # per frame of a pause one signal makes and the other does not
 BOUNDARY_SLACK = 1  # frames either side of a synthetic word onset where a recorded pause may be held
@@ -152,7 +170,8 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
         recorded_speech = speech_frames(recorded, frames)
         recorded_loudness = above_floor(recorded, frames)
         recorded_under_speech = under_speech(recorded, frames)
-        y = heard_sounds(recorded, frames)
+        log_posteriors = heard_log_posteriors(recorded, frames)
+        y = heard_features(_speech_not_silence(log_posteriors, recorded_speech))
         del recorded
         reference, x, synthetic_speech = rendition.result()
     _check_lengths(path, recorded_speech, synthetic_speech)
@@ -167,38 +186,105 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
         word_onsets, lead, synthetic_speech, recorded_speech, recorded_loudness, recorded_under_speech
     )
     path_x, path_y = dtw_path(x, y, step_penalty=STEP_PENALTY, pauses=pauses)
+    # Silence, or a stretch a voice in the background or a room's tail may fill: the speaker may pause.
     recorded_pause = np.isfinite(pauses.y_hold_cost)
     duration = output.size / output_rate
-    warp = warp_from_path(
-        path_x, path_y, synthetic_speech, recorded_speech, recorded_pause, lead, duration, word_onsets
+    synthetic_starts, synthetic_ends, _ = phone_letter_spans(
+        utterance,
+        Synthesis(output[:0], output_rate, reference.phone_events, reference.word_events, ""),
+        engine,
     )
+    letters = letter_warp(
+        utterance,
+        synthetic_starts,
+        synthetic_ends,
+        log_posteriors,
+        _silence_bias(recorded_speech, recorded_pause),
+        load_network(),
+        path_x,
+        path_y,
+        lead,
+        duration,
+    )
+    if letters is None:
+        raise AudioError(
+            f"recording {path} is too short for the text's letters, so it cannot read this text; check that "
+            "the recording and the text belong together"
+        )
     synthesis = warp_synthesis(
         Synthesis(output, output_rate, reference.phone_events, reference.word_events, "recording"),
-        warp,
+        letters.warp,
         output,
     )
     # What a pause holds (a voice in the background, a room's tail) is not the speaker's: not judged.
     judged = recorded_speech & ~recorded_pause
-    ranks = match_ranks(x, y, path_x, path_y, synthetic_speech, judged)
-    fit = Fit(path_x, path_y, ranks, synthetic_speech, judged, recorded_under_speech, lead, order_ratio)
-    phrases, warnings = judge(utterance, reference.phone_events, warp, fit, path)
-    return RecordingAlignment(warp, synthesis, phrases, warnings)
+    fit = Fit(
+        path_x,
+        path_y,
+        letters.mismatch,
+        letters.heard_letters,
+        letters.frame_words,
+        synthetic_speech,
+        judged,
+        recorded_under_speech,
+        lead,
+        order_ratio,
+    )
+    phrases, warnings = judge(utterance, reference.phone_events, letters.warp, fit, path)
+    return RecordingAlignment(letters.warp, synthesis, phrases, warnings)
 
 
-def heard_sounds(samples: np.ndarray, frames: int) -> np.ndarray:
-    """What the acoustic model hears in each of `frames` 10 ms frames of 16 kHz samples: the square roots
-    of its class posteriors (frames x classes, float32), so that the Euclidean distance between two
-    frames is the Hellinger distance between what is heard in them."""
-    heard = np.sqrt(np.exp(load_network().log_posteriors(recogniser_features(samples))))
+def heard_log_posteriors(samples: np.ndarray, frames: int) -> np.ndarray:
+    """What the acoustic model hears in each of `frames` 10 ms frames of 16 kHz samples: the log of its
+    class posteriors (frames x classes, float32). The square roots of the posteriors are the DTW's
+    features: the Euclidean distance between two frames is then the Hellinger distance between what is
+    heard in them."""
+    heard = load_network().log_posteriors(recogniser_features(samples))
     if len(heard) < frames:
-        heard = np.concatenate((heard, _silence(frames - len(heard), heard.shape[1])))
+        silence = np.full((frames - len(heard), heard.shape[1]), -69.0, np.float32)
+        silence[:, CLASS_INDEX[SILENCE]] = 0.0
+        heard = np.concatenate((heard, silence))
     return heard[:frames]
 
 
+def _silence_bias(recorded_speech: np.ndarray, recorded_pause: np.ndarray) -> np.ndarray:
+    """What the speech detector adds to silence's score in each recorded frame, for placing the letters:
+    SPEAKER_SILENCE_BIAS well inside the speaker's speech, QUIET_SILENCE_BIAS where speech so quiet or so
+    near the noise floor that a pause may hold it (a voice in the background, a room's tail)."""
+    bias = np.where(recorded_speech & recorded_pause, QUIET_SILENCE_BIAS, 0.0)
+    bias[_inner(recorded_speech & ~recorded_pause, SPEECH_EDGE_FRAMES)] = SPEAKER_SILENCE_BIAS
+    return bias
+
+
+def _inner(speech: np.ndarray, edge: int) -> np.ndarray:
+    """The speech frames at least `edge` frames inside their run: the detector's runs reach into the
+    silence around them (and bridge a stop's closure), where a pause may well lie."""
+    inner = speech.copy()
+    for shift in range(1, edge + 1):
+        inner[shift:] &= speech[:-shift]
+        inner[:-shift] &= speech[shift:]
+    return inner
+
+
+def _speech_not_silence(log_posteriors: np.ndarray, speech: np.ndarray) -> np.ndarray:
+    """The posteriors with silence made SILENCE_IN_SPEECH times less likely where the speech detector
+    hears speech: the network, unsure of a voice unlike any it learnt from, hears silence sooner than
+    a wrong letter, and the DTW would then hold the text's pauses against the speaker's words."""
+    adjusted = log_posteriors.copy()
+    adjusted[speech, CLASS_INDEX[SILENCE]] += np.log(SILENCE_IN_SPEECH)
+    adjusted -= np.log(np.exp(adjusted).sum(axis=1, keepdims=True))
+    return adjusted
+
+
+def heard_features(log_posteriors: np.ndarray) -> np.ndarray:
+    """The DTW's features: the square roots of the posteriors, scaled by HEARD_SCALE."""
+    return (HEARD_SCALE * np.sqrt(np.exp(log_posteriors))).astype(np.float32)
+
+
 def _silence(frames: int, classes: int) -> np.ndarray:
-    """Frames in which nothing but silence is heard."""
+    """Features of frames in which nothing but silence is heard."""
     heard = np.zeros((frames, classes), np.float32)
-    heard[:, CLASS_INDEX[SILENCE]] = 1.0
+    heard[:, CLASS_INDEX[SILENCE]] = HEARD_SCALE
     return heard
 
 
@@ -208,7 +294,8 @@ def _synthetic_analysis(
     """The synthetic rendition's events, what is heard in it and its speech frames (its audio dropped)."""
     reference, analysis = synthesize_reference(utterance, engine)
     frames = frame_count(analysis.size)
-    return reference, heard_sounds(analysis, frames), clean_speech_frames(analysis, frames)
+    heard = heard_features(heard_log_posteriors(analysis, frames))
+    return reference, heard, clean_speech_frames(analysis, frames)
 
 
 def _word_onsets(reference: _Reference) -> np.ndarray:

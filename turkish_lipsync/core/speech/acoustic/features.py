@@ -17,6 +17,9 @@ from ..features import mel_energies
 BANDS = 40
 LOW_HERTZ = 60.0
 TOP_HERTZ = 7600.0
+LEVELLING = "share"
+LOUDEST_PERCENTILE = 99
+LOUD_WITHIN_DB = 15.0
 LOUD_SHARE = 0.3  # the loudest 30 % of the frames stand for the take's speech level
 FLOOR_DB = -60.0  # below the speech level; quieter is the same as this
 SCALE_DB = 10.0  # decibels per feature unit
@@ -35,7 +38,10 @@ def levelled(decibels: np.ndarray) -> np.ndarray:
     The levels are the whole take's, so a long take is described alike from start to end.
     """
     loudness = 10.0 * np.log10(np.sum(10.0 ** (decibels / 10.0), axis=1) + 1e-10)
-    loud = loudness >= np.percentile(loudness, 100 * (1 - LOUD_SHARE))
+    if LEVELLING == "peak":
+        loud = loudness >= np.percentile(loudness, LOUDEST_PERCENTILE) - LOUD_WITHIN_DB
+    else:
+        loud = loudness >= np.percentile(loudness, 100 * (1 - LOUD_SHARE))
     band_level = decibels[loud].mean(axis=0)
     speech_level = loudness[loud].mean()
     features = np.empty((len(decibels), FEATURE_COUNT), np.float32)

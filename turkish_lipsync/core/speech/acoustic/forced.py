@@ -19,6 +19,7 @@ from .labels import CLASS_INDEX, SILENCE
 
 PRIOR_WEIGHT = 0.8  # posteriors / priors ** PRIOR_WEIGHT (the decoder's)
 ENTER_COST = 0.5  # natural-log units per letter entered: a slight push toward fewer, longer stays
+POSTERIOR_FLOOR = 1e-3
 PAUSE_COST = 2.0  # entering a pause between words costs this much more than going on speaking
 
 
@@ -95,7 +96,7 @@ class ForcedAlignment:
     starts: np.ndarray
     stops: np.ndarray
     frame_letters: np.ndarray
-    frame_scores: np.ndarray  # per frame: the path's emission score there
+    frame_scores: np.ndarray  # per frame: the network's scaled log likelihood of the path's class there
 
 
 def force_align(
@@ -103,10 +104,14 @@ def force_align(
     priors: np.ndarray,
     model: LetterModel,
     band: tuple[np.ndarray, np.ndarray] | None = None,
+    silence_bias: np.ndarray | None = None,
 ) -> ForcedAlignment:
     """The best path of the frames through the model (every letter at least its shortest duration).
 
     band: per frame, the first state and the state after the last it may be in (the whole model if None).
+    silence_bias: per frame, added to silence's score (natural-log units): negative where a speech
+    detector hears the speaker (the network, unsure of a voice unlike any it learnt from, hears silence
+    sooner than a wrong letter), positive where a quiet voice in the background may fill a pause.
     """
     frames = len(log_posteriors)
     states = len(model.classes)
@@ -114,7 +119,12 @@ def force_align(
         low, high = np.zeros(frames, np.int64), np.full(frames, states, np.int64)
     else:
         low, high = band
-    scores = (log_posteriors - PRIOR_WEIGHT * np.log(priors)[None, :]).astype(np.float64)
+    heard = (log_posteriors - PRIOR_WEIGHT * np.log(priors)[None, :]).astype(np.float64)
+    # The network is sometimes sure of silence in a voice unlike any it learnt from: no letter is taken
+    # for less likely than POSTERIOR_FLOOR, so the detector's speech can still outweigh it.
+    scores = np.maximum(log_posteriors, np.log(POSTERIOR_FLOOR)) - PRIOR_WEIGHT * np.log(priors)[None, :]
+    if silence_bias is not None:
+        scores[:, CLASS_INDEX[SILENCE]] += silence_bias[:frames]
     stay = np.where(model.loops, 0.0, -np.inf)
     enter = np.where(model.letter_of_state >= 0, -ENTER_COST, -ENTER_COST - PAUSE_COST)
     # Entering state s from s-2 skips the pause s-1.
@@ -171,5 +181,5 @@ def force_align(
     starts[owners[change]] = spoken[change]
     ends = np.flatnonzero(np.diff(owners, append=-2) != 0)
     stops[owners[ends]] = spoken[ends] + 1
-    frame_scores = scores[np.arange(frames), model.classes[path]]
+    frame_scores = heard[np.arange(frames), model.classes[path]]
     return ForcedAlignment(starts, stops, frame_letters, frame_scores)

@@ -6,8 +6,12 @@ frames count as that vowel's. q, w and x never reach a spoken text (normalisatio
 
 from __future__ import annotations
 
+from functools import cache
+
 import numpy as np
 
+from ...base.data import DATA_DIR, load_table
+from ...base.errors import DataError
 from ...base.model import Timeline
 from ..features import ANALYSIS_RATE, HOP, WINDOW
 
@@ -18,6 +22,26 @@ CLASS_INDEX = {name: index for index, name in enumerate(CLASSES)}
 VOWEL_LETTERS = frozenset("aeıioöuü")
 BILABIAL_LETTERS = frozenset("bmp")
 FRAME_SECONDS = HOP / ANALYSIS_RATE
+
+
+@cache
+def near_sounds() -> np.ndarray:
+    """classes x classes: True where the row's letter counts as heard when the column's is
+    (shapekeys/near_sounds.toml), and on the diagonal."""
+    groups = load_table("near_sounds").get("groups")
+    near = np.eye(len(CLASSES), dtype=bool)
+    if not isinstance(groups, list):
+        raise DataError(f"data file {DATA_DIR / 'near_sounds.toml'}: 'groups' must be a list of letter lists")
+    for group in groups:
+        unknown = [letter for letter in group if letter not in LETTERS] if isinstance(group, list) else group
+        if unknown:
+            raise DataError(
+                f"data file {DATA_DIR / 'near_sounds.toml'}: group {group!r} holds {unknown!r}, which are "
+                f"not letters the acoustic model hears (those are {LETTERS})"
+            )
+        members = [CLASS_INDEX[letter] for letter in group]
+        near[np.ix_(members, members)] = True
+    return near
 
 
 def frame_times(count: int) -> np.ndarray:

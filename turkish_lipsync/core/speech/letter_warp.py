@@ -1,0 +1,131 @@
+"""The time warp from where the acoustic model hears each letter of the text in the recording.
+
+The DTW path (recording.py) finds the text in the recording as a whole, pauses and order included, but
+its steps are drawn to the diagonal of eSpeak's pace. Each letter's own onset then comes from the
+recording alone: forced alignment of the text's letters to what the network hears (acoustic/forced.py),
+each recorded frame allowed only the letters the DTW path puts within reach of it. A knot of the warp
+joins each letter's start (and end) in the synthetic speech to its start (and end) in the recording,
+so every phone eSpeak spoke lands on the recording where its letter is heard.
+
+The same path says how well the recording says the text, whatever the voice: in each recorded frame,
+how much less likely the text's letter there is than the best class the network hears (the "goodness
+of pronunciation" of Witt and Young 2000, in natural-log units of the scaled likelihoods): near 0 where a
+person says the text, several units where they say something else (judgement.py).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..base.model import Utterance
+from .acoustic.forced import PRIOR_WEIGHT, LetterModel, force_align, letter_model, text_units
+from .acoustic.labels import CLASS_INDEX, SILENCE, near_sounds
+from .acoustic.network import PhoneNetwork
+from .features import ANALYSIS_RATE, HOP, WINDOW
+from .timewarp import JUMP, TimeWarp
+
+# A take of up to UNBANDED_CELLS frames x states (20 MB of back-pointers: a minute of speech) is aligned
+# as a whole. In a longer one a recorded frame may hold the letters within a second of the synthetic
+# frames the DTW path gives it, or, where no path fits that band, within three seconds: the DTW, drawn
+# to eSpeak's pace, can be an item of a list read with long pauses away from it.
+UNBANDED_CELLS = 20_000_000
+REACHES = (100, 300)
+SHORTEST_SCALE = 0.5  # a person's letters may be half as long as the shortest of eSpeak's
+
+
+@dataclass(frozen=True, eq=False)
+class LetterFit:
+    """The warp through the letters, and per recorded frame the word there and how ill the text fits it."""
+
+    warp: TimeWarp
+    frame_words: np.ndarray  # index into Utterance.words, -1 where the path pauses
+    mismatch: np.ndarray  # best class's scaled log likelihood less the text's letter's (>= 0)
+    heard_letters: np.ndarray  # the network's best class is a letter, not silence
+
+
+def letter_warp(
+    utterance: Utterance,
+    synthetic_starts: np.ndarray,
+    synthetic_ends: np.ndarray,
+    log_posteriors: np.ndarray,
+    silence_bias: np.ndarray,
+    network: PhoneNetwork,
+    path_x: np.ndarray,
+    path_y: np.ndarray,
+    lead: int,
+    recording_duration: float,
+) -> LetterFit | None:
+    """The letters' warp and fit; None where the text has no letter that is a sound, or no path fits.
+
+    synthetic_starts, synthetic_ends: each utterance letter's span in the synthetic speech (seconds).
+    log_posteriors: what the network hears in each recorded frame; silence_bias: what the speech
+    detector adds to silence's score in each (acoustic/forced.py). path_x, path_y: the DTW path
+    (synthetic frames padded by `lead`, recorded frames).
+    """
+    units = text_units(utterance)
+    if units.classes.size == 0:
+        return None
+    shortest = np.maximum(1, np.round(network.shortest * SHORTEST_SCALE)).astype(np.int64)
+    model = letter_model(units.classes, units.word_starts, shortest)
+    starts = synthetic_starts[units.letters]
+    ends = synthetic_ends[units.letters]
+    if len(log_posteriors) * len(model.classes) <= UNBANDED_CELLS:
+        bands = [None]
+    else:
+        bands = [_band(model, starts, path_x, path_y, lead, len(log_posteriors), reach) for reach in REACHES]
+    for band in bands:
+        try:
+            found = force_align(log_posteriors, network.priors, model, band, silence_bias)
+            break
+        except ValueError:
+            continue
+    else:
+        return None
+    offset = (WINDOW - HOP) / 2 / ANALYSIS_RATE  # frame j's letter starts between frames j-1 and j
+    recorded_starts = found.starts * HOP / ANALYSIS_RATE + offset
+    recorded_ends = found.stops * HOP / ANALYSIS_RATE + offset
+    synthetic = np.ravel(np.column_stack((starts, ends - JUMP)))
+    recorded = np.ravel(np.column_stack((recorded_starts, recorded_ends)))
+    keep = np.concatenate(([True], np.diff(synthetic) > 0))
+    synthetic, recorded = synthetic[keep], np.maximum.accumulate(recorded[keep])
+    warp = TimeWarp(synthetic=synthetic, recorded=recorded, recording_duration=recording_duration)
+    scaled = log_posteriors - PRIOR_WEIGHT * np.log(network.priors)[None, :]
+    word_of_letter = np.array([utterance.letters[letter].word_index for letter in units.letters])
+    frame_words = np.where(found.frame_letters >= 0, word_of_letter[found.frame_letters], -1)
+    silence = CLASS_INDEX[SILENCE]
+    heard_letters = scaled.argmax(axis=1) != silence
+    # The text's letter counts as heard where one of its near sounds is (shapekeys/near_sounds.toml).
+    path_classes = np.where(found.frame_letters >= 0, units.classes[found.frame_letters], silence)
+    text_score = np.where(near_sounds()[path_classes], scaled, -np.inf).max(axis=1)
+    return LetterFit(warp, frame_words, scaled.max(axis=1) - text_score, heard_letters)
+
+
+def _band(
+    model: LetterModel,
+    unit_starts: np.ndarray,
+    path_x: np.ndarray,
+    path_y: np.ndarray,
+    lead: int,
+    frames: int,
+    reach: int,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Per recorded frame, the states of the letters within `reach` frames of its synthetic frames."""
+    lowest = np.full(frames, np.iinfo(np.int64).max)
+    highest = np.full(frames, -1)
+    np.minimum.at(lowest, path_y, path_x)
+    np.maximum.at(highest, path_y, path_x)
+    # Synthetic frame (padded) -> the letter being said there (-1 before the first).
+    onsets = np.round(unit_starts * ANALYSIS_RATE / HOP).astype(np.int64) + lead
+    first_unit = np.searchsorted(onsets, lowest - reach, side="right") - 1
+    last_unit = np.searchsorted(onsets, highest + reach, side="right") - 1
+    states = len(model.classes)
+    firsts = np.append(model.first_states, states)
+    # From the pause before the first letter reached to the pause after the last one.
+    low = np.where(first_unit >= 0, firsts[np.maximum(first_unit, 0)] - 1, 0)
+    high = np.where(last_unit >= 0, firsts[np.minimum(last_unit + 1, len(firsts) - 1)] + 1, 2)
+    low = np.clip(np.minimum.accumulate(low[::-1])[::-1], 0, states - 1)
+    high = np.clip(np.maximum.accumulate(high), 1, states)
+    low[0], high[-1] = 0, states
+    return low, high
