@@ -86,6 +86,7 @@ def letter_warp(
     offset = (WINDOW - HOP) / 2 / ANALYSIS_RATE  # frame j's letter starts between frames j-1 and j
     recorded_starts = found.starts * HOP / ANALYSIS_RATE + offset
     recorded_ends = found.stops * HOP / ANALYSIS_RATE + offset
+    _share_like_runs(units.classes, starts, ends, recorded_starts, recorded_ends)
     synthetic = np.ravel(np.column_stack((starts, ends - JUMP)))
     recorded = np.ravel(np.column_stack((recorded_starts, recorded_ends)))
     keep = np.concatenate(([True], np.diff(synthetic) > 0))
@@ -100,6 +101,35 @@ def letter_warp(
     path_classes = np.where(found.frame_letters >= 0, units.classes[found.frame_letters], silence)
     text_score = np.where(near_sounds()[path_classes], scaled, -np.inf).max(axis=1)
     return LetterFit(warp, frame_words, scaled.max(axis=1) - text_score, heard_letters)
+
+
+def _share_like_runs(
+    classes: np.ndarray,
+    synthetic_starts: np.ndarray,
+    synthetic_ends: np.ndarray,
+    recorded_starts: np.ndarray,
+    recorded_ends: np.ndarray,
+) -> None:
+    """Letters of one class in a row and with no pause between them ("çok kar", "yapalım mı") are one
+    sound to the network, which cannot say where one ends: their recorded span is shared out in the
+    proportions of their synthetic spans (in place)."""
+    index = 0
+    while index < classes.size:
+        last = index
+        while (
+            last + 1 < classes.size
+            and classes[last + 1] == classes[index]
+            and recorded_starts[last + 1] <= recorded_ends[last]
+        ):
+            last += 1
+        if last > index:
+            lengths = np.maximum(synthetic_ends[index : last + 1] - synthetic_starts[index : last + 1], 1e-3)
+            bounds = recorded_starts[index] + (recorded_ends[last] - recorded_starts[index]) * np.concatenate(
+                ([0.0], np.cumsum(lengths) / lengths.sum())
+            )
+            recorded_starts[index : last + 1] = bounds[:-1]
+            recorded_ends[index : last + 1] = bounds[1:]
+        index = last + 1
 
 
 def _band(
