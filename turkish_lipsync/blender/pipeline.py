@@ -454,7 +454,7 @@ def render_still(
     samples: int | None = None,
     resolution: tuple[int, int] | None = None,
 ) -> str:
-    """One frame to PNG (for READMEs and checks), framed and lit like the video; returns the path."""
+    """One frame to PNG (for the manual and checks), framed and lit like the video; returns the path."""
     scene = context.scene
     path = Path(bpy.path.abspath(out_path))
     path.parent.mkdir(parents=True, exist_ok=True)
