@@ -1,297 +1,40 @@
-"""The panel reference, generated from the add-on itself, so that it cannot fall out of date.
-
-What the panel draws is read from turkish_lipsync/blender/panel.py (its draw methods, read with ast: the
-sections by their headings, every `.prop(settings, ...)` and `.operator(...)` in order, with the conditions
-under which it is shown or active); what each field is comes from the registered RNA of the add-on (bpy,
-the add-on registered as Blender registers it): its UI name, description, type, default, range and enum
-items, and its Turkish name from turkish_lipsync/blender/translations.py.
+"""The panel reference in the manual, generated from the add-on itself so that it cannot fall out of date.
 
     ```{panel-fields} Head
     ```
     ```{preferences-fields}
     ```
+    ```{turkish-labels}
+    ```
 
-The build fails (a warning, an error under -W) when a drawn property or operator is missing from the RNA
-or lacks a description, when an enum item lacks one, when a name has no Turkish translation, when the panel
-draws a property of another data block than the add-on's settings, and when a section of the panel is in no
-`panel-fields` directive of the manual.
+The facts come from docs/_ext/panel_fields.py (what panel.py draws, read with ast; what the registered RNA
+says of each field). The build fails (a warning, an error under -W) when a drawn property or operator is
+missing from the RNA or lacks a description, when an enum item lacks one, when a name has no Turkish
+translation, when the panel draws a property of another data block than the add-on's settings, and when a
+section of the panel is in no `panel-fields` directive of the manual.
 """
 
 from __future__ import annotations
 
-import ast
-import functools
-from dataclasses import dataclass, field
-from pathlib import Path
-
 from docutils import nodes
+from panel_fields import (
+    DEPENDENCIES,
+    PANEL_SOURCE,
+    Drawn,
+    condition_text,
+    drawn_by_panel,
+    operator_rna,
+    preferences_rna,
+    property_problems,
+    reference_problems,
+    settings_rna,
+    turkish,
+)
 from sphinx.util import logging
 from sphinx.util.docutils import SphinxDirective
 
 logger = logging.getLogger(__name__)
-ROOT = Path(__file__).resolve().parents[2]
-PANEL_SOURCE = ROOT / "turkish_lipsync" / "blender" / "panel.py"
-# Re-read the pages of the reference when what it is made from changes.
-DEPENDENCIES = tuple(
-    ROOT / "turkish_lipsync" / "blender" / name for name in ("panel.py", "properties.py", "translations.py")
-)
-SETTINGS = "settings"  # the name panel.py gives the add-on's settings (context.scene.turkish_lipsync)
 LABEL_WORDS = 4  # a text of the translation table this short is a label; longer ones are tooltips
-
-
-@dataclass(frozen=True)
-class Drawn:
-    """One thing the panel draws: a property of the settings or an operator's button."""
-
-    kind: str  # "property" or "operator"
-    name: str  # the property's identifier or the operator's bl_idname
-    section: str
-    shown_when: tuple[ast.expr, ...] = ()  # all must hold for it to be drawn
-    active_when: tuple[ast.expr, ...] = ()  # drawn greyed out unless these hold
-    struct: str = SETTINGS  # the variable whose property is drawn
-    line: int = 0
-
-
-@dataclass
-class _Walk:
-    methods: dict[str, ast.FunctionDef]
-    drawn: list[Drawn] = field(default_factory=list)
-    section: str = ""
-
-
-def drawn_by_panel(source: str) -> list[Drawn]:
-    """Every property and operator the panel classes of this source draw, in the order a user sees them."""
-    drawn: list[Drawn] = []
-    for cls in (node for node in ast.parse(source).body if isinstance(node, ast.ClassDef)):
-        methods = {node.name: node for node in cls.body if isinstance(node, ast.FunctionDef)}
-        if "draw" not in methods:
-            continue
-        walk = _Walk(methods, section=_class_label(cls))
-        _walk_body(walk, methods["draw"].body, (), {}, {})
-        drawn += walk.drawn
-    return drawn
-
-
-def _class_label(cls: ast.ClassDef) -> str:
-    for node in cls.body:
-        if isinstance(node, ast.Assign) and any(getattr(t, "id", "") == "bl_label" for t in node.targets):
-            return ast.literal_eval(node.value)
-    return cls.name
-
-
-def _walk_body(walk, body, shown, bound, active) -> None:
-    """Statements in order: `if` adds its test (or its negation) to the conditions, a `for` over literal
-    tuples is unrolled, `x.active = ...` marks what x draws, calls of the class's own draw_* methods are
-    followed."""
-    for statement in body:
-        if isinstance(statement, ast.If):
-            _walk_body(walk, statement.body, (*shown, statement.test), bound, active)
-            negation = ast.UnaryOp(op=ast.Not(), operand=statement.test)
-            _walk_body(walk, statement.orelse, (*shown, negation), bound, active)
-        elif isinstance(statement, ast.For) and isinstance(statement.iter, ast.Tuple):
-            for element in statement.iter.elts:
-                names = (
-                    statement.target.elts if isinstance(statement.target, ast.Tuple) else [statement.target]
-                )
-                values = element.elts if isinstance(element, ast.Tuple) else [element]
-                binding = {n.id: v for n, v in zip(names, values, strict=True)}
-                _walk_body(walk, statement.body, shown, {**bound, **binding}, active)
-        elif isinstance(statement, ast.Assign) and _is_active_assignment(statement):
-            active = {**active, statement.targets[0].value.id: _bind(statement.value, bound)}
-        else:
-            for call in _calls_in_order(statement):
-                _visit_call(walk, call, shown, bound, active)
-
-
-def _is_active_assignment(statement: ast.Assign) -> bool:
-    target = statement.targets[0]
-    return (
-        isinstance(target, ast.Attribute) and target.attr == "active" and isinstance(target.value, ast.Name)
-    )
-
-
-def _calls_in_order(statement: ast.stmt) -> list[ast.Call]:
-    return sorted(
-        (node for node in ast.walk(statement) if isinstance(node, ast.Call)),
-        key=lambda node: (node.lineno, node.col_offset),
-    )
-
-
-def _bind(expression: ast.expr, bound: dict[str, ast.expr]) -> ast.expr:
-    """The expression with the loop's names replaced by their values; getattr(settings, "x") is settings.x."""
-
-    class Substitute(ast.NodeTransformer):
-        def visit_Name(self, node):
-            return bound.get(node.id, node)
-
-        def visit_Call(self, node):
-            self.generic_visit(node)
-            if getattr(node.func, "id", "") == "getattr" and isinstance(node.args[1], ast.Constant):
-                return ast.Attribute(value=node.args[0], attr=node.args[1].value, ctx=ast.Load())
-            return node
-
-    return Substitute().visit(ast.parse(ast.unparse(expression), mode="eval").body)
-
-
-def _visit_call(walk, call: ast.Call, shown, bound, active) -> None:
-    function = call.func
-    if not isinstance(function, ast.Attribute):
-        return
-    receiver = function.value.id if isinstance(function.value, ast.Name) else ""
-    if receiver == "self" and function.attr in walk.methods:
-        _walk_body(walk, walk.methods[function.attr].body, shown, bound, active)
-        return
-    keywords = {keyword.arg: keyword.value for keyword in call.keywords}
-    heading = keywords.get("heading")
-    if function.attr == "column" and isinstance(heading, ast.Constant):
-        walk.section = heading.value
-    elif function.attr == "label" and receiver == "header" and isinstance(keywords.get("text"), ast.Constant):
-        walk.section = keywords["text"].value
-    elif function.attr in ("prop", "operator"):
-        arguments = [_bind(argument, bound) for argument in call.args]
-        conditions = (active[receiver],) if receiver in active else ()
-        if function.attr == "operator" and isinstance(arguments[0], ast.Constant):
-            walk.drawn.append(
-                Drawn("operator", arguments[0].value, walk.section, shown, conditions, line=call.lineno)
-            )
-        elif function.attr == "prop" and len(arguments) > 1 and isinstance(arguments[1], ast.Constant):
-            struct = arguments[0].id if isinstance(arguments[0], ast.Name) else ast.unparse(arguments[0])
-            walk.drawn.append(
-                Drawn(
-                    "property", arguments[1].value, walk.section, shown, conditions, struct, line=call.lineno
-                )
-            )
-
-
-# -- the RNA ------------------------------------------------------------------------------------------------
-
-
-@functools.cache
-def registered() -> None:
-    """The add-on registered in this process, as Blender registers it (once per build)."""
-    from turkish_lipsync import blender
-
-    blender.register()
-
-
-def settings_rna():
-    import bpy
-
-    registered()
-    return bpy.types.Scene.bl_rna.properties["turkish_lipsync"].fixed_type
-
-
-def preferences_rna():
-    from turkish_lipsync.blender import preferences
-
-    registered()
-    return preferences.TurkishLipSyncPreferences.bl_rna
-
-
-def operator_rna(idname: str):
-    import bpy
-
-    registered()
-    group, _, name = idname.partition(".")
-    operator = getattr(getattr(bpy.ops, group, None), name, None)
-    try:
-        return operator.get_rna_type() if operator is not None else None
-    except KeyError:  # bpy.ops resolves any name; an unregistered one has no RNA
-        return None
-
-
-def turkish(text: str) -> str | None:
-    from turkish_lipsync.blender.translations import TURKISH
-
-    return TURKISH.get(text)
-
-
-def property_problems(struct, identifier: str) -> list[str]:
-    """Why the reference cannot describe this property of an RNA struct (empty: it can)."""
-    prop = struct.properties.get(identifier)
-    if prop is None:
-        return [f"{struct.identifier} has no property {identifier!r}"]
-    problems = []
-    if not prop.description.strip():
-        problems.append(f"{struct.identifier}.{identifier} has no description")
-    if turkish(prop.name) is None:
-        problems.append(
-            f"{struct.identifier}.{identifier}: its name {prop.name!r} has no Turkish translation"
-        )
-    if prop.type == "ENUM":
-        for item in prop.enum_items:
-            if not item.description.strip():
-                problems.append(
-                    f"{struct.identifier}.{identifier}: the item {item.identifier!r} has no description"
-                )
-            if turkish(item.name) is None:
-                problems.append(
-                    f"{struct.identifier}.{identifier}: the item name {item.name!r} has no Turkish"
-                )
-    return problems
-
-
-def operator_problems(idname: str) -> list[str]:
-    rna = operator_rna(idname)
-    if rna is None:
-        return [f"no operator {idname} is registered"]
-    problems = []
-    if not rna.description.strip():
-        problems.append(f"the operator {idname} has no description")
-    if turkish(rna.name) is None:
-        problems.append(f"the operator {idname}: its name {rna.name!r} has no Turkish translation")
-    return problems
-
-
-def reference_problems(drawn: list[Drawn], struct) -> list[str]:
-    """Every drawn thing the reference cannot describe, and why."""
-    problems = []
-    for item in drawn:
-        where = f"{PANEL_SOURCE.name}:{item.line}"
-        if item.kind == "operator":
-            problems += [f"{where}: {problem}" for problem in operator_problems(item.name)]
-        elif item.struct != SETTINGS:
-            problems.append(
-                f"{where}: draws {item.struct}.{item.name}, a property of another data block than the "
-                "add-on's settings, which the reference cannot describe"
-            )
-        else:
-            problems += [f"{where}: {problem}" for problem in property_problems(struct, item.name)]
-    return problems
-
-
-# -- rendering ----------------------------------------------------------------------------------------------
-
-
-def _value_name(struct, identifier: str, value: str) -> str:
-    prop = struct.properties[identifier]
-    if prop.type == "ENUM":
-        names = {item.identifier: item.name for item in prop.enum_items}
-        return names.get(value, value)
-    return value
-
-
-def condition_text(expression: ast.expr, struct) -> str:
-    """A condition on the settings in words: "Shape-Key Source is Auto or Own Visemes"."""
-    negated = isinstance(expression, ast.UnaryOp) and isinstance(expression.op, ast.Not)
-    test = expression.operand if negated else expression
-    if isinstance(test, ast.Attribute) and getattr(test.value, "id", "") == SETTINGS:
-        name = struct.properties[test.attr].name
-        return f"{name} is {'off' if negated else 'on'}"
-    if (
-        isinstance(test, ast.Compare)
-        and isinstance(test.left, ast.Attribute)
-        and getattr(test.left.value, "id", "") == SETTINGS
-        and len(test.ops) == 1
-    ):
-        identifier = test.left.attr
-        name = struct.properties[identifier].name
-        values = ast.literal_eval(test.comparators[0])
-        values = values if isinstance(values, tuple) else (values,)
-        words = " or ".join(_value_name(struct, identifier, value) for value in values)
-        positive = isinstance(test.ops[0], (ast.Eq, ast.In))
-        return f"{name} is {'' if positive != negated else 'not '}{words}"
-    return f"`{ast.unparse(expression)}`"
 
 
 def _type_text(prop) -> str:
@@ -498,12 +241,17 @@ def forget_document(_app, env, docname: str) -> None:
         del sections[section]
 
 
-def unregister(_app, _exception) -> None:
-    if registered.cache_info().currsize:
-        from turkish_lipsync import blender
+def register_addon(_app) -> None:
+    """The add-on registered in the build's process, as Blender registers it, for its RNA."""
+    from turkish_lipsync import blender
 
-        blender.unregister()
-        registered.cache_clear()
+    blender.register()
+
+
+def unregister_addon(_app, _exception) -> None:
+    from turkish_lipsync import blender
+
+    blender.unregister()
 
 
 def setup(app) -> dict:
@@ -512,5 +260,6 @@ def setup(app) -> dict:
     app.add_directive("turkish-labels", TurkishLabels)
     app.connect("env-purge-doc", forget_document)
     app.connect("env-check-consistency", check_every_section_described)
-    app.connect("build-finished", unregister)
+    app.connect("builder-inited", register_addon)
+    app.connect("build-finished", unregister_addon)
     return {"parallel_read_safe": False, "parallel_write_safe": True}
