@@ -1,6 +1,7 @@
 """What the panel draws and what the add-on's RNA says of it: the facts the panel reference is made of.
 
-What the panel draws is read from turkish_lipsync/blender/panel.py (its draw methods, read with ast: the
+What the panel draws is read from the panels of turkish_lipsync/blender (panel.py, and any other module with
+a bpy.types.Panel: their draw methods, read with ast: the
 sections by their headings, every `.prop(settings, ...)` and `.operator(...)` in order, with the conditions
 under which it is shown or active); what each field is comes from the registered RNA of the add-on (bpy,
 the add-on registered as Blender registers it, no stand-ins), its Turkish name from
@@ -16,11 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-PANEL_SOURCE = ROOT / "turkish_lipsync" / "blender" / "panel.py"
-# Re-read the pages of the reference when what it is made from changes.
-DEPENDENCIES = tuple(
-    ROOT / "turkish_lipsync" / "blender" / name for name in ("panel.py", "properties.py", "translations.py")
-)
+BLENDER_LAYER = ROOT / "turkish_lipsync" / "blender"
 SETTINGS = "settings"  # the name panel.py gives the add-on's settings (context.scene.turkish_lipsync)
 
 
@@ -35,26 +32,55 @@ class Drawn:
     active_when: tuple[ast.expr, ...] = ()  # drawn greyed out unless these hold
     struct: str = SETTINGS  # the variable whose property is drawn
     line: int = 0
+    file_name: str = "panel.py"
 
 
 @dataclass
 class _Walk:
     methods: dict[str, ast.FunctionDef]
+    file_name: str
     drawn: list[Drawn] = field(default_factory=list)
     section: str = ""
 
 
-def drawn_by_panel(source: str) -> list[Drawn]:
+def panel_sources(folder: Path = BLENDER_LAYER) -> list[Path]:
+    """The modules of the Blender layer that define a panel (a class deriving from bpy.types.Panel)."""
+    return [path for path in sorted(folder.glob("*.py")) if _panel_classes(path.read_text(encoding="utf-8"))]
+
+
+def _panel_classes(source: str) -> list[ast.ClassDef]:
+    return [
+        node
+        for node in ast.parse(source).body
+        if isinstance(node, ast.ClassDef) and any(ast.unparse(base).endswith("Panel") for base in node.bases)
+    ]
+
+
+def drawn_by_panel(source: str, file_name: str = "panel.py") -> list[Drawn]:
     """Every property and operator the panel classes of this source draw, in the order a user sees them."""
     drawn: list[Drawn] = []
-    for cls in (node for node in ast.parse(source).body if isinstance(node, ast.ClassDef)):
+    for cls in _panel_classes(source):
         methods = {node.name: node for node in cls.body if isinstance(node, ast.FunctionDef)}
         if "draw" not in methods:
             continue
-        walk = _Walk(methods, section=_class_label(cls))
+        walk = _Walk(methods, file_name, section=_class_label(cls))
         _walk_body(walk, methods["draw"].body, (), {}, {})
         drawn += walk.drawn
     return drawn
+
+
+def drawn_by_the_panels(folder: Path = BLENDER_LAYER) -> list[Drawn]:
+    """What every panel of the Blender layer draws, module by module."""
+    return [
+        item
+        for path in panel_sources(folder)
+        for item in drawn_by_panel(path.read_text(encoding="utf-8"), path.name)
+    ]
+
+
+def dependencies(folder: Path = BLENDER_LAYER) -> list[Path]:
+    """What the reference is made of: the panels, the settings and the translations."""
+    return [*panel_sources(folder), folder / "properties.py", folder / "translations.py"]
 
 
 def _class_label(cls: ast.ClassDef) -> str:
@@ -137,13 +163,28 @@ def _visit_call(walk, call: ast.Call, shown, bound, active) -> None:
         conditions = (active[receiver],) if receiver in active else ()
         if function.attr == "operator" and isinstance(arguments[0], ast.Constant):
             walk.drawn.append(
-                Drawn("operator", arguments[0].value, walk.section, shown, conditions, line=call.lineno)
+                Drawn(
+                    "operator",
+                    arguments[0].value,
+                    walk.section,
+                    shown,
+                    conditions,
+                    line=call.lineno,
+                    file_name=walk.file_name,
+                )
             )
         elif function.attr == "prop" and len(arguments) > 1 and isinstance(arguments[1], ast.Constant):
             struct = arguments[0].id if isinstance(arguments[0], ast.Name) else ast.unparse(arguments[0])
             walk.drawn.append(
                 Drawn(
-                    "property", arguments[1].value, walk.section, shown, conditions, struct, line=call.lineno
+                    "property",
+                    arguments[1].value,
+                    walk.section,
+                    shown,
+                    conditions,
+                    struct,
+                    line=call.lineno,
+                    file_name=walk.file_name,
                 )
             )
 
@@ -220,7 +261,7 @@ def reference_problems(drawn: list[Drawn], struct) -> list[str]:
     """Every drawn thing the reference cannot describe, and why."""
     problems = []
     for item in drawn:
-        where = f"{PANEL_SOURCE.name}:{item.line}"
+        where = f"{item.file_name}:{item.line}"
         if item.kind == "operator":
             problems += [f"{where}: {problem}" for problem in operator_problems(item.name)]
         elif item.struct != SETTINGS:

@@ -18,11 +18,10 @@ from __future__ import annotations
 
 from docutils import nodes
 from panel_fields import (
-    DEPENDENCIES,
-    PANEL_SOURCE,
     Drawn,
     condition_text,
-    drawn_by_panel,
+    dependencies,
+    drawn_by_the_panels,
     operator_rna,
     preferences_rna,
     property_problems,
@@ -144,12 +143,8 @@ class PanelFields(SphinxDirective):
     def run(self) -> list[nodes.Node]:
         section = self.arguments[0]
         struct = settings_rna()
-        drawn = [
-            item
-            for item in drawn_by_panel(PANEL_SOURCE.read_text(encoding="utf-8"))
-            if item.section == section
-        ]
-        for source in DEPENDENCIES:
+        drawn = [item for item in drawn_by_the_panels() if item.section == section]
+        for source in dependencies():
             self.env.note_dependency(str(source))
         if not drawn:
             _report([f"the panel has no section {section!r}"], self.get_location())
@@ -199,7 +194,7 @@ class TurkishLabels(SphinxDirective):
     def run(self) -> list[nodes.Node]:
         from turkish_lipsync.blender.translations import TURKISH
 
-        self.env.note_dependency(str(DEPENDENCIES[-1]))
+        self.env.note_dependency(str(dependencies()[-1]))
         labels = [
             (english, turkish) for english, turkish in TURKISH.items() if len(english.split()) <= LABEL_WORDS
         ]
@@ -224,9 +219,7 @@ class TurkishLabels(SphinxDirective):
 
 def check_every_section_described(app, env) -> None:
     described = env.domaindata.get("panel_reference", {}).get("sections", {})
-    sections = dict.fromkeys(
-        item.section for item in drawn_by_panel(PANEL_SOURCE.read_text(encoding="utf-8"))
-    )
+    sections = dict.fromkeys(item.section for item in drawn_by_the_panels())
     for section in sections:
         if section not in described:
             logger.warning(

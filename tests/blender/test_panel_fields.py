@@ -24,10 +24,11 @@ def registered():
 
 
 def _drawn():
-    return panel_fields.drawn_by_panel(panel_fields.PANEL_SOURCE.read_text(encoding="utf-8"))
+    return panel_fields.drawn_by_the_panels()
 
 
 def test_the_reference_describes_everything_the_panel_draws():
+    assert [path.name for path in panel_fields.panel_sources()] == ["panel.py"]
     drawn = _drawn()
     assert panel_fields.reference_problems(drawn, panel_fields.settings_rna()) == []
     assert list(dict.fromkeys(item.section for item in drawn)) == [
@@ -85,7 +86,7 @@ def test_a_property_without_description_or_turkish_name_is_found():
 
 def test_a_field_the_settings_lack_and_another_data_block_are_found():
     source = """
-class Panel:
+class VIEW3D_PT_other(bpy.types.Panel):
     bl_label = "Turkish Lip Sync"
 
     def draw(self, context):
@@ -96,7 +97,7 @@ class Panel:
         column.prop(context.scene.render, "fps")
         column.operator("turkish_lipsync.no_such_operator")
 """
-    drawn = panel_fields.drawn_by_panel(source)
+    drawn = panel_fields.drawn_by_panel(source, "other_panel.py")
     assert [(item.section, item.name) for item in drawn] == [
         ("Head", "head"),
         ("Head", "no_such_field"),
@@ -105,10 +106,10 @@ class Panel:
     ]
     problems = panel_fields.reference_problems(drawn, panel_fields.settings_rna())
     assert problems == [
-        "panel.py:9: TurkishLipSyncSettings has no property 'no_such_field'",
-        "panel.py:10: draws context.scene.render.fps, a property of another data block than the add-on's "
-        "settings, which the reference cannot describe",
-        "panel.py:11: no operator turkish_lipsync.no_such_operator is registered",
+        "other_panel.py:9: TurkishLipSyncSettings has no property 'no_such_field'",
+        "other_panel.py:10: draws context.scene.render.fps, a property of another data block than the "
+        "add-on's settings, which the reference cannot describe",
+        "other_panel.py:11: no operator turkish_lipsync.no_such_operator is registered",
     ]
 
 
