@@ -42,8 +42,8 @@ from turkish_lipsync.core.base.errors import AudioError  # noqa: E402
 from turkish_lipsync.core.base.model import Timeline  # noqa: E402
 from turkish_lipsync.core.base.visemes import BILABIAL_VISEMES, VOWEL_VISEMES  # noqa: E402
 from turkish_lipsync.core.speech import synthesize_timeline  # noqa: E402
+from turkish_lipsync.core.speech.acoustic.network import load_network  # noqa: E402
 from turkish_lipsync.core.speech.recognition import speech_from_audio  # noqa: E402
-from turkish_lipsync.core.speech.recognition.network import load_network  # noqa: E402
 from turkish_lipsync.core.text.utterance import build_utterance  # noqa: E402
 
 RECORDED_RATE = takes.RATE
@@ -342,9 +342,9 @@ def speak_language(text: str, language: str) -> tuple[np.ndarray, int]:
 
 def tune(folder: Path) -> None:
     """The decoder's constants on the tuning voices and sentences: r and bilabials closed per setting."""
+    from turkish_lipsync.core.speech.acoustic.features import recogniser_features
     from turkish_lipsync.core.speech.audio import read_audio, resample
     from turkish_lipsync.core.speech.recognition import decoder, recogniser
-    from turkish_lipsync.core.speech.recognition.acoustics import recogniser_features
     from turkish_lipsync.core.speech.recognition.transcript import heard_timeline, heard_utterance
 
     texts = tuning_sentences()

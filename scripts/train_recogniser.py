@@ -1,7 +1,7 @@
 """Train the audio-only recogniser's network on speech the project makes itself, and write its weights.
 
     nice -n 10 /path/to/recogniser-venv/bin/python scripts/train_recogniser.py [--clips 5000] [--epochs 14]
-        [--seed 7] [--cache DIR] [--out turkish_lipsync/core/speech/recognition/phone_network.npz]
+        [--seed 7] [--cache DIR] [--out turkish_lipsync/core/speech/acoustic/phone_network.npz]
 
 Set-up (once, outside the repository; torch is never a dependency of the extension, which runs the
 network with numpy alone, recognition/network.py):
@@ -46,19 +46,28 @@ import numpy as np
 REPOSITORY = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPOSITORY))
 
+from scripts import people  # noqa: E402
 from scripts.corpus import held_out_sentences, tuning_sentences  # noqa: E402
+from turkish_lipsync.core.base.errors import LipSyncError  # noqa: E402
 from turkish_lipsync.core.speech import espeak, synthesize_timeline  # noqa: E402
-from turkish_lipsync.core.speech.audio import resample  # noqa: E402
-from turkish_lipsync.core.speech.features import ANALYSIS_RATE  # noqa: E402
-from turkish_lipsync.core.speech.recognition.acoustics import FEATURE_COUNT, recogniser_features  # noqa: E402
-from turkish_lipsync.core.speech.recognition.labels import CLASSES, FRAME_SECONDS, frame_labels  # noqa: E402
-from turkish_lipsync.core.speech.recognition.network import (  # noqa: E402
+from turkish_lipsync.core.speech.acoustic.features import FEATURE_COUNT, recogniser_features  # noqa: E402
+from turkish_lipsync.core.speech.acoustic.forced import (  # noqa: E402
+    PRIOR_WEIGHT,
+    force_align,
+    letter_model,
+    text_units,
+)
+from turkish_lipsync.core.speech.acoustic.labels import CLASSES, FRAME_SECONDS, frame_labels  # noqa: E402
+from turkish_lipsync.core.speech.acoustic.network import (  # noqa: E402
     CHANNELS,
     DILATIONS,
     FIRST_KERNEL,
     KERNEL,
     WEIGHTS_FILE,
+    load_network,
 )
+from turkish_lipsync.core.speech.audio import resample  # noqa: E402
+from turkish_lipsync.core.speech.features import ANALYSIS_RATE  # noqa: E402
 from turkish_lipsync.core.text.utterance import build_utterance  # noqa: E402
 
 # Spoken only by scripts/measure_recogniser.py: voices the network never heard.
@@ -66,6 +75,8 @@ HELD_OUT_VARIANTS = ("m3", "f4", "klatt3", "Andrea", "benjamin", "steph2", "iven
 TURKISH_WORD = re.compile(r"^[abcçdefgğhıijklmnoöprsştuüvyz]+$")
 CROP_FRAMES = 400
 NON_SPEECH_SHARE = 0.05
+LABEL_DURATION_SCALE = 0.5  # people's letters may be half as long as the shortest of eSpeak's
+WORST_FITTING_SHARE = 0.1  # people's recordings whose spelling fits worst, left out of training
 
 
 def training_variants() -> list[str]:
@@ -264,6 +275,89 @@ def make_corpus(count: int, seed: int, cache: Path) -> Path:
     return path
 
 
+# ---------------------------------------------------------------- people's speech
+
+
+def people_labels(recording, network) -> tuple[np.ndarray, np.ndarray, float] | None:
+    """16 kHz samples of a person's recording, frame labels from its Turkish spelling, and the fit.
+
+    The labels come from forced alignment (recognition/forced.py) with the previous round's network: the
+    spelling fixes the letters and their order, the network only where each lies. The fit is the mean per
+    frame of how much worse the forced path scores than the best class (0: the spelling fits every frame).
+    """
+    samples = people.read(recording, ANALYSIS_RATE)
+    features = recogniser_features(samples)
+    log_posteriors = network.log_posteriors(features)
+    try:
+        units = text_units(build_utterance(recording.turkish))
+    except LipSyncError:
+        return None
+    if units.classes.size == 0:
+        return None
+    shortest = np.maximum(1, np.round(network.shortest * LABEL_DURATION_SCALE)).astype(np.int64)
+    model = letter_model(units.classes, units.word_starts, shortest)
+    if model.classes.size > len(features):
+        return None
+    alignment = force_align(log_posteriors, network.priors, model)
+    labels = np.where(alignment.frame_letters >= 0, units.classes[alignment.frame_letters], 0).astype(
+        np.uint8
+    )
+    scaled = log_posteriors - PRIOR_WEIGHT * np.log(network.priors)[None, :]
+    fit = float(np.mean(alignment.frame_scores - scaled.max(axis=1)))
+    return samples, labels, fit
+
+
+def make_people_clip(job) -> tuple[np.ndarray, np.ndarray]:
+    """Features and labels of a person's recording, clean (seed None) or degraded."""
+    samples, labels, seed = job
+    if seed is None:
+        features = recogniser_features(samples)
+        return features.astype(np.float16), labels[: len(features)]
+    degraded, lead, stretch = degrade(samples, np.random.default_rng(seed))
+    features = recogniser_features(degraded)
+    offset = int(round(lead / FRAME_SECONDS))
+    source = np.round((np.arange(len(features)) - offset) / stretch).astype(np.int64)
+    inside = (source >= 0) & (source < labels.size)
+    moved = np.zeros(len(features), np.uint8)
+    moved[inside] = labels[source[inside]]
+    return features.astype(np.float16), moved
+
+
+def make_people_corpus(
+    folder: Path, network_path: Path, copies: int, seed: int, cache: Path, name: str
+) -> Path:
+    """The tune part's recordings (scripts/people.py), labelled by the network at network_path, each
+    clean and degraded `copies - 1` times; the worst-fitting tenth (a spelling far from what is said,
+    laughter, shouts over music) left out."""
+    path = cache / f"people_{name}_{copies}_{seed}.npz"
+    if path.exists():
+        return path
+    network = load_network(network_path)
+    began = time.time()
+    labelled = [people_labels(recording, network) for recording in people.recordings(folder, part="tune")]
+    labelled = [item for item in labelled if item is not None]
+    fits = np.array([fit for _, _, fit in labelled])
+    kept = [item for item in labelled if item[2] >= np.percentile(fits, 100 * WORST_FITTING_SHARE)]
+    jobs = [
+        (samples, labels, None if copy == 0 else seed + 1_000_000 * copy + number)
+        for number, (samples, labels, _) in enumerate(kept)
+        for copy in range(copies)
+    ]
+    with multiprocessing.Pool(2) as pool:
+        results = pool.map(make_people_clip, jobs, chunksize=16)
+    features = np.concatenate([result[0] for result in results])
+    labels = np.concatenate([result[1] for result in results])
+    lengths = np.array([len(result[1]) for result in results])
+    np.savez(path, features=features, labels=labels, lengths=lengths)
+    print(
+        f"people ({name}): {len(kept)} of {len(labelled)} recordings kept (fit >= "
+        f"{np.percentile(fits, 100 * WORST_FITTING_SHARE):.2f}), {len(jobs)} clips, "
+        f"{labels.size / 360000:.2f} h, {time.time() - began:.0f} s",
+        flush=True,
+    )
+    return path
+
+
 # ---------------------------------------------------------------- statistics the decoder needs
 
 
@@ -326,12 +420,25 @@ def build_network(torch):
     return PhoneNetwork()
 
 
-def train(corpus: Path, epochs: int, seed: int, out: Path) -> None:
+def load_corpora(paths: list[Path]) -> dict[str, np.ndarray]:
+    """The clips of several corpora one after the other, and which corpus each clip came from."""
+    parts = [np.load(path) for path in paths]
+    return {
+        "features": np.concatenate([part["features"] for part in parts]),
+        "labels": np.concatenate([part["labels"] for part in parts]),
+        "lengths": np.concatenate([part["lengths"] for part in parts]),
+        "sources": np.concatenate([np.full(len(part["lengths"]), n) for n, part in enumerate(parts)]),
+    }
+
+
+def train(corpora: list[Path], epochs: int, seed: int, out: Path, description: str) -> None:
+    """Train on the corpora's clips (the first is the project's own speech; its statistics feed the
+    decoder), and write the weights."""
     import torch
 
     torch.manual_seed(seed)
     torch.set_num_threads(2)
-    data = np.load(corpus)
+    data = load_corpora(corpora)
     features, labels, lengths = data["features"], data["labels"], data["lengths"]
     starts = np.concatenate(([0], np.cumsum(lengths)[:-1]))
     rng = np.random.default_rng(seed)
@@ -380,28 +487,34 @@ def train(corpus: Path, epochs: int, seed: int, out: Path) -> None:
             schedule.step()
             total += float(loss.detach())
         network.eval()
+        right = np.zeros(len(corpora))
+        count = np.zeros(len(corpora))
         with torch.no_grad():
-            right = count = 0
             for clip in validation:
                 x = feature_tensor[starts[clip] : starts[clip] + lengths[clip]].T[None]
                 guess = network(x)[0].argmax(0).numpy()
                 truth = labels[starts[clip] : starts[clip] + lengths[clip]]
-                right += int((guess == truth).sum())
-                count += truth.size
+                right[data["sources"][clip]] += int((guess == truth).sum())
+                count[data["sources"][clip]] += truth.size
+        shares = ", ".join(f"{r / max(c, 1):.3f}" for r, c in zip(right, count, strict=True))
         print(
             f"epoch {epoch + 1}/{epochs}: loss {total / steps_per_epoch:.3f}, "
-            f"validation frames right {right / count:.3f}, {time.time() - began:.0f} s",
+            f"validation frames right {shares} (per corpus), {time.time() - began:.0f} s",
             flush=True,
         )
-    export(network, data, out, seed, epochs)
+    export(network, data, out, seed, epochs, description)
 
 
-def export(network, data, out: Path, seed: int, epochs: int) -> None:
+def export(network, data, out: Path, seed: int, epochs: int, description: str) -> None:
     state = network.state_dict()
     weights = {name: value.detach().numpy().astype(np.float32) for name, value in state.items()}
     labels, lengths = data["labels"], data["lengths"]
     priors = np.bincount(labels, minlength=len(CLASSES)).astype(np.float64) + 1
-    runs = label_runs(labels, lengths)
+    # The decoder's Turkish letter transitions and shortest durations: from the Turkish texts alone (the
+    # first corpus), not from people's speech in other languages spelt in Turkish letters.
+    own = data["sources"] == 0
+    own_frames = np.repeat(own, lengths)
+    runs = label_runs(labels[own_frames], lengths[own])
     metadata = {
         "classes": list(CLASSES),
         "seed": seed,
@@ -410,7 +523,7 @@ def export(network, data, out: Path, seed: int, epochs: int) -> None:
         "hours": round(float(labels.size) / 360000, 2),
         "training_variants": training_variants(),
         "held_out_variants": list(HELD_OUT_VARIANTS),
-        "trained_on": "eSpeak NG's Turkish voice (variants, rates, pitches), degraded; no human speech",
+        "trained_on": description,
     }
     np.savez_compressed(
         out,
@@ -430,11 +543,28 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seed", type=int, default=7)
     parser.add_argument("--cache", type=Path, default=Path.home() / ".cache" / "turkish_lipsync_recogniser")
     parser.add_argument("--out", type=Path, default=WEIGHTS_FILE)
+    parser.add_argument("--people", type=Path, default=people.FOLDER, help="scripts/people.py's folder")
+    parser.add_argument("--rounds", type=int, default=2, help="rounds of labelling people's speech")
+    parser.add_argument("--copies", type=int, default=3, help="each person's recording: clean and degraded")
     parser.add_argument("--corpus-only", action="store_true", help="make the corpus and stop")
     args = parser.parse_args(argv)
     corpus = make_corpus(args.clips, args.seed, args.cache)
-    if not args.corpus_only:
-        train(corpus, args.epochs, args.seed, args.out)
+    if args.corpus_only:
+        return 0
+    args.cache.mkdir(parents=True, exist_ok=True)
+    own = "eSpeak NG's Turkish voice (variants, rates, pitches), degraded"
+    network = args.cache / f"round_0_{args.seed}.npz"
+    if not network.exists():
+        train([corpus], args.epochs, args.seed, network, own)
+    for round_number in range(1, args.rounds + 1):
+        name = f"round_{round_number}"
+        speech = make_people_corpus(args.people, network, args.copies, args.seed, args.cache, name)
+        network = args.out if round_number == args.rounds else args.cache / f"{name}_{args.seed}.npz"
+        description = (
+            f"{own}; and people's speech (scripts/people.py's tune part, labelled by forced alignment "
+            f"with round {round_number - 1}'s network, clean and degraded)"
+        )
+        train([corpus, speech], args.epochs, args.seed, network, description)
     return 0
 
 

@@ -81,6 +81,7 @@ GROUPS: dict[str, tuple[str, ...]] = {
         "turkish_lipsync/core/speech/voice_activity.py",
         "turkish_lipsync/core/speech/features.py",
         "turkish_lipsync/core/speech/recognition/",
+        "turkish_lipsync/core/speech/acoustic/",
     ),
     "cues": ("turkish_lipsync/core/speech/cues/", "turkish_lipsync/core/speech/cue_timing.py"),
     "living": ("turkish_lipsync/core/motion/", "turkish_lipsync/blender/living"),

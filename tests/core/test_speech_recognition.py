@@ -21,11 +21,11 @@ from scripts.measure_recordings import RATE, write_wav
 from scripts.train_recogniser import coloured_noise, held_out_sentences, music
 from turkish_lipsync.core.base.errors import AudioError
 from turkish_lipsync.core.base.visemes import BILABIAL_VISEMES, VOWEL_VISEMES
+from turkish_lipsync.core.speech.acoustic.features import FEATURE_COUNT
+from turkish_lipsync.core.speech.acoustic.labels import CLASSES
+from turkish_lipsync.core.speech.acoustic.network import load_network
 from turkish_lipsync.core.speech.recognition import speech_from_audio
-from turkish_lipsync.core.speech.recognition.acoustics import FEATURE_COUNT
 from turkish_lipsync.core.speech.recognition.decoder import decode
-from turkish_lipsync.core.speech.recognition.labels import CLASSES
-from turkish_lipsync.core.speech.recognition.network import load_network
 
 VOICES = ("m3", "Andrea", "klatt3")
 
@@ -110,7 +110,7 @@ def test_the_decoder_holds_every_letter_for_its_shortest_duration():
 
 
 def test_blocks_of_a_long_take_give_the_same_posteriors_as_one_piece(monkeypatch):
-    from turkish_lipsync.core.speech.recognition import network as network_module
+    from turkish_lipsync.core.speech.acoustic import network as network_module
 
     features = np.random.default_rng(2).normal(size=(3000, FEATURE_COUNT)).astype(np.float32)
     whole = load_network().log_posteriors(features)

@@ -27,35 +27,23 @@ import numpy as np
 
 from ..base.errors import AudioError
 from ..base.model import Utterance
+from .acoustic.features import recogniser_features
+from .acoustic.labels import CLASS_INDEX, SILENCE
+from .acoustic.network import load_network
 from .audio import MAX_OUTPUT_RATE, read_audio, resample, resampled_pcm
 from .base import PhoneEvent, SpeechEngine, Synthesis, WordEvent
 from .dtw import Pauses, dtw_path
-from .features import (
-    ANALYSIS_RATE,
-    HOP,
-    TOP_HERTZ,
-    WINDOW,
-    band_levels,
-    cepstra,
-    common_floor,
-    frame_count,
-    mel_energies,
-    mel_filters,
-    power_spectra,
-)
+from .features import ANALYSIS_RATE, HOP, frame_count
 from .judgement import Fit, PhraseMatch, judge, match_ranks
-from .reverberation import dereverberate, estimate_rt60
 from .timewarp import TimeWarp, warp_from_path, warp_synthesis
 from .voice_activity import above_floor, clean_speech_frames, runs, speech_frames, under_speech
 
-MAX_LENGTH_RATIO = 3.0  # recordings this many times longer or shorter than the synthetic speech are refused
+MAX_LENGTH_RATIO = 3.0  # recordings with this many times more or less speech than the synthetic are refused
+LENGTH_SLACK = 1.5  # seconds of speech beyond that ratio a recording may have or lack
 CHUNK_LETTERS = 3_000  # about 5 minutes of speech synthesised at a time (split at sentences)
 SENTENCE_PAUSE = 0.3  # seconds: a word after a pause this long may start a chunk
 PADDING_FRAMES = 50  # silence added around the synthetic speech beyond the recording's own lead and tail
-# Recording frequency axis stretched by these (a higher voice needs more): eSpeak's voice is a man's; a
-# woman's formants lie 15-20 % higher, a child's more.
-VOCAL_TRACT_WARPS = (0.8, 0.84, 0.9, 0.95, 1.0, 1.05, 1.1, 1.16, 1.22, 1.28, 1.34, 1.4)
-WARP_SEARCH_FRAMES = 3_000  # the warp is chosen on the first 30 seconds of a long take
+ORDER_FRAMES = 3_000  # the text's order is tested on the first 30 seconds of a long take
 # Cost of a DTW step that stretches one signal (in units of the feature distance, 1-3 per frame between
 # two voices saying the same thing): keeps the path near the diagonal where the distances do not decide.
 STEP_PENALTY = 2.0
@@ -151,31 +139,29 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
     """Align the synthetic rendition of the utterance to the user's recording of it; see the module text."""
     path = Path(path)
     native, native_rate = read_audio(path)
-    # A telephone-quality recording has nothing above its Nyquist frequency: describe both up to there.
-    top_hertz = min(TOP_HERTZ, 0.45 * native_rate)
-    # The synthetic rendition is made in a thread of its own while the recording is analysed: eSpeak NG
-    # releases the interpreter while it speaks, so on two cores the two overlap.
+    # The synthetic rendition is made and heard in a thread of its own while the recording is heard:
+    # eSpeak NG and numpy's matrix products release the interpreter, so on two cores the two overlap.
     with ThreadPoolExecutor(max_workers=1) as pool:
-        rendition = pool.submit(_synthetic_analysis, utterance, engine, top_hertz)
+        rendition = pool.submit(_synthetic_analysis, utterance, engine)
         # The user's audio is kept at its own rate (up to 48 kHz) as 16-bit PCM, the float copy dropped.
         output_rate = min(native_rate, MAX_OUTPUT_RATE)
         output = resampled_pcm(native, native_rate, output_rate)
         del native
         recorded = resample(output, output_rate, ANALYSIS_RATE, 1 / 32768)
-        recorded_speech = speech_frames(recorded, frame_count(recorded.size))
-        recorded_loudness = above_floor(recorded, len(recorded_speech))
-        recorded_under_speech = under_speech(recorded, len(recorded_speech))
-        reference, synthetic_energies, synthetic_speech = rendition.result()
+        frames = frame_count(recorded.size)
+        recorded_speech = speech_frames(recorded, frames)
+        recorded_loudness = above_floor(recorded, frames)
+        recorded_under_speech = under_speech(recorded, frames)
+        y = heard_sounds(recorded, frames)
+        del recorded
+        reference, x, synthetic_speech = rendition.result()
     _check_lengths(path, recorded_speech, synthetic_speech)
     spoken = np.flatnonzero(recorded_speech)
     lead = int(spoken[0]) + PADDING_FRAMES
     tail = len(recorded_speech) - int(spoken[-1]) + PADDING_FRAMES
-    synthetic_energies = np.pad(synthetic_energies, ((lead, tail), (0, 0)))
+    x = np.concatenate((_silence(lead, x.shape[1]), x, _silence(tail, x.shape[1])))
     synthetic_speech = np.pad(synthetic_speech, (lead, tail))
-    x, y, order_ratio = _best_warped_features(
-        synthetic_energies, synthetic_speech, recorded, recorded_speech, top_hertz
-    )
-    del recorded
+    order_ratio = _order_ratio(x, synthetic_speech, y)
     word_onsets = _word_onsets(reference)
     pauses = _pauses(
         word_onsets, lead, synthetic_speech, recorded_speech, recorded_loudness, recorded_under_speech
@@ -199,13 +185,30 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
     return RecordingAlignment(warp, synthesis, phrases, warnings)
 
 
+def heard_sounds(samples: np.ndarray, frames: int) -> np.ndarray:
+    """What the acoustic model hears in each of `frames` 10 ms frames of 16 kHz samples: the square roots
+    of its class posteriors (frames x classes, float32), so that the Euclidean distance between two
+    frames is the Hellinger distance between what is heard in them."""
+    heard = np.sqrt(np.exp(load_network().log_posteriors(recogniser_features(samples))))
+    if len(heard) < frames:
+        heard = np.concatenate((heard, _silence(frames - len(heard), heard.shape[1])))
+    return heard[:frames]
+
+
+def _silence(frames: int, classes: int) -> np.ndarray:
+    """Frames in which nothing but silence is heard."""
+    heard = np.zeros((frames, classes), np.float32)
+    heard[:, CLASS_INDEX[SILENCE]] = 1.0
+    return heard
+
+
 def _synthetic_analysis(
-    utterance: Utterance, engine: SpeechEngine, top_hertz: float
+    utterance: Utterance, engine: SpeechEngine
 ) -> tuple[_Reference, np.ndarray, np.ndarray]:
-    """The synthetic rendition's events, mel energies and speech frames (its audio dropped)."""
+    """The synthetic rendition's events, what is heard in it and its speech frames (its audio dropped)."""
     reference, analysis = synthesize_reference(utterance, engine)
-    energies = mel_energies(analysis, top_hertz=top_hertz)
-    return reference, energies, clean_speech_frames(analysis, len(energies))
+    frames = frame_count(analysis.size)
+    return reference, heard_sounds(analysis, frames), clean_speech_frames(analysis, frames)
 
 
 def _word_onsets(reference: _Reference) -> np.ndarray:
@@ -261,79 +264,34 @@ def _check_lengths(path: Path, recorded_speech: np.ndarray, synthetic_speech: np
         raise AudioError(f"recording {path} is silent (no speech found); record the text again")
     if synthetic_frames.size == 0:
         raise AudioError("the synthetic speech is silent, so there is nothing to align the recording to")
-    recorded_span = recorded_frames[-1] - recorded_frames[0] + 1
-    synthetic_span = synthetic_frames[-1] - synthetic_frames[0] + 1
-    ratio = recorded_span / synthetic_span
-    if not 1 / MAX_LENGTH_RATIO <= ratio <= MAX_LENGTH_RATIO:
-        seconds = HOP / ANALYSIS_RATE
+    # Speech, not span: a list read with long pauses has no more speech than the text. A short text may
+    # be said far slower than eSpeak says it (a word alone, drawn out), so the ratio has a slack.
+    recorded_seconds = recorded_frames.size * HOP / ANALYSIS_RATE
+    synthetic_seconds = synthetic_frames.size * HOP / ANALYSIS_RATE
+    if not (
+        synthetic_seconds / MAX_LENGTH_RATIO - LENGTH_SLACK
+        <= recorded_seconds
+        <= synthetic_seconds * MAX_LENGTH_RATIO + LENGTH_SLACK
+    ):
         raise AudioError(
-            f"recording {path} has {recorded_span * seconds:.1f} s of speech but the text "
-            f"takes about {synthetic_span * seconds:.1f} s to say (more than "
-            f"{MAX_LENGTH_RATIO:g} times apart); check that the recording reads exactly this text"
+            f"recording {path} has {recorded_seconds:.1f} s of speech but the text takes about "
+            f"{synthetic_seconds:.1f} s to say (more than {MAX_LENGTH_RATIO:g} times apart); check that the "
+            "recording reads exactly this text"
         )
 
 
-def _best_warped_features(
-    synthetic: np.ndarray,
-    synthetic_speech: np.ndarray,
-    recorded: np.ndarray,
-    recorded_speech: np.ndarray,
-    top_hertz: float,
-) -> tuple[np.ndarray, np.ndarray, float]:
-    """Cepstra of both with a common noise floor, the recording's at the vocal-tract warp that fits best.
-
-    The warps are tried on the first 30 seconds at a quarter of the frame rate (its spectra computed
-    once); the one whose DTW path is cheapest per step wins (another speaker's formants sit higher or
-    lower than eSpeak's). Also returns that cost over the cost of the text's sounds in reverse order:
-    near 1 when the recording says something else, whatever the voice.
-    """
-    synthetic_levels = band_levels(synthetic, synthetic_speech)
-    rt60 = estimate_rt60(recorded)
-    excerpt = slice(0, WARP_SEARCH_FRAMES)
-    power = np.concatenate(
-        [block for _, block in power_spectra(recorded[: WARP_SEARCH_FRAMES * HOP + WINDOW])]
+def _order_ratio(x: np.ndarray, synthetic_speech: np.ndarray, y: np.ndarray) -> float:
+    """The DTW cost of the first 30 seconds over the cost with the text's sounds in reverse order: near 1
+    when the recording says something else, whatever the voice."""
+    excerpt = slice(0, ORDER_FRAMES)
+    return _coarse_cost(x[excerpt], y[excerpt]) / _coarse_cost(
+        _reversed_speech(x[excerpt], synthetic_speech[excerpt]), y[excerpt]
     )
-    power = power[:WARP_SEARCH_FRAMES]
-
-    def features(energies: np.ndarray, speech: np.ndarray, synthetic_part: np.ndarray, synthetic_part_speech):
-        recorded_levels = band_levels(energies, speech)
-        floor = common_floor(synthetic_levels, recorded_levels)
-        x = cepstra(synthetic_part, synthetic_levels[0], floor, synthetic_part_speech)
-        return x, cepstra(energies, recorded_levels[0], floor, speech)
-
-    def cost(index: int) -> float:
-        if index not in costs:
-            energies = dereverberate(power @ mel_filters(VOCAL_TRACT_WARPS[index], top_hertz).T, rt60)
-            tried[index] = features(
-                energies,
-                recorded_speech[excerpt][: len(energies)],
-                synthetic[excerpt],
-                synthetic_speech[excerpt],
-            )
-            costs[index] = _coarse_cost(*tried[index])
-        return costs[index]
-
-    costs: dict[int, float] = {}
-    tried: dict[int, tuple[np.ndarray, np.ndarray]] = {}
-    # The cost is not smooth in the warp (a high voice's harmonics cross the filters): every third
-    # warp first, then the neighbours of the best.
-    best = min(range(0, len(VOCAL_TRACT_WARPS), 3), key=cost)
-    best = min(
-        (index for index in (best - 1, best, best + 1) if 0 <= index < len(VOCAL_TRACT_WARPS)), key=cost
-    )
-    # The same sounds in the wrong order: what the cost would be if the recording said something else.
-    excerpt_x, excerpt_y = tried[best]
-    order_ratio = costs[best] / _coarse_cost(
-        _reversed_speech(excerpt_x, synthetic_speech[excerpt]), excerpt_y
-    )
-    energies = dereverberate(mel_energies(recorded, VOCAL_TRACT_WARPS[best], top_hertz), rt60)
-    x, y = features(energies, recorded_speech, synthetic, synthetic_speech)
-    return x, y, order_ratio
 
 
 def _coarse_cost(x: np.ndarray, y: np.ndarray) -> float:
     """Mean distance per step of the DTW path between the starts of x and y at a quarter frame rate."""
-    coarse_x, coarse_y = x[:WARP_SEARCH_FRAMES:4], y[:WARP_SEARCH_FRAMES:4]
+    coarse_x, coarse_y = x[::4], y[::4]
     path_x, path_y = dtw_path(coarse_x, coarse_y, step_penalty=STEP_PENALTY)
     return float(np.sqrt(((coarse_x[path_x] - coarse_y[path_y]) ** 2).sum(axis=1)).mean())
 

@@ -12,10 +12,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .acoustics import recogniser_features
+from ..acoustic.features import recogniser_features
+from ..acoustic.labels import (
+    BILABIAL_LETTERS,
+    CLASS_INDEX,
+    CLASSES,
+    FRAME_SECONDS,
+    VOWEL_LETTERS,
+    frame_times,
+)
+from ..acoustic.network import load_network
 from .decoder import Segment, decode
-from .labels import BILABIAL_LETTERS, CLASS_INDEX, CLASSES, FRAME_SECONDS, VOWEL_LETTERS, frame_times
-from .network import load_network
 
 # A bilabial is kept where b, m and p together hold at least this share of its frames' posteriors (and no
 # less than the vowels): on the tuning voices in a reverberant room, 0.5 kept 79 % of the closures, 0.25

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from ...base.errors import DataError
-from .acoustics import FEATURE_COUNT
+from .features import FEATURE_COUNT
 from .labels import CLASSES
 
 CHANNELS = 128

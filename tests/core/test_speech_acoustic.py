@@ -1,0 +1,80 @@
+"""The acoustic model's forced alignment: where each letter of a known text lies."""
+
+import numpy as np
+import pytest
+
+from turkish_lipsync.core.speech import synthesize_timeline
+from turkish_lipsync.core.speech.acoustic.features import recogniser_features
+from turkish_lipsync.core.speech.acoustic.forced import force_align, letter_model, text_units
+from turkish_lipsync.core.speech.acoustic.labels import CLASS_INDEX, CLASSES
+from turkish_lipsync.core.speech.acoustic.network import load_network
+from turkish_lipsync.core.speech.audio import resample
+from turkish_lipsync.core.speech.features import ANALYSIS_RATE
+from turkish_lipsync.core.text.utterance import build_utterance
+
+
+def posteriors_of(labels: list[int]) -> np.ndarray:
+    """Log posteriors that hear exactly the given class in each frame (and a little of everything)."""
+    heard = np.full((len(labels), len(CLASSES)), 0.01 / len(CLASSES))
+    heard[np.arange(len(labels)), labels] += 0.99
+    return np.log(heard)
+
+
+def test_text_units_are_the_letters_that_are_sounds_in_order():
+    units = text_units(build_utterance("Ağaç, bal."))
+    assert [CLASSES[c] for c in units.classes] == list("aaçbal")  # ğ is no sound of its own
+    assert units.word_starts.tolist() == [True, False, False, True, False, False]
+
+
+def test_each_letter_is_found_where_it_is_heard_and_pauses_are_skipped_or_taken():
+    silence, a, b, e = (CLASS_INDEX[name] for name in "_abe")
+    # "ab e" heard as: silence, a a a, b b, a pause, e e e e, silence
+    frames = [silence] * 3 + [a] * 3 + [b] * 2 + [silence] * 4 + [e] * 4 + [silence] * 2
+    units = np.array([a, b, e])
+    model = letter_model(units, np.array([True, False, True]), np.ones(len(CLASSES), np.int64))
+    found = force_align(posteriors_of(frames), np.full(len(CLASSES), 1 / len(CLASSES)), model)
+    assert found.starts.tolist() == [3, 6, 12]
+    assert found.stops.tolist() == [6, 8, 16]
+    # The same words run together: the pause before "e" is skipped.
+    joined = [silence] * 2 + [a] * 3 + [b] * 2 + [e] * 4
+    found = force_align(posteriors_of(joined), np.full(len(CLASSES), 1 / len(CLASSES)), model)
+    assert found.starts.tolist() == [2, 5, 7]
+
+
+def test_every_letter_lasts_at_least_its_shortest_duration():
+    silence, a, b = (CLASS_INDEX[name] for name in "_ab")
+    frames = [silence] * 2 + [a] * 6 + [silence] * 2  # the b is not heard at all
+    shortest = np.full(len(CLASSES), 3)
+    model = letter_model(np.array([a, b]), np.array([True, False]), shortest)
+    found = force_align(posteriors_of(frames), np.full(len(CLASSES), 1 / len(CLASSES)), model)
+    assert (found.stops - found.starts >= 3).all()
+
+
+def test_a_band_too_narrow_for_any_path_is_an_error():
+    a, b = CLASS_INDEX["a"], CLASS_INDEX["b"]
+    model = letter_model(np.array([a, b]), np.array([True, True]), np.ones(len(CLASSES), np.int64))
+    frames = 6
+    band = (np.zeros(frames, np.int64), np.ones(frames, np.int64))  # never past the leading silence
+    with pytest.raises(ValueError, match="no path"):
+        force_align(posteriors_of([a] * frames), np.full(len(CLASSES), 1 / len(CLASSES)), model, band)
+
+
+def test_letters_of_speech_are_found_near_where_they_were_spoken():
+    utterance = build_utterance("Bugün hava çok güzel, parka gidip biraz yürüyelim.")
+    speech = synthesize_timeline(utterance)
+    synthesis = speech.synthesis
+    samples = resample(synthesis.samples.astype(np.float32) / 32768, synthesis.sample_rate, ANALYSIS_RATE)
+    network = load_network()
+    units = text_units(utterance)
+    shortest = np.maximum(1, np.round(network.shortest * 0.5)).astype(np.int64)
+    found = force_align(
+        network.log_posteriors(recogniser_features(samples)),
+        network.priors,
+        letter_model(units.classes, units.word_starts, shortest),
+    )
+    truth = {phone.letter_index: phone.start for phone in speech.timeline.phones}
+    onsets = [
+        (found.starts[n] * 0.01, truth[letter]) for n, letter in enumerate(units.letters) if letter in truth
+    ]
+    error = np.abs(np.array(onsets)[:, 0] - np.array(onsets)[:, 1])
+    assert np.median(error) < 0.02 and np.percentile(error, 90) < 0.05

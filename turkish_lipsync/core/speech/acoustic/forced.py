@@ -1,0 +1,175 @@
+"""Forced alignment: where each letter of a known text lies in a recording, from the network's posteriors.
+
+A left-to-right hidden Markov model of the text: each letter a chain of states as long as its shortest
+duration (its last state loops), and before every word and at both ends a silence that may be skipped, so
+a speaker may pause between any two words or run them together. The emissions are the network's scaled
+likelihoods (posteriors over priors), as the recogniser's decoder uses them; Viterbi finds the best path.
+Every frame looks at a band of states only (`band`): a long take is aligned in memory that grows with its
+length, not with the product of its frames and letters.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...base.model import Utterance
+from .labels import CLASS_INDEX, SILENCE
+
+PRIOR_WEIGHT = 0.8  # posteriors / priors ** PRIOR_WEIGHT (the decoder's)
+ENTER_COST = 0.5  # natural-log units per letter entered: a slight push toward fewer, longer stays
+PAUSE_COST = 2.0  # entering a pause between words costs this much more than going on speaking
+
+
+@dataclass(frozen=True, eq=False)
+class TextUnits:
+    """The text's letters that are sounds, in order: their classes, word starts and utterance letters."""
+
+    classes: np.ndarray
+    word_starts: np.ndarray  # True where a letter begins a word (a pause may come before it)
+    letters: np.ndarray  # index into Utterance.letters
+
+
+def text_units(utterance: Utterance) -> TextUnits:
+    """The utterance's letters as the network's classes (a ğ, which is no sound of its own, left out)."""
+    classes, starts, letters = [], [], []
+    for word in utterance.words:
+        first = True
+        for index in range(word.first_letter, word.first_letter + word.letter_count):
+            name = utterance.letters[index].char
+            if name in CLASS_INDEX:
+                classes.append(CLASS_INDEX[name])
+                starts.append(first)
+                letters.append(index)
+                first = False
+    return TextUnits(np.array(classes, np.int64), np.array(starts, bool), np.array(letters, np.int64))
+
+
+@dataclass(frozen=True, eq=False)
+class LetterModel:
+    """The states of a text's model: the class each state emits, where letters and pauses start."""
+
+    classes: np.ndarray  # per state: class index (silence for pauses)
+    loops: np.ndarray  # per state: it may repeat
+    skippable: np.ndarray  # per state: a pause that may be skipped (the path jumps over it)
+    letter_of_state: np.ndarray  # per state: index of its letter, -1 for a pause
+    first_states: np.ndarray  # per letter: its first state
+
+
+def letter_model(units: np.ndarray, word_starts: np.ndarray, shortest: np.ndarray) -> LetterModel:
+    """The model of a sequence of letter classes (`units`), pauses possible before each word start.
+
+    shortest: per class, the fewest frames a letter of it lasts.
+    """
+    classes, loops, skippable, owners, firsts = [CLASS_INDEX[SILENCE]], [True], [True], [-1], []
+    for index, (unit, starts_word) in enumerate(zip(units, word_starts, strict=True)):
+        if starts_word and index:
+            classes.append(CLASS_INDEX[SILENCE])
+            loops.append(True)
+            skippable.append(True)
+            owners.append(-1)
+        firsts.append(len(classes))
+        length = int(max(1, shortest[unit]))
+        classes += [int(unit)] * length
+        loops += [False] * (length - 1) + [True]
+        skippable += [False] * length
+        owners += [index] * length
+    classes.append(CLASS_INDEX[SILENCE])
+    loops.append(True)
+    skippable.append(True)
+    owners.append(-1)
+    return LetterModel(
+        np.array(classes, np.int64),
+        np.array(loops),
+        np.array(skippable),
+        np.array(owners, np.int64),
+        np.array(firsts, np.int64),
+    )
+
+
+@dataclass(frozen=True, eq=False)
+class ForcedAlignment:
+    """Each letter's first frame and the frame after its last; each frame's state's letter (-1: a pause)."""
+
+    starts: np.ndarray
+    stops: np.ndarray
+    frame_letters: np.ndarray
+    frame_scores: np.ndarray  # per frame: the path's emission score there
+
+
+def force_align(
+    log_posteriors: np.ndarray,
+    priors: np.ndarray,
+    model: LetterModel,
+    band: tuple[np.ndarray, np.ndarray] | None = None,
+) -> ForcedAlignment:
+    """The best path of the frames through the model (every letter at least its shortest duration).
+
+    band: per frame, the first state and the state after the last it may be in (the whole model if None).
+    """
+    frames = len(log_posteriors)
+    states = len(model.classes)
+    if band is None:
+        low, high = np.zeros(frames, np.int64), np.full(frames, states, np.int64)
+    else:
+        low, high = band
+    scores = (log_posteriors - PRIOR_WEIGHT * np.log(priors)[None, :]).astype(np.float64)
+    stay = np.where(model.loops, 0.0, -np.inf)
+    enter = np.where(model.letter_of_state >= 0, -ENTER_COST, -ENTER_COST - PAUSE_COST)
+    # Entering state s from s-2 skips the pause s-1.
+    jump = np.full(states, -np.inf)
+    jump[2:] = np.where(model.skippable[1:-1], enter[2:], -np.inf)
+    # A letter's later states are entered at no cost: the cost is paid once, at its first state.
+    first_of_letter = np.zeros(states, bool)
+    first_of_letter[model.first_states] = True
+    enter = np.where(first_of_letter | (model.letter_of_state < 0), enter, 0.0)
+    width = int((high - low).max())
+    moves = np.zeros((frames, width), np.int8)  # 0 stay, 1 from the state before, 2 from two before
+    previous = np.full(states + 2, -np.inf)  # two guard states before state 0
+    start = np.full(states, -np.inf)
+    start[0] = 0.0
+    start[1] = 0.0 if model.skippable[0] else -np.inf
+    current = np.full(states + 2, -np.inf)
+    current[2:] = start
+    current[2:][low[0] : high[0]] += scores[0, model.classes[low[0] : high[0]]]
+    current[2:][: low[0]] = -np.inf
+    current[2:][high[0] :] = -np.inf
+    for frame in range(1, frames):
+        previous, current = current, previous
+        first, stop = low[frame], high[frame]
+        window = slice(first + 2, stop + 2)
+        options = np.stack(
+            (
+                previous[window] + stay[first:stop],
+                previous[first + 1 : stop + 1] + enter[first:stop],
+                previous[first:stop] + jump[first:stop],
+            )
+        )
+        choice = options.argmax(axis=0)
+        current[:] = -np.inf
+        current[window] = options[choice, np.arange(stop - first)] + scores[frame, model.classes[first:stop]]
+        moves[frame, : stop - first] = choice
+    last = states - 1
+    end = last if current[last + 2] >= current[last + 1] else last - 1
+    if not np.isfinite(current[end + 2]):
+        raise ValueError("no path through the text's model within the band")
+    path = np.empty(frames, np.int64)
+    state = end
+    for frame in range(frames - 1, -1, -1):
+        path[frame] = state
+        if frame:
+            state -= int(moves[frame, state - low[frame]])
+    frame_letters = model.letter_of_state[path]
+    letters = len(model.first_states)
+    starts = np.full(letters, -1, np.int64)
+    stops = np.full(letters, -1, np.int64)
+    spoken = np.flatnonzero(frame_letters >= 0)
+    # First and last frame of each letter along the path (letters are visited in order).
+    owners = frame_letters[spoken]
+    change = np.flatnonzero(np.diff(owners, prepend=-2) != 0)
+    starts[owners[change]] = spoken[change]
+    ends = np.flatnonzero(np.diff(owners, append=-2) != 0)
+    stops[owners[ends]] = spoken[ends] + 1
+    frame_scores = scores[np.arange(frames), model.classes[path]]
+    return ForcedAlignment(starts, stops, frame_letters, frame_scores)
