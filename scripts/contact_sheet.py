@@ -1,4 +1,4 @@
-"""Render a contact sheet of the 43 keys (37 visemes + 6 emotions) on a head, for review and the README.
+"""Render a contact sheet of the 43 keys (37 visemes + 6 emotions) on a head, for review and the manual.
 
     .venv/bin/python scripts/contact_sheet.py --out out/contact_sheet.png [--head PATH] [--tile 160]
 

@@ -26,6 +26,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from scripts.contact_sheet import _aim, _emission_material  # noqa: E402
+from scripts.kit_heads import kit_heads, world_key_deltas  # noqa: E402
 from turkish_lipsync.blender import compat, heads, mesh, shapekeys  # noqa: E402
 from turkish_lipsync.blender.landmarks import read_landmark_markers, show_landmark_markers  # noqa: E402
 from turkish_lipsync.core.base.data import load_table  # noqa: E402
@@ -71,21 +72,6 @@ THREE_QUARTER_DEGREES = 40.0
 VIEW_HEIGHT = 2.2  # the picture's height in eyes-to-chin spans
 KEYS_PER_ROW = 4  # each key shows front and three-quarter side by side
 BACKGROUND = (0.35, 0.37, 0.4)
-
-
-def world_key_deltas(obj: bpy.types.Object) -> dict[str, np.ndarray]:
-    """Every shape key of obj as world-space displacements from its reference key."""
-    keys = obj.data.shape_keys
-    if keys is None:
-        return {}
-    linear = mesh.world_matrix(obj)[:3, :3]
-    count = len(obj.data.vertices)
-    rest = mesh.read_coordinates(keys.reference_key.points, count).astype(np.float64)
-    return {
-        block.name: (mesh.read_coordinates(block.points, count) - rest) @ linear.T
-        for block in keys.key_blocks
-        if block != keys.reference_key
-    }
 
 
 def strip_keys(objects) -> None:
@@ -441,13 +427,11 @@ def render_sheet(objects, landmarks, out: Path, tile: int, samples: int, shots, 
 
 
 def kit_object(name: str) -> bpy.types.Object:
-    """A test head of scripts/measure_parts.py as one object, its known motion as its own keys (named as
+    """A test head of scripts/kit_heads.py as one object, its known motion as its own keys (named as
     our units, so the report compares with them)."""
-    from scripts.measure_parts import kit_heads
-
     made = kit_heads([name])
     if not made:
-        raise LipSyncError(f"No test head's name contains {name!r}; see scripts/measure_parts.py.")
+        raise LipSyncError(f"No test head's name contains {name!r}; see scripts/kit_heads.py.")
     kit = made[0]
     bpy.ops.wm.read_factory_settings(use_empty=True)
     obj = bpy.data.objects.new("KitHead", heads.mesh_from_arrays("KitHead", kit.vertices, kit.triangles))
@@ -473,7 +457,7 @@ def face_report(
     kit: str | None = None,
     parts_only: bool = False,
 ) -> list[dict]:
-    """kit: a test head of scripts/measure_parts.py (by a part of its name) instead of a file, its known
+    """kit: a test head of scripts/kit_heads.py (by a part of its name) instead of a file, its known
     motion as the artist's keys; parts_only: render the close-ups only."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
     if kit is not None:
@@ -538,7 +522,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--tile", type=int, default=200, help="pixels per picture")
     parser.add_argument("--samples", type=int, default=8, help="Cycles samples per picture")
     parser.add_argument("--no-render", action="store_true", help="print the figures only")
-    parser.add_argument("--kit", default=None, help="a test head of measure_parts.py (part of its name)")
+    parser.add_argument("--kit", default=None, help="a test head of kit_heads.py (part of its name)")
     parser.add_argument("--parts-only", action="store_true", help="render the parts' close-ups only")
     args = parser.parse_args(argv)
     try:

@@ -1,9 +1,9 @@
-"""A contact strip of a head speaking with gaze, blinks and head motion: docs/living_face.png.
+"""A contact strip of a head speaking with gaze, blinks and head motion: docs/images/living_face.png.
 
-    .venv/bin/python scripts/living_preview.py [--out docs/living_face.png] [--size 240] [--samples 8]
+    .venv/bin/python scripts/living_preview.py [--out docs/images/living_face.png] [--size 240] [--samples 8]
         [--head PATH [--head PATH ...] [--object NAME] [--own-keys-at-rest]]   (default: the default head)
 
-A row for each head (docs/living_heads.jpg: --head default and each shared head, --own-keys-at-rest
+A row for each head (docs/images/living_heads.jpg: --head default and each shared head, --own-keys-at-rest
 --size 200 --samples 6). Generates a few sentences at 25 fps on each head, picks frames that show eye
 contact, a look away, a blink and the head turned, renders them with Cycles on the CPU and lays them side by
 side; the labels (what the tracks say at that frame) are printed.
@@ -83,7 +83,7 @@ def strip_of(head_path: Path | None, args) -> np.ndarray:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=Path("docs/living_face.png"))
+    parser.add_argument("--out", type=Path, default=Path("docs/images/living_face.png"))
     parser.add_argument("--size", type=int, default=240)
     parser.add_argument("--samples", type=int, default=8)
     parser.add_argument(

@@ -15,7 +15,8 @@ of that trajectory with the truth's (the variant's own phone events) per take, m
 overall. Beside it, the loudness envelope of the take (its smoothed amplitude) as the baseline and the
 recording aligned to its text (the text-aligned path) as the ceiling. Bilabials closed: the truth's b,
 m, p that a recognised b, m or p overlaps (within 20 ms); closures on vowels: the truth's vowels whose
-middle falls inside a recognised b, m or p. Not a test: the figures go into the README.
+middle falls inside a recognised b, m or p. Not a test: the figures go into
+docs/developer/measured/audio-alone.md.
 """
 
 from __future__ import annotations

@@ -38,7 +38,7 @@ setup.py builds it on every non-Windows system, with no switch, and Festival's l
     AENEAS_WITH_CEW=True AENEAS_USE_ESPEAKNG=True /work/venvs/aeneas/bin/pip install .
     /work/venvs/aeneas/bin/python -m aeneas.diagnostics   # cdtw, cmfcc and cew AVAILABLE
 
-Not a test: the figures go into the README.
+Not a test: the figures go into docs/developer/measured/timing-and-recordings.md.
 """
 
 from __future__ import annotations

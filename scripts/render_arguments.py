@@ -182,8 +182,8 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
     parser.add_argument(
         "--mapping",
         type=Path,
-        help="a TOML file naming the head's own keys for the Turkish visemes (README: heads with visemes of "
-        "their own)",
+        help="a TOML file naming the head's own keys for the Turkish visemes (the manual's Heads page: "
+        "a mapping file)",
     )
     parser.add_argument(
         "--frames",

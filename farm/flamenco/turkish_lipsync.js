@@ -7,7 +7,8 @@
 // Manager; the job type then appears in Blender's Flamenco add-on (Output Properties > Flamenco > Job Type).
 // The workers need a checkout of the Turkish Lip Sync repository on the shared storage (its
 // scripts/render.py renders each chunk inside the worker's Blender), and the worker that joins needs a Python
-// with PyAV (`python3 -m pip install av`); see the README's "Rendering on a farm (Flamenco)".
+// with PyAV (`python3 -m pip install av`); see the manual's "Exports and farms" page
+// (docs/user/exports-and-farms.md).
 
 const JOB_TYPE = {
   label: "Turkish Lip Sync",

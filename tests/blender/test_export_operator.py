@@ -96,6 +96,18 @@ def test_an_export_after_the_settings_changed_describes_the_keys_the_head_has(sa
     assert opened and all(weights[int(frame), jaw] > 0.2 for frame in opened)
 
 
+def test_the_live_link_csv_has_one_row_per_frame_of_the_scene(saved, tmp_path):
+    """Generate sets the scene's frames to the speech; the CSV describes exactly those frames (it had two
+    rows more: the motion's tracks reach a frame past the speech's end, which the scene does not show)."""
+    settings = _open(saved)
+    settings.export_format, settings.export_path = "arkit-csv", str(tmp_path / "speech.csv")
+    assert bpy.ops.turkish_lipsync.export_animation() == {"FINISHED"}
+    frames, _ = read_arkit_csv(tmp_path / "speech.csv", FPS)
+    scene = bpy.context.scene
+    assert len(frames) == scene.frame_end - scene.frame_start + 1
+    assert frames[0] == 0 and frames[-1] == scene.frame_end - scene.frame_start
+
+
 def test_keys_edited_by_hand_are_exported_as_they_are_with_a_warning(saved, tmp_path):
     _open(saved)
     head = bpy.data.objects["TR_Head"]

@@ -10,7 +10,8 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from scripts.face_report import strip_keys, world_key_deltas  # noqa: E402
+from scripts.face_report import strip_keys  # noqa: E402
+from scripts.kit_heads import world_key_deltas  # noqa: E402
 from tests.blender.evaluated import evaluated_world  # noqa: E402
 from tests.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync.blender import heads, mesh, shapekeys  # noqa: E402
@@ -289,7 +290,8 @@ def test_lash_cards_and_eye_shells_added_to_vitruvian_close_with_its_lids():
     under the artist's blink. Measured: upper cards 0.88, shells 0.61 (our lid closes further than the
     artist's), the whole mesh's blink 0.717 against the skin's own 0.771; before, the shells stood still
     with the eye and the upper cards, taken for lashes, sampled the reference's (0.90)."""
-    from scripts.measure_parts import kit_heads, measure_head
+    from scripts.kit_heads import kit_heads
+    from scripts.measure_parts import measure_head
 
     if not VITRUVIAN.exists():
         pytest.skip(f"{VITRUVIAN} not present")

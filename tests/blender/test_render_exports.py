@@ -36,7 +36,7 @@ def test_exports_are_written_and_name_the_speech(exported):
     bpy.ops.wm.open_mainfile(filepath=str(exported / "scene.blend"))
     scene = bpy.context.scene
     frames, weights = read_arkit_csv(exported / "speech.csv", 24)
-    assert len(frames) >= scene.frame_end - scene.frame_start + 1 and weights.shape[1] == 52
+    assert len(frames) == scene.frame_end - scene.frame_start + 1 and weights.shape[1] == 52  # a row a frame
 
 
 def test_a_papagayo_project_times_the_animation_with_its_own_text(exported, tmp_path):

@@ -8,6 +8,7 @@ soundfile = pytest.importorskip("soundfile")
 
 from turkish_lipsync.blender import compat, sequencer  # noqa: E402
 from turkish_lipsync.core.base.errors import AudioError  # noqa: E402
+from turkish_lipsync.core.motion.frames import shown_frame_count  # noqa: E402
 from turkish_lipsync.core.speech.base import Synthesis  # noqa: E402
 
 needs_audio = pytest.mark.skipif(
@@ -34,7 +35,7 @@ def test_frame_range_covers_the_speech_at_a_fractional_rate(tmp_path):
     wav = _wav(tmp_path / "speech.wav", 1.5)
     sequencer.place_speech_strip(scene, wav, 5, 1.5)
     # 1.5 s * 29.97 fps = 44.96, the nearest whole count is 45 frames: 5..49.
-    frame_count = sequencer.frame_count_for(1.5, sequencer.scene_fps(scene))
+    frame_count = shown_frame_count(1.5, sequencer.scene_fps(scene))
     assert frame_count == 45
     assert sequencer.fit_frame_range(scene, 5, frame_count) == ()
     assert (scene.frame_start, scene.frame_end) == (5, 49)

@@ -97,6 +97,22 @@ def later_stage_imports(graph: dict[str, set[str]]) -> list[str]:
     return found
 
 
+def peer_stage_imports(graph: dict[str, set[str]]) -> list[str]:
+    """Every import between two packages of one stage (faces and motion are peers: neither looks at the other;
+    what both need lies below them), as "module -> target"."""
+    found = []
+    for name, targets in sorted(graph.items()):
+        rank, top = stage_of(name), _top_package(name)
+        for target in sorted(targets):
+            if rank is not None and stage_of(target) == rank and _top_package(target) != top:
+                found.append(f"{name} -> {target}")
+    return found
+
+
+def _top_package(module: str) -> str:
+    return module.removeprefix(PACKAGE + ".").split(".")[0]
+
+
 def test_the_graph_sees_the_imports_it_must():
     graph = core_import_graph()
     assert f"{PACKAGE}.motion.frames" in graph[f"{PACKAGE}.motion.natural"]
@@ -147,4 +163,28 @@ def test_the_core_has_no_import_cycle():
 
 def test_stages_import_only_the_stages_before_them():
     found = later_stage_imports(core_import_graph())
+    assert not found, "\n".join(found)
+
+
+def test_the_peer_check_fails_on_faces_importing_motion(tmp_path):
+    """The tree as it was: the eyes of a head (faces) took their rotation helper from the living layers
+    (motion), peers of the same stage."""
+    core = tmp_path / "turkish_lipsync" / "core"
+    for package in ("faces", "motion", "motion/living", "base"):
+        (core / package).mkdir(parents=True, exist_ok=True)
+        (core / package / "__init__.py").write_text("")
+    (core / "__init__.py").write_text("")
+    (core / "motion" / "living" / "rotations.py").write_text("def direction(): ...\n")
+    (core / "faces" / "eyes.py").write_text("from ..motion.living.rotations import direction\n")
+    graph = core_import_graph(core)
+    assert later_stage_imports(graph) == []  # the same rank: the stage order alone does not see it
+    assert peer_stage_imports(graph) == [
+        f"{PACKAGE}.faces.eyes -> {PACKAGE}.motion",
+        f"{PACKAGE}.faces.eyes -> {PACKAGE}.motion.living",
+        f"{PACKAGE}.faces.eyes -> {PACKAGE}.motion.living.rotations",
+    ]
+
+
+def test_faces_and_motion_do_not_import_each_other():
+    found = peer_stage_imports(core_import_graph())
     assert not found, "\n".join(found)

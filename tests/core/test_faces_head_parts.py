@@ -1,14 +1,14 @@
 """A head's parts told apart and carried with the face: every part an island of the head's own mesh.
 
 The heads are the default head's parts joined into its skin mesh and bent into another face, the truth
-the reference's own units bent alike (scripts/joined_heads.py, scripts/measure_parts.py).
+the reference's own units bent alike (scripts/joined_heads.py, scripts/kit_heads.py).
 """
 
 import numpy as np
 import pytest
 
 from scripts import joined_heads
-from scripts.measure_parts import default_head_parts
+from scripts.kit_heads import default_head_parts
 from turkish_lipsync.core.faces.closest import nearest_vertices
 from turkish_lipsync.core.faces.head_parts import find_parts
 from turkish_lipsync.core.faces.landmarks import face_frame, find_landmarks

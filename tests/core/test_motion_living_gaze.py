@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 
 from turkish_lipsync.core.base.model import look_key_name
+from turkish_lipsync.core.base.rotations import direction, eye_matrices, head_matrices
 from turkish_lipsync.core.faces.eyes import ARKIT_LOOK_UNITS, sphere_fit, turn_degrees
 from turkish_lipsync.core.motion.living import GazeSetup, LivingOptions, living_tracks
 from turkish_lipsync.core.motion.living.parameters import living_parameters
 from turkish_lipsync.core.motion.living.prosody import measure_prosody
-from turkish_lipsync.core.motion.living.rotations import direction, eye_matrices, head_matrices
 from turkish_lipsync.core.pipeline import LipSyncOptions, lip_sync
 
 CORPUS_LINES = 40

@@ -24,8 +24,8 @@ import numpy as np
 
 from ..core.base.errors import HeadError
 from ..core.base.model import EYE_SIDES, WeightTracks
+from ..core.base.rotations import eye_matrices, head_matrices
 from ..core.motion.frames import decimated_keys
-from ..core.motion.living.rotations import eye_matrices, head_matrices
 from . import compat, render
 from .living_rig import LivingRig, find_rig
 

@@ -26,6 +26,7 @@ from ..core.base.model import (
     viseme_key_name,
 )
 from ..core.interchange.animation_record import AnimationRecord, record_from_json, record_to_json
+from ..core.motion.frames import shown_frame_count
 from ..core.pipeline import LipSyncOptions, lip_sync
 from . import compat, heads, keyframes, living, render, sequencer, shapekeys
 from .living_rig import find_rig
@@ -212,7 +213,7 @@ def generate(
     _keep_record(head, source, spoken, start)
     progress(0.85, "Placing the speech in the sequencer")
     strip_name = None
-    frame_count = sequencer.frame_count_for(timeline.duration, fps)
+    frame_count = shown_frame_count(timeline.duration, fps)
     if wav_path is not None:
         strip_name = sequencer.place_speech_strip(scene, wav_path, start, timeline.duration)
     else:
@@ -454,7 +455,7 @@ def render_still(
     samples: int | None = None,
     resolution: tuple[int, int] | None = None,
 ) -> str:
-    """One frame to PNG (for READMEs and checks), framed and lit like the video; returns the path."""
+    """One frame to PNG (for the manual and checks), framed and lit like the video; returns the path."""
     scene = context.scene
     path = Path(bpy.path.abspath(out_path))
     path.parent.mkdir(parents=True, exist_ok=True)

@@ -10,6 +10,7 @@ from pathlib import Path
 import bpy
 
 from ..core.base.errors import AudioError
+from ..core.motion.frames import shown_frame_count
 from ..core.speech.wav import speech_wav_in
 from . import compat
 
@@ -22,12 +23,6 @@ SPEECH_PATH_PROPERTY = "turkish_lipsync_speech_wav"
 def scene_fps(scene: bpy.types.Scene) -> float:
     """The real frame rate, fractional rates included (29.97 is fps 30 / fps_base 1.001)."""
     return scene.render.fps / scene.render.fps_base
-
-
-def frame_count_for(seconds: float, fps: float) -> int:
-    """Frames that show the speech: the nearest whole count, so video and audio (with the AAC encoder's
-    padding) both end within a frame of the speech."""
-    return max(1, round(seconds * fps))
 
 
 def _safe_file_stem(name: str) -> str:
@@ -137,7 +132,7 @@ def place_speech_strip(
     """
     if not Path(wav_path).is_file():
         raise AudioError(f"The speech audio {wav_path} does not exist; generate the animation again.")
-    frame_count = frame_count_for(duration_seconds, scene_fps(scene))
+    frame_count = shown_frame_count(duration_seconds, scene_fps(scene))
     scene[SPEECH_PATH_PROPERTY] = blend_relative(Path(wav_path))
     if not compat.HAS_AUDIO:
         return None

@@ -397,7 +397,10 @@ def read_user_mapping(path: str | Path) -> Convention:
     expressions = _read_expressions(path, data, exact=True)
     names = [name for mapping in visemes.values() for name in mapping.shapes]
     if not names and not expressions:
-        raise DataError(f"{path} maps no TR viseme or expression to a key; see the README for its form.")
+        raise DataError(
+            f"{path} maps no TR viseme or expression to a key; see the manual (Heads: a mapping file) for "
+            "its form."
+        )
     return Convention(
         name=path.name,
         title=f"own mapping {path.name}",

@@ -4,7 +4,7 @@ An eyeball is a round piece (its own object, or an island of the head's mesh wit
 fitted to its vertices (a least-squares sphere), whatever the object's origin, so it can turn about it. A
 head whose eyes are painted turns them with keys of its own (VRM's look_*, ARKit's eyeLook*, CharMorph's
 Look_*): found by name here. Everything is in the head's own frame: x toward the character's left, y up, z
-forward (core/motion/living/rotations.py).
+forward (core/base/rotations.py).
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..base.model import EYE_SIDES, LOOK_KEY_DEGREES
-from ..motion.living.rotations import direction
+from ..base.rotations import direction
 from .arkit_names import arkit_unit_for_key
 from .topology import connected_pieces
 

@@ -12,6 +12,7 @@ layers are off. The eyeLook units are the eyes' angles over the turn faceunits01
 from __future__ import annotations
 
 import csv
+import dataclasses
 import io
 from pathlib import Path
 
@@ -20,6 +21,7 @@ import numpy as np
 from ..base.model import Timeline, WeightTracks
 from ..faces.eyes import ARKIT_LOOK_UNITS
 from ..faces.recipes import Recipes, load_recipes
+from ..motion.frames import shown_frame_count
 from ..motion.living.parameters import living_parameters
 from ..speech.cues import CueFileError
 from ..speech.cues.common import read_text
@@ -157,6 +159,10 @@ class ArkitCsv(ExportFormat):
     description = "52 ARKit weights per frame, Live Link Face layout (Unreal, MetaHuman)"
 
     def write(self, timeline: Timeline, tracks: WeightTracks, *, sound_file: str = "", text: str = ""):
+        # One row per frame that shows the speech (the scene's frames after Generate), not per frame the
+        # motion was computed over, which reaches a frame past the last sound.
+        shown = shown_frame_count(timeline.duration, tracks.fps)
+        tracks = dataclasses.replace(tracks, frame_count=min(tracks.frame_count, shown))
         weights, clipped = arkit_weights(tracks)
         warnings = ()
         if clipped:

@@ -10,8 +10,18 @@ from ..base.model import Track, WeightTracks
 
 
 def frame_count_for(duration: float, fps: float) -> int:
-    """Frames an utterance of duration seconds covers at fps: its start, its end and every frame between."""
+    """Frames an utterance of duration seconds covers at fps: its start, its end and every frame between.
+
+    The motion is computed over these, so that a key may fall on the frame after the last sound; a scene,
+    a video and the per-frame exports show shown_frame_count of them."""
     return math.ceil(duration * fps) + 1
+
+
+def shown_frame_count(duration: float, fps: float) -> int:
+    """Frames that show an utterance: the nearest whole count, so video and audio (with the AAC encoder's
+    padding) both end within a frame of the speech. The scene's frame range after Generate, the rendered
+    video and the rows of the Live Link Face CSV."""
+    return max(1, round(duration * fps))
 
 
 def sparse_track(name: str, frames: np.ndarray, values: np.ndarray) -> Track:

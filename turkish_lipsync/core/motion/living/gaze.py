@@ -16,9 +16,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...base.rotations import angles_of, direction, head_matrices
 from .easing import minimum_jerk
 from .phrases import SpeechStructure
-from .rotations import angles_of, direction, head_matrices
 
 
 @dataclass(frozen=True)

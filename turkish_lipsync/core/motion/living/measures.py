@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...base.rotations import angles_of
 from ...speech.voice_activity import runs
-from .rotations import angles_of
 
 SACCADE_SPEED = 20.0  # degrees a second of gaze that count as a saccade, not a fixation
 BLINK_CLOSED = 0.9  # share of the lids' closure that counts as shut

@@ -1,6 +1,7 @@
 """Rotations in the character's own frame (x toward its left, y up, z forward), as HeadAndEyes defines them.
 
-Shared by the living layers, the exports and the Blender layer, so the sign conventions live in one place.
+Shared by the living layers (motion), the eyes of a head (faces), the exports and the Blender layer: below
+both peer stages, so that neither imports the other and the sign conventions live in one place.
 """
 
 from __future__ import annotations
