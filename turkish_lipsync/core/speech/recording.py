@@ -37,7 +37,7 @@ from .acoustic.network import load_network
 from .align import phone_letter_spans
 from .audio import MAX_OUTPUT_RATE, read_audio, resample, resampled_pcm
 from .base import PhoneEvent, SpeechEngine, Synthesis, WordEvent
-from .dtw import Pauses, dtw_path
+from .dtw import Pauses, coarse_dtw_path, dtw_path
 from .features import ANALYSIS_RATE, HOP, frame_count
 from .judgement import Fit, PhraseMatch, judge
 from .letter_warp import letter_warp
@@ -185,7 +185,7 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
     pauses = _pauses(
         word_onsets, lead, synthetic_speech, recorded_speech, recorded_loudness, recorded_under_speech
     )
-    path_x, path_y = dtw_path(x, y, step_penalty=STEP_PENALTY, pauses=pauses)
+    path_x, path_y = coarse_dtw_path(x, y, step_penalty=STEP_PENALTY, pauses=pauses)
     # Silence, or a stretch a voice in the background or a room's tail may fill: the speaker may pause.
     recorded_pause = np.isfinite(pauses.y_hold_cost)
     duration = output.size / output_rate

@@ -145,20 +145,24 @@ def force_align(
     current[2:][low[0] : high[0]] += scores[0, model.classes[low[0] : high[0]]]
     current[2:][: low[0]] = -np.inf
     current[2:][high[0] :] = -np.inf
+    written = {id(current): (0, states + 2), id(previous): (0, 0)}  # each array's last finite stretch
     for frame in range(1, frames):
         previous, current = current, previous
-        first, stop = low[frame], high[frame]
-        window = slice(first + 2, stop + 2)
-        options = np.stack(
-            (
-                previous[window] + stay[first:stop],
-                previous[first + 1 : stop + 1] + enter[first:stop],
-                previous[first:stop] + jump[first:stop],
-            )
-        )
-        choice = options.argmax(axis=0)
-        current[:] = -np.inf
-        current[window] = options[choice, np.arange(stop - first)] + scores[frame, model.classes[first:stop]]
+        first, stop = int(low[frame]), int(high[frame])
+        stale = written[id(current)]
+        current[stale[0] : stale[1]] = -np.inf
+        states_here = slice(first, stop)
+        best = previous[first + 2 : stop + 2] + stay[states_here]
+        entered = previous[first + 1 : stop + 1] + enter[states_here]
+        jumped = previous[first:stop] + jump[states_here]
+        choice = (entered > best).view(np.int8)
+        np.maximum(best, entered, out=best)
+        skipped = jumped > best
+        choice[skipped] = 2
+        np.maximum(best, jumped, out=best)
+        best += scores[frame, model.classes[states_here]]
+        current[first + 2 : stop + 2] = best
+        written[id(current)] = (first + 2, stop + 2)
         moves[frame, : stop - first] = choice
     last = states - 1
     end = last if current[last + 2] >= current[last + 1] else last - 1
