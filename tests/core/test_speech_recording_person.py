@@ -16,7 +16,6 @@ from tests.core.test_speech_recording import OTHER_TEXT, other_voice, write_pcm_
 from turkish_lipsync.core.base.errors import AudioError
 from turkish_lipsync.core.speech import synthesize_timeline
 from turkish_lipsync.core.speech.audio import resample
-from turkish_lipsync.core.speech.reverberation import estimate_rt60
 from turkish_lipsync.core.text.utterance import build_utterance
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
@@ -147,13 +146,3 @@ def test_a_persons_take_of_another_text_is_still_refused(tmp_path):
     other = "Kardeşim dün akşam bana uzun bir mektup yazdı. Sonbaharda yapraklar sararır ve ağaçlardan düşer."
     with pytest.raises(AudioError, match="does not read this text"):
         aligned(person(), tmp_path, text=other)
-
-
-@pytest.mark.parametrize(("room", "low", "high"), [(None, 0.0, 0.22), (0.3, 0.22, 0.4), (0.6, 0.4, 0.8)])
-def test_the_rooms_reverberation_time_is_read_from_the_take(room, low, high):
-    take = take_of(OTHER_TEXT)
-    if room is not None:
-        take = takes.reverberate(
-            takes.padded(take, 0.5), takes.room_response(room, 0.0, np.random.default_rng(6))
-        )
-    assert low <= estimate_rt60(resample(take.samples.astype(np.float32), RATE, 16000)) <= high
