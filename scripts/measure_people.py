@@ -153,6 +153,7 @@ def measure_syllables(part: str, folder: Path) -> None:
 
 def measure_lists(part: str, folder: Path, aeneas: bool, scratch: Path) -> None:
     items = people.recordings(folder, part, "syllable") + people.recordings(folder, part, "word")
+    items = [item for item in items if len(item.turkish.split()) == 1]  # one word an item: onsets compare
     takes = people.lists_of_eight(items, np.random.default_rng(8), RATE)
     counts, errors, theirs = Counter(), [], []
     for number, take in enumerate(takes):

@@ -72,6 +72,10 @@ OTHER_TEXT_ORDER_RATIO = 0.9
 # A take fitting worse than this reads another text plainly, whatever its order.
 PLAINLY_OTHER_TEXT = 2.2
 LOOSE = 1.25
+# A take with less speech than this (1 s) is never refused, only warned: a word or two said alone is too
+# little to tell another text from a voice the network hears poorly, and a user who gives a single word
+# with its text has almost always given the right one.
+REFUSAL_EVIDENCE_FRAMES = 100
 # A word stretched this much beyond the recording's pace, and fitting this badly, has company: words
 # the text does not have were said next to it (a speaker's own lengthening of a word fits closely).
 STRETCHED = 1.7
@@ -145,7 +149,8 @@ def judge(
     voiced = np.flatnonzero(spans[:, 0] >= 0)
     worst = voiced[np.argsort(-mismatch[voiced], kind="stable")]
     order_fits_little = fit.order_ratio > OTHER_TEXT_ORDER_RATIO
-    if (take > OTHER_TEXT and order_fits_little) or take > PLAINLY_OTHER_TEXT:
+    evidence = int(fit.recorded_speech[: fit.mismatch.size].sum()) >= REFUSAL_EVIDENCE_FRAMES
+    if evidence and ((take > OTHER_TEXT and order_fits_little) or take > PLAINLY_OTHER_TEXT):
         unheard = np.flatnonzero(mismatch > OTHER_TEXT)
         unheard = unheard if unheard.size else np.sort(worst[: max(1, worst.size // 2)])
         raise AudioError(
