@@ -1,0 +1,136 @@
+"""A scene of several characters from one script: each speaks its lines and listens to the others.
+
+`converse(script, cast, options)` is to a conversation what `lip_sync` is to one head: the script's lines
+spoken in each speaker's voice (or found in recordings) on one timeline (speech.py), then for every
+character its own weight tracks (its mouth moves only in its lines) with the living layers of a
+conversation (core/motion/living/conversation.py: whom it looks at, its head turned toward them, nods while
+listening, blinks at the conversation's pauses), a faint echo of the emotion of the line it hears.
+
+Why a stage of its own, between pipeline and interchange: it builds on the pipeline's options and on every
+stage below (text for the script, speech for the voices, motion for the layers), and the exports and the
+command line above it write and print what it makes; nothing below needs to know that several characters
+exist.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..base.model import Timeline, WeightTracks
+from ..motion import weight_tracks
+from ..motion.living.conversation import Turn, conversation_living_tracks
+from ..motion.living.parameters import living_parameters
+from ..pipeline import LipSyncOptions
+from ..speech import Synthesis
+from ..text.script import Script, read_script
+from .cast import Cast, Role, RoleChoice, cast_for
+from .layout import Standing, default_standings, surroundings
+from .speech import SceneLine, SceneSources, SceneSpeech, SoundPiece, speak_scene, with_faint_emotions
+
+
+@dataclass(frozen=True, eq=False)
+class Character:
+    """One character's part of the scene: its role, its own lines' timeline and its motion."""
+
+    role: Role
+    timeline: Timeline  # its own lines on the scene's timeline
+    tracks: WeightTracks  # its mouth, emotions and living layers over the whole scene
+    voice: Synthesis | None  # its voice alone on the scene's timeline
+
+
+@dataclass(frozen=True, eq=False)
+class SceneResult:
+    options: LipSyncOptions
+    speech: SceneSpeech
+    characters: tuple[Character, ...]
+    warnings: tuple[str, ...]
+
+    def character(self, key: str) -> Character:
+        return next(c for c in self.characters if c.role.key == key)
+
+    def turns(self) -> tuple[Turn, ...]:
+        return turns_of(self.speech)
+
+
+def turns_of(speech: SceneSpeech) -> tuple[Turn, ...]:
+    return tuple(
+        Turn(line.speaker, line.addressee, line.first_phone, line.last_phone) for line in speech.lines
+    )
+
+
+def converse(
+    script: Script,
+    cast: Cast,
+    options: LipSyncOptions | None = None,
+    *,
+    sources: SceneSources | None = None,
+    standings: dict[str, Standing] | None = None,
+    camera: np.ndarray | None = None,
+) -> SceneResult:
+    """Speak the script with the cast and move every character (standings: where each stands, by speaker
+    key; the core's own arc and camera where not given)."""
+    options = options or LipSyncOptions()
+    sources = sources or SceneSources(scene_recording=options.recording, cues=options.cues)
+    speech = speak_scene(
+        script,
+        cast,
+        timing=options.timing,
+        rate=options.rate,
+        engine=options.engine,
+        sources=sources,
+        seed=options.seed,
+    )
+    if standings is None or camera is None:
+        standings, camera = default_standings(cast.keys)
+    turns = turns_of(speech)
+    mix = speech.mix()
+    heard_voice = (mix.samples, mix.sample_rate) if mix is not None else None
+    scene_timeline = speech.scene_timeline()
+    share = living_parameters()["listening"]["emotion_share"]
+    characters = []
+    for number, role in enumerate(cast.roles, start=1):
+        own = speech.speaker_timeline(role.key)
+        heard = [line.timeline for line in speech.lines if line.speaker != role.key]
+        tracks = weight_tracks(
+            with_faint_emotions(own, heard, share),
+            options.fps,
+            mode=options.motion,
+            emotion_strength=role.emotion_strength,
+        )
+        living = dataclasses.replace(options.living(), setup=standings[role.key].setup, character=number)
+        voice = speech.voice_of(role.key)
+        tracks = conversation_living_tracks(
+            tracks,
+            own,
+            living,
+            role.key,
+            turns,
+            surroundings(role.key, standings, camera),
+            (voice.samples, voice.sample_rate) if voice is not None else None,
+            heard_voice,
+            scene_timeline,
+        )
+        if options.interpolation != "AUTO":
+            tracks = dataclasses.replace(tracks, interpolation=options.interpolation)
+        characters.append(Character(role, own, tracks, voice))
+    return SceneResult(options, speech, tuple(characters), speech.warnings)
+
+
+__all__ = [
+    "Cast",
+    "Character",
+    "Role",
+    "RoleChoice",
+    "SceneLine",
+    "SceneResult",
+    "SceneSources",
+    "SceneSpeech",
+    "SoundPiece",
+    "Standing",
+    "cast_for",
+    "converse",
+    "read_script",
+]

@@ -1,0 +1,494 @@
+"""A scene's speech: every line spoken in its speaker's voice, or found in the recordings, on one timeline.
+
+Where each line comes from:
+
+- synthesis: each line is spoken alone in its speaker's voice, and the lines are laid one after another
+  with conversational gaps (conversation.toml [turns]; Stivers et al. 2009: about 200 ms between turns),
+  the markup's BREAK where it gives one, the usual gap within one speaker's turn, an overlap where the line
+  is marked so. A gap runs from the last phone of the line before to the first phone of the next.
+- one recording of the whole scene: the whole script (each line in its speaker's voice, with usual gaps) is
+  aligned to it as one take (speech/recording.py's align_recording, through synthesize_timeline), and each
+  line's words keep the times the take gives them;
+- one recording per speaker: each a track of the scene (it starts where the scene starts, silent while the
+  others speak), aligned to that speaker's lines in order;
+- one recording per line: each aligned to its own line, then laid out as synthesised lines are;
+- a Papagayo project with one voice per speaker (as the scene's own export writes it): each voice times
+  that speaker's lines, its sound the scene's.
+
+Each line's timeline is on the scene's timeline; a speaker's timeline holds only their own lines, so their
+mouth is at rest while the others speak.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from ..base.errors import LipSyncError
+from ..base.model import EmotionSpan, Pause, SpokenWord, Timeline, Utterance
+from ..speech import Synthesis, synthesize_timeline
+from ..speech.audio import read_audio, resampled_pcm
+from ..speech.cue_timing import timeline_from_cues
+from ..speech.cues import CueSource
+from ..speech.cues.papagayo_pgo import read_pgo_voices, rest_between, spoken_words
+from ..speech.timing import build_timeline
+from ..text.normalize import normalize
+from ..text.script import Script, ScriptLine, speaker_key
+from ..text.utterance import assemble_utterance
+from .cast import Cast, spoken_by
+from .tables import Turns, conversation_table
+
+TAIL = 0.5  # seconds of the scene after its last phone (the last listener still reacting)
+READY = 0.3  # an overlapping line starts at least this long after the line it overlaps began
+
+
+@dataclass(frozen=True, eq=False)
+class SceneLine:
+    """A line on the scene's timeline."""
+
+    index: int
+    speaker: str  # the speaker's key
+    addressee: str  # a speaker's key or CAMERA
+    timeline: Timeline  # its phones, words and emotions at scene times
+    utterance: Utterance
+
+    @property
+    def first_phone(self) -> float:
+        return min(phone.start for phone in self.timeline.phones)
+
+    @property
+    def last_phone(self) -> float:
+        return max(phone.end for phone in self.timeline.phones)
+
+
+@dataclass(frozen=True, eq=False)
+class SoundPiece:
+    """A sound of the scene placed at `start` seconds: a line's, a speaker's recording, or the scene's."""
+
+    name: str  # what the sequencer's strip is called (the speaker, and the line's number)
+    speaker: str | None  # the speaker's key; None for a recording of the whole scene
+    start: float
+    audio: Synthesis
+    line: int | None = None  # the line it holds alone
+
+
+@dataclass(frozen=True, eq=False)
+class SceneSpeech:
+    script: Script
+    cast: Cast
+    lines: tuple[SceneLine, ...]
+    pieces: tuple[SoundPiece, ...]
+    duration: float
+    timing: str
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def sample_rate(self) -> int:
+        return max((piece.audio.sample_rate for piece in self.pieces), default=0)
+
+    def mix(self) -> Synthesis | None:
+        """Everything the scene says, on its timeline (None without audio)."""
+        return self._mixed(self.pieces, "scene")
+
+    def voice_of(self, key: str) -> Synthesis | None:
+        """One speaker's voice alone on the scene's timeline: their pieces, or their lines' spans of a
+        recording of the whole scene (None without audio)."""
+        own = [piece for piece in self.pieces if piece.speaker == key]
+        shared = [piece for piece in self.pieces if piece.speaker is None]
+        mixed = self._mixed(own + shared, key)
+        if mixed is None or not shared:
+            return mixed
+        keep = np.zeros(mixed.samples.size, bool)
+        rate = mixed.sample_rate
+        for line in self.lines:
+            if line.speaker == key:
+                keep[max(0, int((line.first_phone - 0.05) * rate)) : int((line.last_phone + 0.05) * rate)] = (
+                    True
+                )
+        return replace(mixed, samples=np.where(keep, mixed.samples, 0).astype(np.int16))
+
+    def _mixed(self, pieces, engine: str) -> Synthesis | None:
+        rate = self.sample_rate
+        if not pieces or not rate:
+            return None
+        total = np.zeros(int(math.ceil(self.duration * rate)) + 1, np.float64)
+        for piece in pieces:
+            samples = piece.audio.samples
+            if piece.audio.sample_rate != rate:
+                samples = resampled_pcm(samples.astype(np.float32) / 32768.0, piece.audio.sample_rate, rate)
+            first = int(round(piece.start * rate))
+            stop = min(first + samples.size, total.size)
+            total[first:stop] += samples[: stop - first]
+        pcm = np.clip(np.round(total), -32768, 32767).astype(np.int16)
+        return Synthesis(pcm, rate, (), (), engine)
+
+    def speaker_timeline(self, key: str) -> Timeline:
+        """A speaker's own lines on the scene's timeline (the whole scene long)."""
+        return joined_timelines([line.timeline for line in self.lines if line.speaker == key], self.duration)
+
+    def scene_timeline(self) -> Timeline:
+        """Every line on the scene's timeline."""
+        return joined_timelines([line.timeline for line in self.lines], self.duration)
+
+
+@dataclass(frozen=True)
+class SceneSources:
+    """Where the scene's speech comes from: recordings or a cue file instead of the speech engine."""
+
+    scene_recording: Path | None = None
+    speaker_recordings: dict[str, Path] | None = None  # by speaker's key (the cast's roles hold them)
+    line_recordings: tuple[Path, ...] = ()
+    cues: Path | None = None
+
+
+def speak_scene(
+    script: Script,
+    cast: Cast,
+    *,
+    timing: str = "phone",
+    rate: float = 1.0,
+    engine: str = "espeak",
+    sources: SceneSources | None = None,
+    seed: int = 0,
+) -> SceneSpeech:
+    """Every line of the script spoken (or found in the recordings) on the scene's timeline."""
+    sources = sources or SceneSources()
+    speaker_recordings = {role.key: role.recording for role in cast.roles if role.recording is not None}
+    speaker_recordings |= {speaker_key(k): Path(v) for k, v in (sources.speaker_recordings or {}).items()}
+    given = [
+        name
+        for name, used in (
+            ("a recording of the whole scene", sources.scene_recording is not None),
+            ("recordings per speaker", bool(speaker_recordings)),
+            ("recordings per line", bool(sources.line_recordings)),
+            ("a cue file", sources.cues is not None),
+        )
+        if used
+    ]
+    if len(given) > 1:
+        raise LipSyncError(f"The scene is given {' and '.join(given)}; give only one of them.")
+    if given and timing == "table":
+        raise LipSyncError(
+            "Table timing uses no speech, so it cannot follow a recording; choose phone or word."
+        )
+    utterances = [line_utterance(script, line, cast, rate) for line in script.lines]
+    addressees = script.addressees()
+    rng = np.random.default_rng([seed, 31])
+    if sources.cues is not None:
+        return _from_papagayo(script, cast, utterances, addressees, sources.cues, rate)
+    if sources.scene_recording is not None:
+        return _from_scene_recording(
+            script, cast, utterances, addressees, timing, engine, sources.scene_recording, rate
+        )
+    if speaker_recordings:
+        return _from_speaker_recordings(
+            script, cast, utterances, addressees, timing, engine, speaker_recordings, rate
+        )
+    if sources.line_recordings and len(sources.line_recordings) != len(script.lines):
+        raise LipSyncError(
+            f"The script has {len(script.lines)} lines and {len(sources.line_recordings)} line recordings "
+            "were given: give one recording per line, in the order of the lines."
+        )
+    speeches = [
+        synthesize_timeline(
+            utterance,
+            timing,
+            recording=sources.line_recordings[index] if sources.line_recordings else None,
+            engine=engine,
+        )
+        for index, utterance in enumerate(utterances)
+    ]
+    return _laid_out(script, cast, utterances, addressees, speeches, rng, timing)
+
+
+def line_utterance(script: Script, line: ScriptLine, cast: Cast, rate: float = 1.0) -> Utterance:
+    """The line's words as spoken, in its speaker's voice (offsets into the whole script)."""
+    return spoken_by(assemble_utterance(script.source, normalize(line.items)), cast.role(line.speaker), rate)
+
+
+# ---------------------------------------------------------------- lines laid out one after another
+
+
+def line_starts(
+    script: Script, firsts: list[float], lasts: list[float], rng: np.random.Generator, turns: Turns
+) -> list[float]:
+    """Where each line's audio starts on the scene so that its first phone (firsts: seconds into its own
+    audio) follows the last phone before it (lasts, likewise) by a conversational gap, a BREAK, the pause
+    within one speaker's turn, or overlaps it as marked."""
+    starts: list[float] = []
+    first_at: list[float] = []
+    last_at: list[float] = []
+    for index, line in enumerate(script.lines):
+        if index == 0:
+            first = (line.pause_before or 0.0) + firsts[0]
+        elif line.overlaps:
+            overlap = line.overlap if line.overlap is not None else turns.overlap
+            first = max(last_at[-1] - overlap, first_at[-1] + READY)
+        else:
+            if line.pause_before is not None:
+                gap = line.pause_before
+            elif line.speaker == script.lines[index - 1].speaker:
+                gap = turns.same_speaker_gap
+            else:
+                drawn = math.exp(math.log(turns.gap_median) + turns.gap_spread * float(rng.standard_normal()))
+                gap = min(max(drawn, turns.gap_min), turns.gap_max)
+            first = max(last_at) + gap
+        start = max(0.0, first - firsts[index])
+        starts.append(start)
+        first_at.append(start + firsts[index])
+        last_at.append(start + lasts[index])
+    return starts
+
+
+def _laid_out(script, cast, utterances, addressees, speeches, rng, timing: str) -> SceneSpeech:
+    firsts = [min(p.start for p in s.timeline.phones) for s in speeches]
+    lasts = [max(p.end for p in s.timeline.phones) for s in speeches]
+    starts = line_starts(script, firsts, lasts, rng, conversation_table().turns)
+    duration = max(start + last for start, last in zip(starts, lasts, strict=True)) + TAIL
+    duration = max(
+        [duration]
+        + [
+            start + s.synthesis.duration
+            for start, s in zip(starts, speeches, strict=True)
+            if s.synthesis is not None
+        ]
+    )
+    lines, pieces, warnings = [], [], []
+    for index, (line, utterance, speech, start) in enumerate(
+        zip(script.lines, utterances, speeches, starts, strict=True)
+    ):
+        lines.append(
+            SceneLine(
+                index,
+                line.speaker,
+                addressees[index],
+                shifted_timeline(speech.timeline, start, duration),
+                utterance,
+            )
+        )
+        if speech.synthesis is not None:
+            name = f"{cast.role(line.speaker).name} {index + 1}"
+            pieces.append(SoundPiece(name, line.speaker, start, speech.synthesis, index))
+        warnings += [f"Line {index + 1} ({cast.role(line.speaker).name}): {w}" for w in speech.warnings]
+    return SceneSpeech(
+        script, cast, tuple(lines), tuple(pieces), duration, _label(speeches, timing), tuple(warnings)
+    )
+
+
+def _label(speeches, timing: str) -> str:
+    return speeches[0].timeline.timing if speeches else timing
+
+
+# ---------------------------------------------------------------- recordings and cue files
+
+
+def scene_utterance(
+    script: Script, cast: Cast, lines: list[int] | None = None, rate: float = 1.0
+) -> Utterance:
+    """Several lines as one utterance (all of them by default), each word in its speaker's voice, with the
+    usual gap (or the markup's BREAK) between lines: what a recording of them is aligned to. Its letters are
+    the lines' letters in order (split_timeline parts its timeline again)."""
+    turns = conversation_table().turns
+    items: list[SpokenWord | Pause] = []
+    chosen = range(len(script.lines)) if lines is None else lines
+    for number, index in enumerate(chosen):
+        line = script.lines[index]
+        role = cast.role(line.speaker)
+        spoken = list(normalize(line.items))
+        while spoken and isinstance(spoken[0], Pause):
+            spoken.pop(0)
+        trailing: list[Pause] = []
+        while spoken and isinstance(spoken[-1], Pause):  # its punctuation stays, its silence is the gap's
+            trailing.insert(0, replace(spoken.pop(), seconds=0.0))
+        if number:
+            gap = (
+                0.05
+                if line.overlaps
+                else (line.pause_before if line.pause_before is not None else turns.gap_median)
+            )
+            items.append(Pause(gap, line.offset, "break"))
+        items += [
+            replace(item, style=role.voice.style(item.style, rate)) if isinstance(item, SpokenWord) else item
+            for item in spoken
+        ] + trailing
+    return assemble_utterance(script.source, items)
+
+
+def split_timeline(timeline: Timeline, utterances: list[Utterance], duration: float) -> list[Timeline]:
+    """The timeline of several lines spoken as one utterance, as one timeline per line (same times)."""
+    phones = sorted(timeline.phones, key=lambda phone: phone.letter_index)
+    starts = np.array([phone.start for phone in phones])
+    ends = np.array([phone.end for phone in phones])
+    result, first = [], 0
+    for utterance in utterances:
+        count = len(utterance.letters)
+        result.append(
+            build_timeline(
+                utterance,
+                starts[first : first + count],
+                ends[first : first + count],
+                duration,
+                timeline.timing,
+            )
+        )
+        first += count
+    return result
+
+
+def _from_scene_recording(
+    script, cast, utterances, addressees, timing, engine, path: Path, rate
+) -> SceneSpeech:
+    whole = scene_utterance(script, cast, rate=rate)
+    speech = synthesize_timeline(whole, timing, recording=path, engine=engine)
+    duration = speech.synthesis.duration
+    timelines = split_timeline(speech.timeline, utterances, duration)
+    lines = tuple(
+        SceneLine(index, line.speaker, addressees[index], timelines[index], utterances[index])
+        for index, line in enumerate(script.lines)
+    )
+    piece = SoundPiece("scene", None, 0.0, speech.synthesis)
+    return SceneSpeech(script, cast, lines, (piece,), duration, speech.timeline.timing, speech.warnings)
+
+
+def _from_speaker_recordings(
+    script, cast, utterances, addressees, timing, engine, recordings, rate
+) -> SceneSpeech:
+    missing = [role.name for role in cast.roles if role.key not in recordings]
+    if missing:
+        raise LipSyncError(
+            f"Recordings per speaker were given, but none for {', '.join(missing)}: give every speaker a "
+            "recording (their track of the scene), or one recording of the whole scene."
+        )
+    timelines: dict[int, Timeline] = {}
+    pieces, warnings = [], []
+    speeches = {}
+    for role in cast.roles:
+        own = [index for index, line in enumerate(script.lines) if line.speaker == role.key]
+        whole = scene_utterance(script, cast, own, rate)
+        speeches[role.key] = (
+            own,
+            synthesize_timeline(whole, timing, recording=recordings[role.key], engine=engine),
+        )
+    duration = max(speech.synthesis.duration for _, speech in speeches.values())
+    for role in cast.roles:
+        own, speech = speeches[role.key]
+        for index, line_timeline in zip(
+            own, split_timeline(speech.timeline, [utterances[i] for i in own], duration), strict=True
+        ):
+            timelines[index] = line_timeline
+        pieces.append(SoundPiece(role.name, role.key, 0.0, speech.synthesis))
+        warnings += [f"{role.name}'s recording: {w}" for w in speech.warnings]
+    lines = tuple(
+        SceneLine(index, line.speaker, addressees[index], timelines[index], utterances[index])
+        for index, line in enumerate(script.lines)
+    )
+    label = next(iter(speeches.values()))[1].timeline.timing
+    return SceneSpeech(script, cast, lines, tuple(pieces), duration, label, tuple(warnings))
+
+
+def _from_papagayo(script, cast, utterances, addressees, path: Path, rate) -> SceneSpeech:
+    """Each voice of a Papagayo project times its speaker's lines: voices matched to speakers by name, else
+    in order where the project has as many voices as the script speakers."""
+    voices = read_pgo_voices(Path(path))
+    by_name = {speaker_key(voice.voice_name): voice for voice in voices}
+    if all(role.key in by_name for role in cast.roles):
+        chosen = {role.key: by_name[role.key] for role in cast.roles}
+    elif len(voices) == len(cast.roles):
+        chosen = {role.key: voice for role, voice in zip(cast.roles, voices, strict=True)}
+    else:
+        names = ", ".join(voice.voice_name for voice in voices)
+        raise LipSyncError(
+            f"{path} has the voices {names}, which do not match the script's speakers "
+            f"({', '.join(role.name for role in cast.roles)}): name each voice after its speaker."
+        )
+    timelines: dict[int, Timeline] = {}
+    warnings: list[str] = []
+    duration = max(voice.duration_frames / voice.fps for voice in voices)
+    for role in cast.roles:
+        voice = chosen[role.key]
+        own = [index for index, line in enumerate(script.lines) if line.speaker == role.key]
+        whole = scene_utterance(script, cast, own, rate)
+        words = spoken_words(voice)
+        cues = rest_between(words)
+        if not cues:
+            raise LipSyncError(
+                f"{path}: the voice {voice.voice_name} holds no phonemes; break its words down first"
+            )
+        source = CueSource(
+            Path(path), cues, duration, text=voice.text, sound_file=voice.sound_path, word_cues=words
+        )
+        timeline, found = timeline_from_cues(whole, source)
+        warnings += [f"{role.name}: {w}" for w in found]
+        duration = max(duration, timeline.duration)
+        for index, line_timeline in zip(
+            own, split_timeline(timeline, [utterances[i] for i in own], duration), strict=True
+        ):
+            timelines[index] = line_timeline
+    lines = tuple(
+        SceneLine(index, line.speaker, addressees[index], timelines[index], utterances[index])
+        for index, line in enumerate(script.lines)
+    )
+    pieces = ()
+    sound = Path(path).parent / voices[0].sound_path if voices[0].sound_path else None
+    if sound is not None and sound.is_file():
+        samples, rate = read_audio(sound)
+        pcm = np.clip(np.round(samples * 32768), -32768, 32767).astype(np.int16)
+        pieces = (SoundPiece("scene", None, 0.0, Synthesis(pcm, rate, (), (), "recording")),)
+    elif voices[0].sound_path:
+        warnings.append(
+            f"{path} names the sound {voices[0].sound_path}, which is not there: the scene is silent."
+        )
+    return SceneSpeech(script, cast, lines, pieces, duration, "cues", tuple(warnings))
+
+
+# ---------------------------------------------------------------- timelines
+
+
+def shifted_timeline(timeline: Timeline, start: float, duration: float) -> Timeline:
+    """A line's timeline moved to start at `start` seconds of a scene `duration` long."""
+    return Timeline(
+        phones=tuple(replace(p, start=p.start + start, end=p.end + start) for p in timeline.phones),
+        words=tuple(replace(w, start=w.start + start, end=w.end + start) for w in timeline.words),
+        emotions=tuple(replace(e, start=e.start + start, end=e.end + start) for e in timeline.emotions),
+        emphases=tuple((a + start, b + start) for a, b in timeline.emphases),
+        duration=duration,
+        timing=timeline.timing,
+        engine_onsets=tuple(t + start for t in timeline.engine_onsets),
+    )
+
+
+def joined_timelines(timelines: list[Timeline], duration: float, timing: str = "") -> Timeline:
+    """Timelines on one timeline as one: words and letters numbered on from line to line."""
+    phones, words, emotions, emphases, onsets = [], [], [], [], []
+    word_base = letter_base = 0
+    for timeline in timelines:
+        phones += [
+            replace(p, word_index=p.word_index + word_base, letter_index=p.letter_index + letter_base)
+            for p in timeline.phones
+        ]
+        words += [replace(w, index=w.index + word_base) for w in timeline.words]
+        emotions += timeline.emotions
+        emphases += timeline.emphases
+        onsets += timeline.engine_onsets
+        word_base += len(timeline.words)
+        letter_base += len(timeline.phones)
+    return Timeline(
+        tuple(phones),
+        tuple(words),
+        tuple(emotions),
+        tuple(emphases),
+        duration,
+        timing or (timelines[0].timing if timelines else "phone"),
+        tuple(sorted(onsets)),
+    )
+
+
+def with_faint_emotions(timeline: Timeline, heard: list[Timeline], share: float) -> Timeline:
+    """A listener's timeline with the emotions of the lines it hears, at `share` of their weight."""
+    faint = [EmotionSpan(e.start, e.end, e.emotion, e.weight * share) for t in heard for e in t.emotions]
+    if not faint or share <= 0:
+        return timeline
+    return replace(timeline, emotions=tuple(sorted((*timeline.emotions, *faint), key=lambda e: e.start)))
