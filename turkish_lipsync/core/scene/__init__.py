@@ -73,8 +73,16 @@ def converse(
     """Speak the script with the cast and move every character (standings: where each stands, by speaker
     key; the core's own arc and camera where not given)."""
     options = options or LipSyncOptions()
+    return scene_motion(scene_speech(script, cast, options, sources), options, standings, camera)
+
+
+def scene_speech(
+    script: Script, cast: Cast, options: LipSyncOptions, sources: SceneSources | None = None
+) -> SceneSpeech:
+    """The scene's lines spoken (or found in recordings) with the options' timing, rate and engine; a
+    recording or cue file of the options is the whole scene's."""
     sources = sources or SceneSources(scene_recording=options.recording, cues=options.cues)
-    speech = speak_scene(
+    return speak_scene(
         script,
         cast,
         timing=options.timing,
@@ -83,6 +91,17 @@ def converse(
         sources=sources,
         seed=options.seed,
     )
+
+
+def scene_motion(
+    speech: SceneSpeech,
+    options: LipSyncOptions,
+    standings: dict[str, Standing] | None = None,
+    camera: np.ndarray | None = None,
+) -> SceneResult:
+    """Every character's tracks over the scene: its own lines' mouth, the faint emotions of what it hears,
+    and the living layers of the conversation (see the module's text)."""
+    cast = speech.cast
     if standings is None or camera is None:
         standings, camera = default_standings(cast.keys)
     turns = turns_of(speech)
@@ -133,4 +152,6 @@ __all__ = [
     "cast_for",
     "converse",
     "read_script",
+    "scene_motion",
+    "scene_speech",
 ]
