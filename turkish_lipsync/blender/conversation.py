@@ -29,8 +29,8 @@ from ..core.scene.speech import SceneSources
 from ..core.scene.tables import conversation_table
 from ..core.speech import Synthesis
 from ..core.text.script import Script
+from . import gltf_export, keyframes, living, pipeline, render, sequencer, shapekeys
 from . import heads as head_files
-from . import keyframes, living, pipeline, render, sequencer, shapekeys
 from .living_rig import LivingRig, find_rig
 from .scene_record import ConversationRecord, conversation_record, keep_conversation_record
 
@@ -313,3 +313,25 @@ def _forget_previous(scene: bpy.types.Scene, previous: ConversationRecord | None
     for obj in previous.head_objects():
         if obj.name not in keeping:
             keyframes.remove_weight_tracks(pipeline.head_objects(obj))
+
+
+def export_conversation_gltf(
+    context: bpy.types.Context, filepath: str | Path
+) -> list[gltf_export.GltfExport]:
+    """A conversation as glTF: the whole scene in the chosen file, and each character in a file of its own
+    beside it (scene_Ayşe.glb), each with the scene's speech WAV beside it."""
+    record = conversation_record(context.scene)
+    if record is None:
+        raise HeadError("The scene has no conversation to export: generate one from a script with speakers.")
+    path = Path(bpy.path.abspath(str(filepath))).with_suffix(".glb")
+    heads = record.head_objects()
+    written = [gltf_export.export_heads_gltf(context, heads, path)]
+    for key, name in record.heads.items():
+        if name in bpy.data.objects:
+            speaker = "_".join(record.names.get(key, key).split())
+            written.append(
+                gltf_export.export_heads_gltf(
+                    context, [bpy.data.objects[name]], path.with_name(f"{path.stem}_{speaker}.glb")
+                )
+            )
+    return written

@@ -41,6 +41,7 @@ from ..text.utterance import assemble_utterance
 from .cast import Cast, spoken_by
 from .tables import Turns, conversation_table
 
+RECORDING_SUFFIXES = (".wav", ".flac", ".ogg")  # what a folder of line recordings holds
 TAIL = 0.5  # seconds of the scene after its last phone (the last listener still reacting)
 READY = 0.3  # an overlapping line starts at least this long after the line it overlaps began
 
@@ -202,6 +203,16 @@ def speak_scene(
         for index, utterance in enumerate(utterances)
     ]
     return _laid_out(script, cast, utterances, addressees, speeches, rng, timing)
+
+
+def line_recordings_in(folder: Path) -> tuple[Path, ...]:
+    """A folder's recordings, one per line, in the order of their names (01.wav, 02.wav, ...)."""
+    if not folder.is_dir():
+        raise LipSyncError(f"The line recordings folder {folder} does not exist; choose the folder again.")
+    found = tuple(sorted(p for p in folder.iterdir() if p.suffix.lower() in RECORDING_SUFFIXES))
+    if not found:
+        raise LipSyncError(f"{folder} holds no recordings ({', '.join(RECORDING_SUFFIXES)}): one per line.")
+    return found
 
 
 def line_utterance(script: Script, line: ScriptLine, cast: Cast, rate: float = 1.0) -> Utterance:

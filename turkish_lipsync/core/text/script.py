@@ -103,10 +103,19 @@ def display_name(name: str) -> str:
 
 def read_script(source: str) -> Script | None:
     """The script's lines and speakers, or None for a text with no speakers (one head speaks it all)."""
-    if re.search(r"<\s*voice[\s>/]", source, re.IGNORECASE):
+    if _VOICE_TAG.search(source):
         return _read_voices(source)
     cues = _screenplay_cues(source)
     return _read_screenplay(source, cues) if cues else None
+
+
+def has_speakers(source: str) -> bool:
+    """Whether the text is a script with speakers (without reading its lines: cheap enough for a panel's
+    redraw; read_script says what is wrong with it)."""
+    return bool(_VOICE_TAG.search(source) or _screenplay_cues(source))
+
+
+_VOICE_TAG = re.compile(r"<\s*voice[\s>/]", re.IGNORECASE)
 
 
 # ---------------------------------------------------------------- JSML with VOICE elements
