@@ -23,6 +23,7 @@ from .pipeline import (
     identifiers,
     lip_sync,
 )
+from .text.script import read_script
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -209,6 +210,10 @@ def _run_normalize(args: argparse.Namespace) -> int:
 
 def _run_timeline(args: argparse.Namespace) -> int:
     check_paths(args, wav=args.wav)
+    source = read_source(args.file, args.text, args.cues, args.audio)
+    script = read_script(source) if source.strip() else None
+    if script is not None:
+        return _run_scene_timeline(args, script)
     result = _lip_sync(args)
     if args.wav:
         if result.synthesis is None:
@@ -222,6 +227,75 @@ def _run_timeline(args: argparse.Namespace) -> int:
     else:
         print(timeline_as_tsv(result.timeline, args.fps))
     return 0
+
+
+def _run_scene_timeline(args: argparse.Namespace, script) -> int:
+    """A script with speakers: its lines on the scene's timeline, then each speaker's own timeline."""
+    from .scene import cast_for, scene_speech
+    from .scene.speech import SceneSources
+
+    options = options_from(args)
+    cast = cast_for(script, emotion_strength=options.emotion_strength)
+    sources = SceneSources(scene_recording=options.recording, cues=options.cues)
+    speech = scene_speech(script, cast, options, sources)
+    for warning in speech.warnings:
+        print(f"warning: {warning}", file=sys.stderr)
+    if args.wav:
+        mix = speech.mix()
+        if mix is None:
+            raise LipSyncError("--wav needs a speech engine: use --timing phone or word")
+        from .speech import write_wav
+
+        write_wav(args.wav, mix)
+    if args.format == "json":
+        data = {
+            "duration": round(speech.duration, 4),
+            "cast": [
+                {
+                    "name": r.name,
+                    "gender": r.gender,
+                    "voice": r.voice.variant,
+                    "pitch": r.voice.pitch,
+                    "rate": r.voice.rate,
+                }
+                for r in cast.roles
+            ],
+            "lines": [_line_as_dict(line, cast) for line in speech.lines],
+            "speakers": {
+                role.name: timeline_as_dict(speech.speaker_timeline(role.key), args.fps)
+                for role in cast.roles
+            },
+        }
+        print(json.dumps(data, ensure_ascii=False, indent=1))
+        return 0
+    lines = [
+        f"# scene\tlines {len(speech.lines)}\tspeakers {len(cast.roles)}\tduration {speech.duration:.3f}"
+    ]
+    lines.append("line\tstart\tend\tspeaker\taddressee\ttext")
+    for line in speech.lines:
+        entry = _line_as_dict(line, cast)
+        lines.append(
+            f"{entry['line']}\t{entry['start']:.3f}\t{entry['end']:.3f}\t{entry['speaker']}\t{entry['addressee']}\t"
+            f"{entry['text']}"
+        )
+    for role in cast.roles:
+        lines.append("")
+        lines.append(f"# speaker {role.name}\tvoice {role.voice.variant}")
+        lines.append(timeline_as_tsv(speech.speaker_timeline(role.key), args.fps))
+    print("\n".join(lines))
+    return 0
+
+
+def _line_as_dict(line, cast) -> dict:
+    addressee = cast.role(line.addressee).name if line.addressee in cast.keys else line.addressee
+    return {
+        "line": line.index + 1,
+        "start": round(line.first_phone, 4),
+        "end": round(line.last_phone, 4),
+        "speaker": cast.role(line.speaker).name,
+        "addressee": addressee,
+        "text": " ".join(word.text for word in line.utterance.words),
+    }
 
 
 def _run_export(args: argparse.Namespace) -> int:
