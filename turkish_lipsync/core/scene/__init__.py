@@ -19,8 +19,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..base.model import Timeline, WeightTracks
+from ..base.model import EMOTIONS, Timeline, WeightTracks, emotion_key_name, emotion_release_key_name
 from ..motion import weight_tracks
+from ..motion.frames import sparse_track
 from ..motion.living.conversation import Turn, conversation_living_tracks
 from ..motion.living.parameters import living_parameters
 from ..pipeline import LipSyncOptions
@@ -53,6 +54,34 @@ class SceneResult:
 
     def turns(self) -> tuple[Turn, ...]:
         return turns_of(self.speech)
+
+
+def listener_tracks(
+    own: Timeline, heard: list[Timeline], share: float, options: LipSyncOptions, strength: float
+) -> WeightTracks:
+    """A character's weight tracks: its own lines, and the emotions of the lines it hears at `share` of
+    their weight on its upper face only (their mouth part released at once: a listener's mouth rests)."""
+    tracks = weight_tracks(own, options.fps, mode=options.motion, emotion_strength=strength)
+    echoed = with_faint_emotions(own, heard, share)
+    if options.motion != "natural" or echoed is own:
+        return tracks
+    full = weight_tracks(echoed, options.fps, mode=options.motion, emotion_strength=strength)
+    frames = np.arange(tracks.frame_count, dtype=np.float64)
+
+    def values(source: WeightTracks, name: str) -> np.ndarray:
+        track = source.track(name)
+        return np.zeros(frames.size) if track is None else np.interp(frames, track.frames, track.values)
+
+    changed = {}
+    for emotion in EMOTIONS:
+        name, release = emotion_key_name(emotion), emotion_release_key_name(emotion)
+        faint = values(full, name) - values(tracks, name)
+        if np.abs(faint).max(initial=0.0) < 1e-6:
+            continue
+        changed[name] = sparse_track(name, frames, values(full, name))
+        changed[release] = sparse_track(release, frames, values(tracks, release) + faint)
+    kept = tuple(track for track in tracks.tracks if track.name not in changed)
+    return dataclasses.replace(tracks, tracks=kept + tuple(changed.values()))
 
 
 def turns_of(speech: SceneSpeech) -> tuple[Turn, ...]:
@@ -113,12 +142,7 @@ def scene_motion(
     for number, role in enumerate(cast.roles, start=1):
         own = speech.speaker_timeline(role.key)
         heard = [line.timeline for line in speech.lines if line.speaker != role.key]
-        tracks = weight_tracks(
-            with_faint_emotions(own, heard, share),
-            options.fps,
-            mode=options.motion,
-            emotion_strength=role.emotion_strength,
-        )
+        tracks = listener_tracks(own, heard, share, options, role.emotion_strength)
         living = dataclasses.replace(options.living(), setup=standings[role.key].setup, character=number)
         voice = speech.voice_of(role.key)
         tracks = conversation_living_tracks(

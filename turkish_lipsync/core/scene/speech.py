@@ -42,6 +42,7 @@ from .cast import Cast, spoken_by
 from .tables import Turns, conversation_table
 
 RECORDING_SUFFIXES = (".wav", ".flac", ".ogg")  # what a folder of line recordings holds
+HEARD_DB = -35.0  # a line's audio this far under its loud end is silence
 TAIL = 0.5  # seconds of the scene after its last phone (the last listener still reacting)
 READY = 0.3  # an overlapping line starts at least this long after the line it overlaps began
 
@@ -255,8 +256,9 @@ def line_starts(
 
 
 def _laid_out(script, cast, utterances, addressees, speeches, rng, timing: str) -> SceneSpeech:
-    firsts = [min(p.start for p in s.timeline.phones) for s in speeches]
-    lasts = [max(p.end for p in s.timeline.phones) for s in speeches]
+    spans = [_heard_span(speech) for speech in speeches]
+    firsts = [first for first, _ in spans]
+    lasts = [last for _, last in spans]
     starts = line_starts(script, firsts, lasts, rng, conversation_table().turns)
     duration = max(start + last for start, last in zip(starts, lasts, strict=True)) + TAIL
     duration = max(
@@ -286,6 +288,26 @@ def _laid_out(script, cast, utterances, addressees, speeches, rng, timing: str) 
         warnings += [f"Line {index + 1} ({cast.role(line.speaker).name}): {w}" for w in speech.warnings]
     return SceneSpeech(
         script, cast, tuple(lines), tuple(pieces), duration, _label(speeches, timing), tuple(warnings)
+    )
+
+
+def _heard_span(speech) -> tuple[float, float]:
+    """Where a line is heard in its own audio: from its first phone (or the first sound, if earlier) to its
+    last phone (or the last sound, if later); gaps are what a listener hears between voices."""
+    first = min(p.start for p in speech.timeline.phones)
+    last = max(p.end for p in speech.timeline.phones)
+    audio = speech.synthesis
+    if audio is None or not audio.samples.size:
+        return first, last
+    hop = max(1, audio.sample_rate // 100)
+    count = audio.samples.size // hop
+    power = (audio.samples[: count * hop].astype(np.float64).reshape(count, hop) ** 2).mean(axis=1)
+    level = 10 * np.log10(np.maximum(power, 1e-12) / max(float(np.percentile(power, 95)), 1e-12))
+    heard = np.flatnonzero(level > HEARD_DB)
+    if not heard.size:
+        return first, last
+    return min(first, heard[0] * hop / audio.sample_rate), max(
+        last, (heard[-1] + 1) * hop / audio.sample_rate
     )
 
 
