@@ -97,7 +97,7 @@ def generate_conversation(
         )
         warnings += moved.warnings
         written = keyframes.write_weight_tracks(
-            pipeline.head_objects(head), character.tracks, start, _action_name(character, result)
+            pipeline.head_objects(head), character.tracks, start, _action_name(character, result, head)
         )
         actions += [w.action_name for w in written]
         _keep_character_record(head, script, result, character, start)
@@ -226,15 +226,19 @@ def _standings(context, cast: Cast, heads: dict[str, str]):
 # ---------------------------------------------------------------- keys, records, sounds
 
 
-def _action_name(character, result: SceneResult) -> str:
+def _action_name(character, result: SceneResult, head: bpy.types.Object) -> str:
+    """The character's action: its name and first words, short enough that its parts' actions (the name, a
+    dot and the part's name) fit Blender's 63 bytes."""
     words = " ".join(
         word.text
         for line in result.speech.lines
         if line.speaker == character.role.key
         for word in line.utterance.words
     )
+    longest = max((len(part.name.encode("utf-8")) for part in pipeline.head_objects(head)[1:]), default=0)
+    room = max(63 - 1 - longest, 24)
     name = f"{OWNED_PREFIX}{character.role.name}: {words}"
-    while len(name.encode("utf-8")) > 60:
+    while len(name.encode("utf-8")) > room:
         name = name[:-1]
     return name.rstrip()
 
