@@ -118,3 +118,25 @@ def test_listeners_look_at_the_speaker_and_speakers_at_whom_they_address(scene) 
 
 def test_a_single_speaker_text_is_not_a_scene() -> None:
     assert read_script("Merhaba, benim adım Erdem.") is None
+
+
+@pytest.mark.parametrize("kind", ["scene", "speakers"])
+def test_a_recording_of_the_scene_or_of_each_speaker_times_every_line(tmp_path, scene, kind) -> None:
+    """The truth is the synthesised scene itself: each line where the gaps put it."""
+    from turkish_lipsync.core.scene import scene_speech
+    from turkish_lipsync.core.scene.speech import SceneSources
+    from turkish_lipsync.core.speech import write_wav
+
+    truth = scene.speech
+    if kind == "scene":
+        sources = SceneSources(scene_recording=write_wav(tmp_path / "scene.wav", truth.mix()))
+    else:
+        tracks = {
+            r.key: write_wav(tmp_path / f"{r.key}.wav", truth.voice_of(r.key)) for r in truth.cast.roles
+        }
+        sources = SceneSources(speaker_recordings=tracks)
+    aligned = scene_speech(truth.script, truth.cast, LipSyncOptions(fps=25), sources)
+    for line, true in zip(aligned.lines, truth.lines, strict=True):
+        assert abs(line.first_phone - true.first_phone) < 0.05
+        assert {p.word_index for p in line.timeline.phones} == {p.word_index for p in true.timeline.phones}
+    assert len(aligned.pieces) == (1 if kind == "scene" else 2)

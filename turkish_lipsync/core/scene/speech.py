@@ -22,6 +22,7 @@ mouth is at rest while the others speak.
 from __future__ import annotations
 
 import math
+import tempfile
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -29,12 +30,12 @@ import numpy as np
 
 from ..base.errors import LipSyncError
 from ..base.model import EmotionSpan, Pause, SpokenWord, Timeline, Utterance
-from ..speech import Synthesis, synthesize_timeline
+from ..speech import Synthesis, synthesize_timeline, write_wav
 from ..speech.audio import read_audio, resampled_pcm
 from ..speech.cue_timing import timeline_from_cues
 from ..speech.cues import CueSource
 from ..speech.cues.papagayo_pgo import read_pgo_voices, rest_between, spoken_words
-from ..speech.timing import build_timeline
+from ..speech.timing import build_timeline, letter_durations
 from ..text.normalize import normalize
 from ..text.script import Script, ScriptLine, speaker_key
 from ..text.utterance import assemble_utterance
@@ -43,6 +44,9 @@ from .tables import Turns, conversation_table
 
 RECORDING_SUFFIXES = (".wav", ".flac", ".ogg")  # what a folder of line recordings holds
 HEARD_DB = -35.0  # a line's audio this far under its loud end is silence
+MIN_TURN_SILENCE = 0.3  # seconds of silence in a speaker's track that may part two of their turns
+SILENCE_WEIGHT = 0.2  # how much a longer silence is preferred as the end of a speaker's turn
+STRETCH_MARGIN = 0.3  # seconds of silence kept around a turn's stretch of a speaker's track
 TAIL = 0.5  # seconds of the scene after its last phone (the last listener still reacting)
 READY = 0.3  # an overlapping line starts at least this long after the line it overlaps began
 
@@ -389,6 +393,8 @@ def _from_scene_recording(
 def _from_speaker_recordings(
     script, cast, utterances, addressees, timing, engine, recordings, rate
 ) -> SceneSpeech:
+    """Each speaker's track of the scene: where it speaks, one turn of theirs a stretch (split at its longest
+    silences, since the others' lines leave long ones), each turn aligned to its own stretch."""
     missing = [role.name for role in cast.roles if role.key not in recordings]
     if missing:
         raise LipSyncError(
@@ -397,29 +403,121 @@ def _from_speaker_recordings(
         )
     timelines: dict[int, Timeline] = {}
     pieces, warnings = [], []
-    speeches = {}
-    for role in cast.roles:
-        own = [index for index, line in enumerate(script.lines) if line.speaker == role.key]
-        whole = scene_utterance(script, cast, own, rate)
-        speeches[role.key] = (
-            own,
-            synthesize_timeline(whole, timing, recording=recordings[role.key], engine=engine),
-        )
-    duration = max(speech.synthesis.duration for _, speech in speeches.values())
-    for role in cast.roles:
-        own, speech = speeches[role.key]
-        for index, line_timeline in zip(
-            own, split_timeline(speech.timeline, [utterances[i] for i in own], duration), strict=True
-        ):
-            timelines[index] = line_timeline
-        pieces.append(SoundPiece(role.name, role.key, 0.0, speech.synthesis))
-        warnings += [f"{role.name}'s recording: {w}" for w in speech.warnings]
+    duration = 0.0
+    with tempfile.TemporaryDirectory() as folder:
+        for role in cast.roles:
+            samples, sample_rate = read_audio(recordings[role.key])
+            pcm = np.clip(np.round(samples * 32767), -32768, 32767).astype(np.int16)
+            track = Synthesis(pcm, sample_rate, (), (), "recording")
+            duration = max(duration, track.duration)
+            turns = _turns_of(script, role.key)
+            expected = [_expected_length([utterances[i] for i in turn]) for turn in turns]
+            stretches = _stretches(pcm, sample_rate, expected)
+            if stretches is None:  # no clear silence between its turns: the track aligned as one take
+                turns, stretches = [[i for turn in turns for i in turn]], [(0.0, track.duration)]
+            for number, (turn, (start, end)) in enumerate(zip(turns, stretches, strict=True)):
+                first, last = int(start * sample_rate), int(np.ceil(end * sample_rate))
+                path = Path(folder) / f"{role.key}-{number}.wav"
+                write_wav(path, Synthesis(pcm[first:last], sample_rate, (), (), "recording"))
+                speech = synthesize_timeline(
+                    scene_utterance(script, cast, turn, rate), timing, recording=path, engine=engine
+                )
+                warnings += [f"{role.name}'s recording near {start:.1f} s: {w}" for w in speech.warnings]
+                parts = split_timeline(speech.timeline, [utterances[i] for i in turn], duration)
+                for index, part in zip(turn, parts, strict=True):
+                    timelines[index] = shifted_timeline(part, start, duration)
+            pieces.append(SoundPiece(role.name, role.key, 0.0, track))
     lines = tuple(
-        SceneLine(index, line.speaker, addressees[index], timelines[index], utterances[index])
+        SceneLine(
+            index,
+            line.speaker,
+            addressees[index],
+            replace(timelines[index], duration=duration),
+            utterances[index],
+        )
         for index, line in enumerate(script.lines)
     )
-    label = next(iter(speeches.values()))[1].timeline.timing
+    label = lines[0].timeline.timing if lines else timing
     return SceneSpeech(script, cast, lines, tuple(pieces), duration, label, tuple(warnings))
+
+
+def _turns_of(script: Script, key: str) -> list[list[int]]:
+    """A speaker's turns: runs of their lines that no other speaker's line comes between."""
+    turns: list[list[int]] = []
+    for index, line in enumerate(script.lines):
+        if line.speaker != key:
+            continue
+        if turns and turns[-1][-1] == index - 1:
+            turns[-1].append(index)
+        else:
+            turns.append([index])
+    return turns
+
+
+def _stretches(pcm: np.ndarray, rate: int, expected: list[float]) -> list[tuple[float, float]] | None:
+    """The track cut into one stretch of speech per turn (expected: each turn's length as the text's mean
+    durations say), at silences of MIN_TURN_SILENCE and more, chosen so that the stretches' lengths keep
+    the turns' proportions (a turn's own pauses are shorter than the others' turns, but not always); each
+    stretch keeps a little silence around it. None where the track has too few silences."""
+    hop = max(1, rate // 100)
+    frames = pcm.size // hop
+    power = (pcm[: frames * hop].astype(np.float64).reshape(frames, hop) ** 2).mean(axis=1)
+    level = 10 * np.log10(np.maximum(power, 1e-12) / max(float(np.percentile(power, 95)), 1e-12))
+    loud = np.flatnonzero(level > HEARD_DB)
+    count = len(expected)
+    if not loud.size:
+        return None
+    candidates = np.flatnonzero(np.diff(loud) > int(MIN_TURN_SILENCE * 100))
+    if candidates.size < count - 1:
+        return None
+    firsts = np.concatenate([[loud[0]], loud[candidates + 1]])  # where a stretch may begin
+    lasts = np.concatenate([loud[candidates] + 1, [loud[-1] + 1]])  # ... and end
+    # Speech (loud frames) up to each possible end, and the silence after it (a longer one parts turns).
+    spoken = np.concatenate([np.searchsorted(loud, lasts[:-1]), [loud.size]])
+    silence = np.log(np.diff(loud)[candidates] / (MIN_TURN_SILENCE * 100))
+    scale = loud.size / max(sum(expected), 1e-6)
+
+    def cost(turn: int, begin: int, end: int) -> float:
+        speech = spoken[end] - (spoken[begin - 1] if begin else 0)
+        fit = float(np.log(max(speech, 1) / max(expected[turn] * scale, 1e-6)) ** 2)
+        return fit - (SILENCE_WEIGHT * silence[end] if end < len(silence) else 0.0)
+
+    # best[turn][end]: the cheapest way for turns 0..turn to cover up to the end-th possible end.
+    ends = len(lasts)
+    best = np.full((count, ends), np.inf)
+    choice = np.zeros((count, ends), int)
+    for end in range(ends - count + 1):
+        best[0][end] = cost(0, 0, end)
+    for turn in range(1, count):
+        for end in range(turn, ends):
+            options = [best[turn - 1][e] + cost(turn, e + 1, end) for e in range(turn - 1, end)]
+            choice[turn][end] = turn - 1 + int(np.argmin(options))
+            best[turn][end] = min(options)
+    bounds, end = [], ends - 1
+    for turn in range(count - 1, -1, -1):
+        begin = choice[turn][end] + 1 if turn else 0
+        bounds.append((firsts[begin], lasts[end]))
+        end = choice[turn][end]
+    bounds.reverse()
+    margin = int(STRETCH_MARGIN * 100)
+    stretches = []
+    for number, (first, last) in enumerate(bounds):
+        before = bounds[number - 1][1] if number else 0
+        after = bounds[number + 1][0] if number + 1 < count else frames
+        stretches.append(
+            (
+                max(first - margin, (before + first) // 2) * hop / rate,
+                min(last + margin, (last + after) // 2) * hop / rate,
+            )
+        )
+    return stretches
+
+
+def _expected_length(utterances: list[Utterance]) -> float:
+    """Seconds the utterances take to say by the text's mean letter durations, their own pauses too."""
+    return sum(
+        float(letter_durations(u).sum()) + sum(word.pause_before for word in u.words[1:]) for u in utterances
+    )
 
 
 def _from_papagayo(script, cast, utterances, addressees, path: Path, rate) -> SceneSpeech:
