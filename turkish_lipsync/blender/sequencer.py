@@ -12,6 +12,7 @@ import bpy
 from ..core.base.errors import AudioError
 from ..core.speech.wav import speech_wav_in
 from . import compat
+from .scene_record import conversation_record
 
 SPEECH_STRIP_NAME = "TR_speech"
 SPEECH_FOLDER_NAME = "lipsync_audio"
@@ -215,3 +216,15 @@ def relate_speech_to(scene: bpy.types.Scene, blend_path: Path) -> None:
     strip = speech_strip(scene)
     if strip is not None and strip.sound is not None:
         strip.sound.filepath = relative
+    record = conversation_record(scene)
+    strips = compat.sequencer_strips(scene, create=False)
+    for name in record.strips if record is not None and strips is not None else ():
+        line = strips.get(name)
+        if line is not None and line.sound is not None:
+            try:
+                line.sound.filepath = bpy.path.relpath(
+                    os.path.normpath(bpy.path.abspath(line.sound.filepath)),
+                    start=str(Path(blend_path).resolve().parent),
+                )
+            except ValueError:  # another drive on Windows
+                continue

@@ -382,12 +382,48 @@ def _from_scene_recording(
     speech = synthesize_timeline(whole, timing, recording=path, engine=engine)
     duration = speech.synthesis.duration
     timelines = split_timeline(speech.timeline, utterances, duration)
+    for index, line in enumerate(script.lines):
+        if line.overlaps and index:
+            timelines[index] = _overlapping(
+                speech.synthesis,
+                timelines[index - 1],
+                timelines[index],
+                utterances[index],
+                line,
+                timing,
+                engine,
+            )
     lines = tuple(
         SceneLine(index, line.speaker, addressees[index], timelines[index], utterances[index])
         for index, line in enumerate(script.lines)
     )
     piece = SoundPiece("scene", None, 0.0, speech.synthesis)
     return SceneSpeech(script, cast, lines, (piece,), duration, speech.timeline.timing, speech.warnings)
+
+
+def _overlapping(
+    take: Synthesis, before: Timeline, aligned: Timeline, utterance, line, timing, engine
+) -> Timeline:
+    """A line marked as overlapping, aligned again on its own: one take of the scene is aligned one voice
+    after another, which puts it after the line it overlaps. Aligned to the stretch of the take from a little
+    more than the marked overlap before the other line's end to its own end, where its words are the only
+    ones that can match; kept as it was where that finds nothing clear."""
+    overlap = line.overlap if line.overlap is not None else conversation_table().turns.overlap
+    other_end = max(phone.end for phone in before.phones)
+    own_end = max(phone.end for phone in aligned.phones)
+    with tempfile.TemporaryDirectory() as folder:
+        for lead in (overlap + 0.15, overlap + 0.05, overlap + 0.3):
+            start = max(other_end - lead, 0.0)
+            first, last = int(start * take.sample_rate), int((own_end + 0.3) * take.sample_rate)
+            stretch = Synthesis(take.samples[first:last], take.sample_rate, (), (), "recording")
+            path = write_wav(Path(folder) / "line.wav", stretch)
+            try:
+                found = synthesize_timeline(utterance, timing, recording=path, engine=engine)
+            except LipSyncError:
+                continue
+            if not found.warnings:
+                return shifted_timeline(found.timeline, start, aligned.duration)
+    return aligned
 
 
 def _from_speaker_recordings(
