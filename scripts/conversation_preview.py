@@ -1,7 +1,7 @@
 """A strip of frames of the default cast in conversation: docs/images/conversation_strip.jpg.
 
     .venv/bin/python scripts/conversation_preview.py [--out docs/images/conversation_strip.jpg]
-        [--width 400] [--samples 8] [--script examples/conversation.txt] [--three examples/...]
+        [--width 480] [--samples 8] [--script examples/conversation.txt] [--three examples/...]
 
 Generates the script's scene (a default head per speaker, the two-shot camera) at 25 fps and renders, with
 Cycles on the CPU, frames that show what the characters do: each speaking with its mouth open while the
@@ -71,7 +71,7 @@ def row_of(script_path: Path, args, folder: str) -> np.ndarray:
     context = bpy.context
     scene = context.scene
     scene.render.fps = 25
-    width, height = args.width, args.width * 9 // 16
+    width, height = args.width, args.width * 5 // 12  # wide: the faces side by side, little sky
     scene.render.resolution_x, scene.render.resolution_y = width, height
     script = read_script(script_path.read_text(encoding="utf-8"))
     result = conversation.generate_conversation(context, script, {}, LipSyncOptions(), audio_folder=folder)
@@ -98,7 +98,7 @@ def row_of(script_path: Path, args, folder: str) -> np.ndarray:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=REPOSITORY / "docs" / "images" / "conversation_strip.jpg")
-    parser.add_argument("--width", type=int, default=400)
+    parser.add_argument("--width", type=int, default=480)
     parser.add_argument("--samples", type=int, default=8)
     parser.add_argument("--script", type=Path, default=REPOSITORY / "examples" / "conversation.txt")
     parser.add_argument("--three", type=Path, default=REPOSITORY / "examples" / "conversation_three.txt")

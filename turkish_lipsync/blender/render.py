@@ -29,7 +29,7 @@ CAMERA_LENS_MM = 70.0
 FACE_MARGIN_ABOVE = 0.27
 FACE_MARGIN_BELOW = 0.06
 FACE_MARGIN_SIDES = 0.1
-GROUP_MARGIN = 0.08  # room around a group of heads, as a share of their height
+GROUP_MARGIN = 0.15  # room around a group of heads, as a share of their height
 PROBE_ENVIRONMENT_VARIABLE = "TURKISH_LIPSYNC_PROBE_OPENGL"
 
 
