@@ -81,7 +81,7 @@ def generate_conversation(
 
     # From here on Blender data changes.
     progress(0.35, "Casting the heads")
-    heads, created = cast_heads(context, cast)
+    heads = cast_heads(context, cast)
     rigs, standings, camera = _standings(context, cast, heads)
     progress(0.45, "Moving every character")
     result = scene_motion(speech, options, standings, camera)
@@ -113,13 +113,8 @@ def generate_conversation(
             heads=dict(heads),
             names={role.key: role.name for role in cast.roles},
             strips=strips,
-            lines=tuple(
-                (line.speaker, line.addressee, line.first_phone, line.last_phone) for line in speech.lines
-            ),
-            frame_start=start,
             fps=fps,
             duration=speech.duration,
-            created=tuple(dict.fromkeys([*(previous.created if previous else ()), *created])),
         ),
     )
     progress(1.0, "Conversation generated")
@@ -140,14 +135,13 @@ def generate_conversation(
 # ---------------------------------------------------------------- heads
 
 
-def cast_heads(context: bpy.types.Context, cast: Cast) -> tuple[dict[str, str], list[str]]:
-    """Each speaker's head (speaker's key -> object name) and the heads made here: the role's object, a head
-    file imported, the default head Generate made for the speaker before, or a new default head in the
-    speaker's tone on its place of the arc. What was made is removed again when a head fails."""
+def cast_heads(context: bpy.types.Context, cast: Cast) -> dict[str, str]:
+    """Each speaker's head (speaker's key -> object name): the role's object, a head file imported, the
+    default head Generate made for the speaker before, or a new default head in the speaker's tone on its
+    place of the arc. What was made here is removed again when a head fails."""
     scene = context.scene
     made: list[bpy.types.Object] = []
     heads: dict[str, str] = {}
-    created: list[str] = []
     slots = arc_positions(len(cast.roles))
     table = conversation_table()
     try:
@@ -180,7 +174,6 @@ def cast_heads(context: bpy.types.Context, cast: Cast) -> tuple[dict[str, str], 
                     position, turn = slots[index]
                     head.location = head.location + Vector(position.tolist())
                     head.rotation_euler.z += math.radians(turn)
-                    created.append(head.name)
             if head.type != "MESH":
                 raise HeadError(
                     f"{role.name}'s head {head.name!r} is not a mesh; choose the head mesh itself."
@@ -197,7 +190,7 @@ def cast_heads(context: bpy.types.Context, cast: Cast) -> tuple[dict[str, str], 
                 bpy.data.meshes.remove(data)
         raise
     context.view_layer.update()
-    return heads, created
+    return heads
 
 
 def _head_name(name: str) -> str:

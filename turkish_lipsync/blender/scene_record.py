@@ -1,4 +1,4 @@
-"""What the last conversation Generate made in a scene: its characters' heads, its strips, its lines.
+"""What the last conversation Generate made in a scene: its characters' heads and names, its strips.
 
 Kept on the scene as JSON (names only, safe across undo), so that Generate again replaces exactly what it
 made, Render frames every character and the exports write one file per character.
@@ -7,7 +7,7 @@ made, Render frames every character and the exports write one file per character
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import bpy
 
@@ -19,11 +19,8 @@ class ConversationRecord:
     heads: dict[str, str]  # speaker's key -> head object's name
     names: dict[str, str]  # speaker's key -> the name the script gives them
     strips: tuple[str, ...] = ()  # our sound strips
-    lines: tuple[tuple[str, str, float, float], ...] = ()  # speaker, addressee, first and last phone (s)
-    frame_start: int = 1
     fps: float = 25.0
-    duration: float = 0.0
-    created: tuple[str, ...] = field(default_factory=tuple)  # heads Generate made (default heads)
+    duration: float = 0.0  # seconds of the scene
 
     def head_objects(self) -> list[bpy.types.Object]:
         """The characters' heads that are still in the file, in the cast's order."""
@@ -40,11 +37,8 @@ def conversation_record(scene: bpy.types.Scene) -> ConversationRecord | None:
             heads=dict(data["heads"]),
             names=dict(data["names"]),
             strips=tuple(data.get("strips", ())),
-            lines=tuple(tuple(line) for line in data.get("lines", ())),
-            frame_start=int(data.get("frame_start", 1)),
             fps=float(data.get("fps", 25.0)),
             duration=float(data.get("duration", 0.0)),
-            created=tuple(data.get("created", ())),
         )
     except (ValueError, KeyError, TypeError):
         return None  # a damaged record: the scene is treated as having none
@@ -56,11 +50,8 @@ def keep_conversation_record(scene: bpy.types.Scene, record: ConversationRecord)
             "heads": record.heads,
             "names": record.names,
             "strips": list(record.strips),
-            "lines": [list(line) for line in record.lines],
-            "frame_start": record.frame_start,
             "fps": record.fps,
             "duration": record.duration,
-            "created": list(record.created),
         },
         ensure_ascii=False,
     )

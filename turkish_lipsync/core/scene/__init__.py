@@ -52,9 +52,6 @@ class SceneResult:
     def character(self, key: str) -> Character:
         return next(c for c in self.characters if c.role.key == key)
 
-    def turns(self) -> tuple[Turn, ...]:
-        return turns_of(self.speech)
-
 
 def listener_tracks(
     own: Timeline, heard: list[Timeline], share: float, options: LipSyncOptions, strength: float

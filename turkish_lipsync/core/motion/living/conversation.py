@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...base.model import Timeline, WeightTracks
+from . import assembled_tracks, measured_prosody
 from .easing import minimum_jerk, smoothstep
 from .gaze import GazePlan, Saccade, eye_angles_toward, gamma, gaze_plan, next_place, talking_fixations
 from .head import head_angles, sway_motion
@@ -129,8 +130,6 @@ def conversation_living_tracks(
     (samples, rate), heard_voice: everyone's (None without audio); scene_timeline: every line's phones, for
     the pauses of the conversation where there is no audio. options: LivingOptions (its setup's eyes).
     """
-    from . import assembled_tracks, measured_prosody
-
     if not options.any:
         return tracks
     settings = living_parameters()
