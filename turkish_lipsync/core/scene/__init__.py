@@ -28,7 +28,7 @@ from ..pipeline import LipSyncOptions
 from ..speech import Synthesis
 from ..text.script import Script, read_script
 from .cast import Cast, Role, RoleChoice, cast_for
-from .layout import Standing, default_standings, surroundings
+from .layout import Standing, default_standings, face_path, surroundings
 from .speech import SceneLine, SceneSources, SceneSpeech, SoundPiece, speak_scene, with_faint_emotions
 
 
@@ -130,13 +130,27 @@ def scene_motion(
     cast = speech.cast
     if standings is None or camera is None:
         standings, camera = default_standings(cast.keys)
+    # Twice: each character looks at the others' faces where they are; the second time where their heads
+    # have turned them (a face 0.5 m away moves 5 degrees as its head turns toward whom it speaks to).
+    characters = _characters(speech, options, standings, camera, None)
+    faces = {
+        c.role.key: face_path(standings[c.role.key], c.tracks.head_and_eyes.head)
+        for c in characters
+        if c.tracks.head_and_eyes is not None
+    }
+    if faces:
+        characters = _characters(speech, options, standings, camera, faces)
+    return SceneResult(options, speech, tuple(characters), speech.warnings)
+
+
+def _characters(speech: SceneSpeech, options, standings, camera, faces) -> list[Character]:
     turns = turns_of(speech)
     mix = speech.mix()
     heard_voice = (mix.samples, mix.sample_rate) if mix is not None else None
     scene_timeline = speech.scene_timeline()
     share = living_parameters()["listening"]["emotion_share"]
     characters = []
-    for number, role in enumerate(cast.roles, start=1):
+    for number, role in enumerate(speech.cast.roles, start=1):
         own = speech.speaker_timeline(role.key)
         heard = [line.timeline for line in speech.lines if line.speaker != role.key]
         tracks = listener_tracks(own, heard, share, options, role.emotion_strength)
@@ -148,7 +162,7 @@ def scene_motion(
             living,
             role.key,
             turns,
-            surroundings(role.key, standings, camera),
+            surroundings(role.key, standings, camera, faces),
             (voice.samples, voice.sample_rate) if voice is not None else None,
             heard_voice,
             scene_timeline,
@@ -156,7 +170,7 @@ def scene_motion(
         if options.interpolation != "AUTO":
             tracks = dataclasses.replace(tracks, interpolation=options.interpolation)
         characters.append(Character(role, own, tracks, voice))
-    return SceneResult(options, speech, tuple(characters), speech.warnings)
+    return characters
 
 
 __all__ = [

@@ -15,6 +15,7 @@ import numpy as np
 
 from ..motion.living import GazeSetup
 from ..motion.living.conversation import Surroundings
+from ..motion.living.rotations import head_matrices
 from ..text.script import CAMERA
 from .tables import conversation_table
 
@@ -79,9 +80,22 @@ def default_standings(keys: tuple[str, ...]) -> tuple[dict[str, Standing], np.nd
     return standings, camera
 
 
-def surroundings(who: str, standings: dict[str, Standing], camera: np.ndarray) -> Surroundings:
-    """What `who` may look at, in its own head's frame: every other face and the camera."""
+def surroundings(
+    who: str, standings: dict[str, Standing], camera: np.ndarray, faces: dict[str, np.ndarray] | None = None
+) -> Surroundings:
+    """What `who` may look at, in its own head's frame: every other face (where it is at rest, or at every
+    frame: faces, world points by speaker) and the camera."""
     standing = standings[who]
-    points = {key: standing.seen(other.eyes_middle()) for key, other in standings.items() if key != who}
+    points = {
+        key: standing.seen(faces[key] if faces and key in faces else other.eyes_middle())
+        for key, other in standings.items()
+        if key != who
+    }
     points[CAMERA] = standing.seen(camera)
     return Surroundings(points)
+
+
+def face_path(standing: Standing, head: np.ndarray) -> np.ndarray:
+    """(frames, 3) world points between a character's eyes as its head turns (HeadAndEyes.head angles)."""
+    middle = standing.setup.eye_positions().mean(axis=0)
+    return standing.pivot + np.einsum("ij,njk,k->ni", standing.frame, head_matrices(head), middle)

@@ -61,7 +61,8 @@ class Attention:
 @dataclass(frozen=True, eq=False)
 class Surroundings:
     """Where a character's targets are: each point in its head's rest frame (x its left, y up, z forward),
-    relative to the pivot the head turns about, as GazeSetup's eye positions are."""
+    relative to the pivot the head turns about, as GazeSetup's eye positions are: (3,) where it stays, or
+    (frames, 3) where it moves (another character's face as its head turns)."""
 
     points: dict[str, np.ndarray]
 
@@ -141,7 +142,9 @@ def conversation_living_tracks(
     spans = attention_spans(who, turns, duration, listening["anticipation"])
 
     directions = _span_directions(spans, surroundings, options)
-    target_yaw, target_pitch, distance, switches = _target_directions(spans, directions, times, settings)
+    target_yaw, target_pitch, distance, switches = _target_directions(
+        spans, directions, surroundings, options, times, settings
+    )
     shifts = _conversation_fixations(spans, own, options.rng("gaze"), settings, options.gaze)
     plan = gaze_plan(shifts, times, settings["gaze"]) if times.size else GazePlan(np.zeros((0, 2)), ())
     plan = GazePlan(plan.offsets, tuple(sorted((*plan.saccades, *switches), key=lambda s: s.start)))
@@ -166,8 +169,8 @@ def conversation_living_tracks(
 
 
 def _span_directions(spans, surroundings: Surroundings, options) -> list[np.ndarray | None]:
-    """(yaw, pitch, distance) of each span's target from between the eyes (None: a target not in the
-    scene, where the eyes keep the last one)."""
+    """(yaw, pitch, distance) of each span's target from between the eyes, where it mostly is (None: a
+    target not in the scene, where the eyes keep the last one): what the head turns toward."""
     middle = options.setup.eye_positions().mean(axis=0)
     directions = []
     for attention in spans:
@@ -175,32 +178,39 @@ def _span_directions(spans, surroundings: Surroundings, options) -> list[np.ndar
         if point is None:
             directions.append(directions[-1] if directions else None)
             continue
-        seen = np.asarray(point, np.float64) - middle
+        seen = np.asarray(point, np.float64).reshape(-1, 3).mean(axis=0) - middle
         directions.append(np.array([*angles_of(seen[None])[0], max(float(np.linalg.norm(seen)), 0.05)]))
     return directions
 
 
-def _target_directions(spans, directions, times: np.ndarray, settings: dict):
-    """(yaw, pitch, distance) of the attended target at every frame, moving from one target to the next as
-    a saccade does; and those moves as saccades (for the blinks they carry)."""
+def _target_directions(spans, directions, surroundings: Surroundings, options, times: np.ndarray, settings):
+    """(yaw, pitch, distance) of the attended target at every frame (a face that moves is followed), moving
+    from one target to the next as a saccade does; and those moves as saccades (for the blinks they
+    carry)."""
+    middle = options.setup.eye_positions().mean(axis=0)
     known = [d for d in directions if d is not None]
-    first = known[0] if known else np.array([0.0, 0.0, 1.0])
-    values = np.tile(first, (times.size, 1))
+    values = np.tile(known[0] if known else np.array([0.0, 0.0, 1.0]), (times.size, 1))
     switches = []
     previous = None
     for attention, here in zip(spans, directions, strict=True):
         if here is None:
             continue
         after = times >= attention.start
+        # Where the target is at each frame from the span's start on (later spans overwrite their frames).
+        point = np.asarray(surroundings.points[attention.target], np.float64)
+        seen = (point[after] if point.ndim == 2 else np.broadcast_to(point, (after.sum(), 3))) - middle
+        target = np.column_stack([angles_of(seen), np.maximum(np.linalg.norm(seen, axis=1), 0.05)])
         if previous is None:
-            values[:] = here
+            values[after] = target
+            values[~after] = target[0] if len(target) else here
         else:
+            start_value = values[after][0] if after.any() else previous
             amplitude = float(np.hypot(*(here[:2] - previous[:2])))
             length = max(float(_saccade_length(amplitude, settings)), 1e-3)
             if amplitude > 1e-6:
                 switches.append(Saccade(attention.start, length, amplitude, True))
             share = minimum_jerk((times[after] - attention.start) / length)[:, None]
-            values[after] = previous + (here - previous) * share
+            values[after] = start_value + (target - start_value) * share
         previous = here
     return values[:, 0], values[:, 1], values[:, 2], tuple(switches)
 
