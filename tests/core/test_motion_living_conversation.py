@@ -18,7 +18,7 @@ from turkish_lipsync.core.motion.living.phrases import SpeechStructure
 from turkish_lipsync.core.motion.living.rotations import direction, head_matrices
 from turkish_lipsync.core.pipeline import LipSyncOptions
 from turkish_lipsync.core.scene import cast_for, converse
-from turkish_lipsync.core.scene.layout import default_standings, surroundings
+from turkish_lipsync.core.scene.layout import default_standings, face_path, surroundings
 from turkish_lipsync.core.text.script import read_script
 
 TURNS = (Turn("ayşe", "ali", 0.2, 4.0), Turn("ali", "ayşe", 4.3, 9.0), Turn("ayşe", "camera", 9.3, 12.0))
@@ -62,19 +62,23 @@ def test_gaze_holds_the_speaker_while_listening_and_the_addressee_part_of_the_ti
     cast = cast_for(script)
     scene = converse(script, cast, LipSyncOptions(fps=25, timing="table"))
     standings, camera = default_standings(cast.keys)
+    # The others' faces where their heads turn them (a character looks at a face, not where it was).
+    faces = {
+        c.role.key: face_path(standings[c.role.key], c.tracks.head_and_eyes.head) for c in scene.characters
+    }
     for character in scene.characters:
         motion = character.tracks.head_and_eyes
         times = np.arange(len(motion.head)) / character.tracks.fps
         rotations = head_matrices(motion.head)
         eye = standings[character.role.key].setup.eye_positions()[0]
         gaze = np.einsum("nij,nj->ni", rotations, direction(motion.left_eye[:, 0], motion.left_eye[:, 1]))
-        points = surroundings(character.role.key, standings, camera).points
+        points = surroundings(character.role.key, standings, camera, faces).points
         on = {SPEAKING: [], LISTENING: []}
         for line in scene.speech.lines:
             inside = (times >= line.first_phone) & (times <= line.last_phone)
             mine = line.speaker == character.role.key
-            target = points[line.addressee if mine else line.speaker]
-            off = angle_between(gaze[inside], target - rotations[inside] @ eye)
+            target = np.broadcast_to(points[line.addressee if mine else line.speaker], gaze.shape)
+            off = angle_between(gaze[inside], target[inside] - rotations[inside] @ eye)
             on[SPEAKING if mine else LISTENING].append(off < 5.0)
         listening = np.concatenate(on[LISTENING]).mean()
         speaking = np.concatenate(on[SPEAKING]).mean()
