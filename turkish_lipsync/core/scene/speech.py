@@ -411,8 +411,9 @@ def _overlapping(
     overlap = line.overlap if line.overlap is not None else conversation_table().turns.overlap
     other_end = max(phone.end for phone in before.phones)
     own_end = max(phone.end for phone in aligned.phones)
+    was = min(phone.start for phone in aligned.phones)
     with tempfile.TemporaryDirectory() as folder:
-        for lead in (overlap + 0.15, overlap + 0.05, overlap + 0.3):
+        for lead in (overlap + 0.15, overlap + 0.05, overlap, overlap + 0.3):
             start = max(other_end - lead, 0.0)
             first, last = int(start * take.sample_rate), int((own_end + 0.3) * take.sample_rate)
             stretch = Synthesis(take.samples[first:last], take.sample_rate, (), (), "recording")
@@ -421,8 +422,12 @@ def _overlapping(
                 found = synthesize_timeline(utterance, timing, recording=path, engine=engine)
             except LipSyncError:
                 continue
-            if not found.warnings:
-                return shifted_timeline(found.timeline, start, aligned.duration)
+            refined = shifted_timeline(found.timeline, start, aligned.duration)
+            begins = min(phone.start for phone in refined.phones)
+            # The other voice in the stretch may be heard as words the line does not have: the line is kept
+            # where it begins in the stretch and no later than the whole take's alignment put it.
+            if not found.warnings or start + 0.02 <= begins <= was + 0.02:
+                return refined
     return aligned
 
 
