@@ -37,6 +37,10 @@ from .scene_record import ConversationRecord, conversation_record, keep_conversa
 CAST_PROPERTY = "tr_cast_speaker"  # on a default head Generate made for a speaker: the speaker's key
 
 
+def _quiet(_fraction: float, _message: str) -> None:
+    pass
+
+
 @dataclass(frozen=True, eq=False)
 class ConversationResult:
     """What a conversation's Generate made (names only) and the scene it keyed."""
@@ -70,7 +74,7 @@ def generate_conversation(
     choices: what the user chose per speaker (by name); the rest the cast decides. The speech is made
     before anything in the scene changes; a head that cannot be made or built leaves the scene as it was.
     """
-    progress = progress or pipeline._no_progress
+    progress = progress or _quiet
     scene = context.scene
     fps = sequencer.scene_fps(scene)
     start = scene.frame_start if start_frame is None else int(start_frame)
@@ -78,6 +82,8 @@ def generate_conversation(
     cast = cast_for(script, choices, options.emotion_strength)
     progress(0.05, f"Speaking {len(script.lines)} lines of {len(cast.roles)} speakers")
     speech = scene_speech(script, cast, options, sources)
+    progress(0.3, "Saving the lines' audio")
+    sounds, mix_path = _write_sounds(speech, start, fps, audio_folder, package)
 
     # From here on Blender data changes.
     progress(0.35, "Casting the heads")
@@ -100,11 +106,13 @@ def generate_conversation(
             pipeline.head_objects(head), character.tracks, start, _action_name(character, result, head)
         )
         actions += [w.action_name for w in written]
-        _keep_character_record(head, script, result, character, start)
+        _keep_character_record(head, result, character, start)
         warnings += pipeline.own_keys_held_warning(head)
 
     progress(0.8, "Placing the lines in the sequencer")
-    mix_path, strips = _place_sounds(scene, result, start, fps, audio_folder, package)
+    if mix_path is None:
+        scene.pop(sequencer.SPEECH_PATH_PROPERTY, None)
+    strips = sequencer.place_scene_strips(scene, sounds, mix_path)
     frame_count = sequencer.frame_count_for(result.speech.duration, fps)
     warnings += sequencer.fit_frame_range(scene, start, frame_count)
     keep_conversation_record(
@@ -245,9 +253,7 @@ def character_text(result: SceneResult, key: str) -> str:
     )
 
 
-def _keep_character_record(
-    head: bpy.types.Object, script: Script, result: SceneResult, character, start: int
-):
+def _keep_character_record(head: bpy.types.Object, result: SceneResult, character, start: int) -> None:
     """The character's own timeline and motion beside its keys: what its exports describe."""
     action = head.data.shape_keys.animation_data.action
     settings = {
@@ -276,21 +282,21 @@ def _keep_character_record(
     action[pipeline.RECORD_PROPERTY] = record_to_json(record)
 
 
-def _place_sounds(scene, result: SceneResult, start: int, fps: float, folder: str, package: str | None):
-    """Every piece of the scene's sound as a WAV and a strip named after its speaker (and line), placed to
-    the sample: a piece starting between frames gets that much silence first; and the whole scene's mix."""
+def _write_sounds(speech, start: int, fps: float, folder: str, package: str | None):
+    """Every piece of the scene's sound as a WAV, with the strip it becomes (named after its speaker and
+    line, placed to the sample: a piece starting between frames gets that much silence first), and the
+    whole scene's mix; written before the scene changes, so a folder that cannot be written changes
+    nothing."""
     sounds = []
-    for piece in result.speech.pieces:
+    for piece in speech.pieces:
         at = start + piece.start * fps
         first = math.floor(at + 1e-9)
         audio = _delayed(piece.audio, (at - first) / fps)
-        wav = sequencer.write_speech_wav(f"{piece.name}", audio, folder, package)
+        wav = sequencer.write_speech_wav(piece.name, audio, folder, package)
         sounds.append((f"{OWNED_PREFIX}{piece.name}", wav, first, max(1, math.ceil(audio.duration * fps))))
-    mix = result.speech.mix()
+    mix = speech.mix()
     mix_path = sequencer.write_speech_wav("scene", mix, folder, package) if mix is not None else None
-    if mix_path is None:
-        scene.pop(sequencer.SPEECH_PATH_PROPERTY, None)
-    return mix_path, sequencer.place_scene_strips(scene, sounds, mix_path)
+    return sounds, mix_path
 
 
 def _delayed(audio: Synthesis, seconds: float) -> Synthesis:
