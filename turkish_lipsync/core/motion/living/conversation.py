@@ -28,7 +28,16 @@ import numpy as np
 from ...base.model import Timeline, WeightTracks
 from . import assembled_tracks, measured_prosody
 from .easing import minimum_jerk, smoothstep
-from .gaze import GazePlan, Saccade, eye_angles_toward, gamma, gaze_plan, next_place, talking_fixations
+from .gaze import (
+    GazePlan,
+    Saccade,
+    eye_angles_toward,
+    gamma,
+    gaze_plan,
+    next_place,
+    saccade_seconds,
+    talking_fixations,
+)
 from .head import head_angles, sway_motion
 from .parameters import living_parameters
 from .phrases import SpeechStructure, speech_structure
@@ -99,18 +108,14 @@ def attention_spans(
             else:  # after its own line: on whom it spoke to, who is expected to answer
                 attention = Attention(start, end, LISTENING, current.addressee, False)
         previous = spans[-1] if spans else None
-        if previous is not None and (previous.mode, previous.target, previous.listening_to_speech) == (
-            attention.mode,
-            attention.target,
-            attention.listening_to_speech,
-        ):
-            spans[-1] = Attention(previous.start, end, *_rest(previous))
+        if previous is not None and _what(previous) == _what(attention):
+            spans[-1] = Attention(previous.start, end, *_what(previous))
         else:
             spans.append(attention)
     return spans
 
 
-def _rest(attention: Attention) -> tuple[str, str, bool]:
+def _what(attention: Attention) -> tuple[str, str, bool]:
     return attention.mode, attention.target, attention.listening_to_speech
 
 
@@ -206,18 +211,13 @@ def _target_directions(spans, directions, surroundings: Surroundings, options, t
         else:
             start_value = values[after][0] if after.any() else previous
             amplitude = float(np.hypot(*(here[:2] - previous[:2])))
-            length = max(float(_saccade_length(amplitude, settings)), 1e-3)
+            length = max(float(saccade_seconds(amplitude, settings["gaze"])), 1e-3)
             if amplitude > 1e-6:
                 switches.append(Saccade(attention.start, length, amplitude, True))
             share = minimum_jerk((times[after] - attention.start) / length)[:, None]
             values[after] = start_value + (target - start_value) * share
         previous = here
     return values[:, 0], values[:, 1], values[:, 2], tuple(switches)
-
-
-def _saccade_length(amplitude, settings: dict):
-    gaze = settings["gaze"]
-    return (gaze["duration_base"] + gaze["duration_slope"] * np.asarray(amplitude)) / 1000.0
 
 
 def _conversation_fixations(spans, own: SpeechStructure, rng, settings: dict, amount: float):
