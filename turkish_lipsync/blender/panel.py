@@ -10,7 +10,9 @@ from .shapekeys import KEY_SOURCES_PROPERTY
 class TURKISH_LIPSYNC_UL_cast(bpy.types.UIList):
     """The cast: each speaker of the script, the head that plays them and their voice."""
 
-    def draw_item(self, _context, layout, _data, member, _icon, _active_data, _active_property, _index=0):
+    def draw_item(
+        self, _context, layout, _data, member, _icon, _active_data, _active_property, _index=0, _flt_flag=0
+    ):
         row = layout.row(align=True)
         row.label(text=member.name, icon="USER", translate=False)
         row.prop(member, "head", text="")
