@@ -271,3 +271,45 @@ def test_render_script_casts_a_scene_from_the_command_line(tmp_path):
     refused = run_render("--text", TWO, "--cast", "Veli=default", "--no-render")
     assert refused.returncode == 1 and "never speaks" in refused.stderr
     assert len(evaluated_world(ayse)) > 0
+
+
+class _Layout:
+    """A stand-in for Blender's UI layout that checks every property the panel draws exists."""
+
+    def __init__(self, drawn: list):
+        self.drawn = drawn
+
+    def __getattr__(self, name):
+        def call(*args, **kwargs):
+            if name == "prop":
+                data, prop = args[0], args[1]
+                assert prop in data.bl_rna.properties, prop
+                self.drawn.append(prop)
+            if name == "template_list":
+                self.drawn.append(args[0])
+            if name == "panel":
+                return _Layout(self.drawn), _Layout(self.drawn)
+            return _Layout(self.drawn)
+
+        return call
+
+
+def test_the_panel_draws_the_cast_and_each_speakers_settings():
+    from turkish_lipsync.blender import panel
+
+    blender.register()
+    try:
+        bpy.ops.wm.read_factory_settings(use_empty=True)
+        settings = bpy.context.scene.turkish_lipsync
+        member = settings.cast.add()
+        member.name = "Ayşe"
+        drawn: list = []
+        panel.VIEW3D_PT_turkish_lipsync.draw_cast(_Layout(drawn), settings)
+        assert {"TURKISH_LIPSYNC_UL_cast", "head", "voice", "pitch", "voice_rate", "recording"} <= set(drawn)
+        row: list = []
+        panel.TURKISH_LIPSYNC_UL_cast.draw_item(
+            None, None, _Layout(row), settings, member, 0, settings, "cast_index"
+        )
+        assert row == ["head", "voice"]
+    finally:
+        blender.unregister()
