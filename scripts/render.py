@@ -120,34 +120,11 @@ def write_exports(arguments: argparse.Namespace, context, head) -> None:
         print(f"Exported {export_format} to {written.path}", flush=True)
 
 
-def run(arguments: argparse.Namespace) -> None:
+def run_one_head(arguments, context, scene, source: str, new_scene: bool, audio_folder: str) -> str:
+    """One head speaks the text: built where it needs keys, generated, exported; returns its name."""
     import bpy
 
-    from turkish_lipsync.blender import heads, pipeline, sequencer
-    from turkish_lipsync.core.base.errors import TextError
-    from turkish_lipsync.core.base.files import read_user_text
-
-    started = time.perf_counter()
-    new_scene = arguments.head is None or arguments.head.suffix.lower() != ".blend"
-    if new_scene:
-        bpy.ops.wm.read_factory_settings(use_empty=True)
-    else:
-        bpy.ops.wm.open_mainfile(filepath=str(arguments.head.resolve()))
-    context = bpy.context
-    scene = context.scene
-    if arguments.fps is not None:
-        set_frame_rate(scene, arguments.fps)
-    elif new_scene:
-        set_frame_rate(scene, DEFAULT_FPS)
-    if arguments.resolution is not None:
-        scene.render.resolution_x, scene.render.resolution_y = arguments.resolution
-    elif new_scene:
-        scene.render.resolution_x, scene.render.resolution_y = DEFAULT_RESOLUTION
-
-    if arguments.jsml is not None:
-        source = read_user_text(arguments.jsml, "--jsml text", TextError)
-    else:
-        source = arguments.text or ""  # with --cues alone, the cue file's own text; with --audio, the heard
+    from turkish_lipsync.blender import heads, pipeline
 
     if arguments.head is None:
         head = None
@@ -180,15 +157,6 @@ def run(arguments: argparse.Namespace) -> None:
         head = bpy.data.objects[report.head]
     head_name = head.name
 
-    if arguments.audio_folder is not None:
-        audio_folder = str(arguments.audio_folder.resolve())
-    elif arguments.save_blend is not None:
-        audio_folder = str(arguments.save_blend.resolve().parent / "lipsync_audio")
-    elif arguments.out is not None:
-        audio_folder = str(arguments.out.resolve().parent / "lipsync_audio")
-    else:
-        audio_folder = ""
-
     if arguments.own_keys_at_rest:
         cleared = pipeline.put_own_keys_at_rest(bpy.data.objects[head_name])
         print(f"Set {cleared} of the head's own shape keys to 0", flush=True)
@@ -196,16 +164,7 @@ def run(arguments: argparse.Namespace) -> None:
         context,
         bpy.data.objects[head_name],
         source,
-        LipSyncOptions(
-            timing=arguments.timing,
-            motion=arguments.motion,
-            interpolation=arguments.interpolation,
-            emotion_strength=arguments.emotion_strength,
-            rate=arguments.rate,
-            recording=arguments.audio,
-            cues=arguments.cues,
-            **living_option_values(arguments),
-        ),
+        lip_sync_options(arguments),
         audio_folder=audio_folder,
         progress=_print_progress,
         gaze_target=arguments.gaze_target or "",
@@ -227,10 +186,150 @@ def run(arguments: argparse.Namespace) -> None:
             f"speech: {exported.wav_path or 'none'}",
             flush=True,
         )
+    return head_name
+
+
+def speaker_choices(arguments: argparse.Namespace) -> dict:
+    """What --cast, --voice, --speaker-emotion and --speaker-audio chose per speaker (by the speaker's key,
+    so AYŞE and Ayşe are one)."""
+    from dataclasses import replace
+
+    from turkish_lipsync.core.scene import RoleChoice
+    from turkish_lipsync.core.text.script import speaker_key
+
+    choices: dict[str, RoleChoice] = {}
+    names: dict[str, str] = {}
+
+    def choose(name: str, **values) -> None:
+        key = speaker_key(name)
+        names.setdefault(key, name)
+        choices[key] = replace(choices.get(key, RoleChoice()), **values)
+
+    for name, head in arguments.cast:
+        default = head.lower() == "default"
+        choose(name, head="" if default else str(Path(head).resolve()) if Path(head).is_file() else head)
+    for name, voice in arguments.voice:
+        variant, *numbers = voice.split(":")
+        chosen = (
+            {"gender": variant.lower()} if variant.lower() in ("female", "male") else {"variant": variant}
+        )
+        if numbers:
+            chosen["pitch"] = float(numbers[0])
+        if len(numbers) > 1:
+            chosen["rate"] = float(numbers[1])
+        choose(name, **chosen)
+    for name, value in arguments.speaker_emotion:
+        choose(name, emotion_strength=arguments.emotion_strength * float(value))
+    for name, path in arguments.speaker_audio:
+        choose(name, recording=Path(path))
+    return {names[key]: choice for key, choice in choices.items()}
+
+
+def run_conversation(arguments: argparse.Namespace, context, script, audio_folder: str) -> list[str]:
+    """Every speaker of the script played by its head: generated, exported; returns the heads' names."""
+    from turkish_lipsync.blender import conversation, exports
+    from turkish_lipsync.core.scene.speech import SceneSources, line_recordings_in
+
+    sources = SceneSources(
+        scene_recording=arguments.audio,
+        line_recordings=line_recordings_in(arguments.line_audio) if arguments.line_audio else (),
+        cues=arguments.cues,
+    )
+    result = conversation.generate_conversation(
+        context,
+        script,
+        speaker_choices(arguments),
+        lip_sync_options(arguments),
+        sources=sources,
+        audio_folder=audio_folder,
+        progress=_print_progress,
+    )
+    _print_warnings(result.warnings)
+    cast = ", ".join(f"{name} by {head}" for name, head in result.heads.items())
+    print(
+        f"Generated {len(script.lines)} lines of {len(result.heads)} characters ({cast}), "
+        f"{result.duration:.2f} s, frames {result.frame_start}-{result.frame_end} at {result.fps:.3f} fps; "
+        f"audio: {result.wav_path or 'none'}",
+        flush=True,
+    )
+    for export_format, path in arguments.export:
+        for written in exports.export_scene(context, export_format, path):
+            _print_warnings(written.warnings)
+            print(f"Exported {export_format} to {written.path}", flush=True)
+    if arguments.gltf is not None:
+        for exported in conversation.export_conversation_gltf(context, arguments.gltf):
+            print(f"Exported glTF to {exported.path}; speech: {exported.wav_path or 'none'}", flush=True)
+    return list(result.heads.values())
+
+
+def lip_sync_options(arguments: argparse.Namespace) -> LipSyncOptions:
+    return LipSyncOptions(
+        timing=arguments.timing,
+        motion=arguments.motion,
+        interpolation=arguments.interpolation,
+        emotion_strength=arguments.emotion_strength,
+        rate=arguments.rate,
+        recording=arguments.audio,
+        cues=arguments.cues,
+        **living_option_values(arguments),
+    )
+
+
+def run(arguments: argparse.Namespace) -> None:
+    import bpy
+
+    from turkish_lipsync.blender import pipeline, sequencer
+    from turkish_lipsync.core.base.errors import TextError
+    from turkish_lipsync.core.base.files import read_user_text
+    from turkish_lipsync.core.text.script import read_script
+
+    started = time.perf_counter()
+    new_scene = arguments.head is None or arguments.head.suffix.lower() != ".blend"
+    if new_scene:
+        bpy.ops.wm.read_factory_settings(use_empty=True)
+    else:
+        bpy.ops.wm.open_mainfile(filepath=str(arguments.head.resolve()))
+    context = bpy.context
+    scene = context.scene
+    if arguments.fps is not None:
+        set_frame_rate(scene, arguments.fps)
+    elif new_scene:
+        set_frame_rate(scene, DEFAULT_FPS)
+    if arguments.resolution is not None:
+        scene.render.resolution_x, scene.render.resolution_y = arguments.resolution
+    elif new_scene:
+        scene.render.resolution_x, scene.render.resolution_y = DEFAULT_RESOLUTION
+
+    if arguments.jsml is not None:
+        source = read_user_text(arguments.jsml, "--jsml text", TextError)
+    else:
+        source = arguments.text or ""  # with --cues alone, the cue file's own text; with --audio, the heard
+
+    if arguments.audio_folder is not None:
+        audio_folder = str(arguments.audio_folder.resolve())
+    elif arguments.save_blend is not None:
+        audio_folder = str(arguments.save_blend.resolve().parent / "lipsync_audio")
+    elif arguments.out is not None:
+        audio_folder = str(arguments.out.resolve().parent / "lipsync_audio")
+    else:
+        audio_folder = ""
+
+    script = read_script(source) if source.strip() else None
+    if script is not None:
+        if arguments.head is not None and not arguments.head.suffix.lower() == ".blend":
+            raise LipSyncError(
+                "The text has speakers: give each one's head with --cast NAME=HEAD (--head opens a .blend "
+                "whose objects --cast may name)"
+            )
+        heads_shown = run_conversation(arguments, context, script, audio_folder)
+        head_name = heads_shown[0] if heads_shown else None
+    else:
+        head_name = run_one_head(arguments, context, scene, source, new_scene, audio_folder)
+    head = bpy.data.objects[head_name] if head_name else None
     if not arguments.no_render:
         rendered = pipeline.render_video(
             context,
-            bpy.data.objects[head_name],
+            head,
             str(arguments.out),
             engine=arguments.engine,
             samples=arguments.samples,
@@ -253,7 +352,7 @@ def run(arguments: argparse.Namespace) -> None:
             )
         still = pipeline.render_still(
             context,
-            bpy.data.objects[head_name],
+            head,
             str(arguments.still),
             frame=arguments.still_frame,
             engine=arguments.engine,

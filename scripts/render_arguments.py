@@ -83,6 +83,18 @@ def _export(text: str) -> tuple[str, Path]:
     return export_format, Path(path)
 
 
+def _named(flag: str, what: str):
+    """A NAME=VALUE flag of a script's speaker (the name as the script writes it, any case)."""
+
+    def parse(text: str) -> tuple[str, str]:
+        name, _, value = text.partition("=")
+        if not name.strip() or not value.strip():
+            raise argparse.ArgumentTypeError(f"{flag} {text!r} is not NAME={what}")
+        return name.strip(), value.strip()
+
+    return parse
+
+
 def parse_arguments(argv: list[str]) -> argparse.Namespace:
     parser = OneLineArgumentParser(prog="render.py", description=__doc__.split("\n\n")[0])
     source = parser.add_mutually_exclusive_group()
@@ -179,6 +191,50 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
         type=Path,
         help="also write the head and its speech animation as .glb, the speech WAV beside it",
     )
+    conversation = parser.add_argument_group(
+        "a script with speakers (<VOICE NAME=...> lines or a screenplay, NAME: text)"
+    )
+    conversation.add_argument(
+        "--cast",
+        type=_named("--cast", "HEAD"),
+        action="append",
+        default=[],
+        metavar="NAME=HEAD",
+        help="the head that plays a speaker (repeatable): a head file, an object of the --head .blend, or "
+        "'default' (the default: a default head of the speaker's own, beside the others)",
+    )
+    conversation.add_argument(
+        "--voice",
+        type=_named("--voice", "VOICE"),
+        action="append",
+        default=[],
+        metavar="NAME=VOICE",
+        help="a speaker's voice (repeatable): an eSpeak NG variant (f1-f5, m1-m8) or female/male, optionally "
+        "with :PITCH:RATE multipliers, e.g. Ali=m7:0.9:1.05",
+    )
+    conversation.add_argument(
+        "--speaker-emotion",
+        type=_named("--speaker-emotion", "STRENGTH"),
+        action="append",
+        default=[],
+        metavar="NAME=STRENGTH",
+        help="how strongly a speaker's emotions show, 0..1, times --emotion-strength (repeatable)",
+    )
+    conversation.add_argument(
+        "--speaker-audio",
+        type=_named("--speaker-audio", "RECORDING"),
+        action="append",
+        default=[],
+        metavar="NAME=RECORDING",
+        help="a speaker's track of the scene (repeatable; every speaker then needs one); --audio is a "
+        "recording of the whole scene",
+    )
+    conversation.add_argument(
+        "--line-audio",
+        type=Path,
+        metavar="FOLDER",
+        help="a folder of recordings, one per line of the script, in the order of their names",
+    )
     parser.add_argument(
         "--mapping",
         type=Path,
@@ -228,6 +284,7 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
         parser.error(f"--gltf {arguments.gltf} must end in .glb")
     if arguments.mapping is not None and not arguments.mapping.is_file():
         parser.error(f"--mapping {arguments.mapping} does not exist")
+    _check_conversation_arguments(parser, arguments)
     if (arguments.key_source == "obj_folder") != (arguments.obj_folder is not None):
         parser.error("--key-source obj_folder and --obj-folder FOLDER go together")
     if arguments.obj_folder is not None and not arguments.obj_folder.is_dir():
@@ -236,6 +293,45 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
         parser.error(f"--rho {arguments.rho} must lie between {RHO_RANGE[0]:g} and {RHO_RANGE[1]:g}")
     arguments.engine = arguments.engine.upper()
     return arguments
+
+
+def _check_conversation_arguments(parser: argparse.ArgumentParser, arguments: argparse.Namespace) -> None:
+    """The speakers' flags: files that exist, voices the cast knows, strengths in 0..1."""
+    from turkish_lipsync.core.scene.cast import known_variants
+
+    for name, head in arguments.cast:
+        if head.lower() != "default" and Path(head).suffix.lower() in (
+            ".obj",
+            ".glb",
+            ".gltf",
+            ".fbx",
+            ".blend",
+        ):
+            if not Path(head).is_file():
+                parser.error(f"--cast {name}={head}: {head} does not exist")
+    for name, voice in arguments.voice:
+        variant, *numbers = voice.split(":")
+        if variant.lower() not in (*known_variants(), "female", "male") or len(numbers) > 2:
+            parser.error(
+                f"--voice {name}={voice}: expected one of {', '.join(known_variants())}, female or male, "
+                "optionally :PITCH:RATE"
+            )
+        try:
+            [float(number) for number in numbers]
+        except ValueError:
+            parser.error(f"--voice {name}={voice}: PITCH and RATE are multipliers such as 0.9 or 1.1")
+    for name, value in arguments.speaker_emotion:
+        try:
+            strength = float(value)
+        except ValueError:
+            strength = -1.0
+        if not 0.0 <= strength <= 1.0:
+            parser.error(f"--speaker-emotion {name}={value}: expected a strength from 0 to 1")
+    for name, path in arguments.speaker_audio:
+        if not Path(path).is_file():
+            parser.error(f"--speaker-audio {name}={path}: {path} does not exist")
+    if arguments.line_audio is not None and not arguments.line_audio.is_dir():
+        parser.error(f"--line-audio {arguments.line_audio} is not a folder")
 
 
 def _check_farm_arguments(parser: argparse.ArgumentParser, arguments: argparse.Namespace) -> None:
@@ -257,6 +353,11 @@ def _check_farm_arguments(parser: argparse.ArgumentParser, arguments: argparse.N
         "--save-blend": arguments.save_blend,
         "--still": arguments.still,
         "--gaze-target": arguments.gaze_target,
+        "--cast": arguments.cast,
+        "--voice": arguments.voice,
+        "--speaker-emotion": arguments.speaker_emotion,
+        "--speaker-audio": arguments.speaker_audio,
+        "--line-audio": arguments.line_audio,
     }
     used = [flag for flag, value in speech_flags.items() if value]
     mode = "--join" if arguments.join else "--frames"
@@ -293,6 +394,12 @@ def check_paths(arguments: argparse.Namespace) -> None:
         "--mapping": arguments.mapping,
     }
     inputs |= {f"--join chunk {number}": chunk for number, chunk in enumerate(arguments.join or (), start=1)}
+    inputs |= {f"--speaker-audio {name}": Path(path) for name, path in arguments.speaker_audio}
+    inputs |= {
+        f"--cast {name}": Path(head)
+        for name, head in arguments.cast
+        if head.lower() != "default" and Path(head).is_file()
+    }
     outputs = {"--out": arguments.out, "--save-blend": arguments.save_blend, "--still": arguments.still}
     if arguments.gltf is not None:
         outputs |= {

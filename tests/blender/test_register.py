@@ -60,7 +60,7 @@ def _ui_texts() -> set[str]:
     texts |= {"Head", "Speech", "Render"}
     for cls in operators.CLASSES:
         texts |= {cls.bl_label, cls.__doc__}
-    for cls in (properties.TurkishLipSyncSettings, preferences.TurkishLipSyncPreferences):
+    for cls in (*properties.CLASSES, preferences.TurkishLipSyncPreferences):
         for prop in cls.bl_rna.properties:
             if prop.identifier in ("rna_type", "name", "bl_idname"):
                 continue

@@ -49,3 +49,38 @@ def test_errors_are_one_clear_line_and_a_non_zero_exit(tmp_path):
     assert result.stderr.startswith("error: ") and "line 1" in result.stderr
     missing = run("timeline", str(tmp_path / "none.jsml"), "--timing", "table", check=False)
     assert missing.returncode != 0 and "no such file" in missing.stderr
+
+
+SCENE = "AYŞE (to ALİ): Merhaba Ali.\nALİ: Selam Ayşe, nasılsın?\n"
+
+
+def test_timeline_of_a_script_prints_its_lines_and_each_speakers_timeline(tmp_path):
+    source = tmp_path / "scene.txt"
+    source.write_text(SCENE, encoding="utf-8")
+    data = json.loads(run("timeline", str(source), "--timing", "table", "--format", "json").stdout)
+    assert [(line["speaker"], line["addressee"]) for line in data["lines"]] == [
+        ("Ayşe", "Ali"),
+        ("Ali", "Ayşe"),
+    ]
+    assert data["lines"][0]["end"] < data["lines"][1]["start"]
+    assert {w["text"] for w in data["speakers"]["Ali"]["words"]} == {"selam", "ayşe", "nasılsın"}
+    tsv = run("timeline", str(source), "--timing", "table").stdout
+    assert tsv.startswith("# scene\tlines 2\tspeakers 2") and "# speaker Ali\tvoice" in tsv
+
+
+def test_export_of_a_script_writes_a_voice_or_a_file_per_character(tmp_path):
+    source = tmp_path / "scene.txt"
+    source.write_text(SCENE, encoding="utf-8")
+    pgo = run("export", str(source), "--timing", "table", "--format", "papagayo-pgo").stdout.splitlines()
+    assert pgo[4] == "2" and pgo[5] == "\tAyşe"
+    run(
+        "export",
+        str(source),
+        "--timing",
+        "table",
+        "--format",
+        "rhubarb-tsv",
+        "--out",
+        str(tmp_path / "c.tsv"),
+    )
+    assert (tmp_path / "c_Ayşe.tsv").is_file() and (tmp_path / "c_Ali.tsv").is_file()

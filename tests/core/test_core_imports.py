@@ -7,7 +7,16 @@ from pathlib import Path
 CORE = Path(__file__).resolve().parents[2] / "turkish_lipsync" / "core"
 PACKAGE = "turkish_lipsync.core"
 # The stages in the order they may look: each imports only its own stage and the ones before it.
-STAGES = [["base"], ["text"], ["speech"], ["motion", "faces"], ["pipeline"], ["interchange"], ["cli"]]
+STAGES = [
+    ["base"],
+    ["text"],
+    ["speech"],
+    ["motion", "faces"],
+    ["pipeline"],
+    ["scene"],
+    ["interchange"],
+    ["cli"],
+]
 
 
 def _module_name(path: Path, core: Path) -> str:

@@ -16,7 +16,9 @@ import bpy
 
 from ..core.base.errors import LipSyncError
 from ..core.interchange import export_format_named, export_text, write_export
+from ..core.speech.cues.papagayo_pgo import voices_as_pgo
 from . import keyframes, pipeline, sequencer
+from .scene_record import conversation_record
 
 
 @dataclass(frozen=True)
@@ -49,14 +51,61 @@ def export_animation(
             f"The keys of {head.name!r} were changed after Generate Animation: the weights are exported as "
             "the keys are now, the mouth cues and words as Generate timed them.",
         )
-    wav = sequencer.speech_wav_of(context.scene)
-    sound = ""
-    if wav is not None:
-        try:
-            sound = os.path.relpath(wav, path.parent)
-        except ValueError:  # another drive on Windows
-            sound = str(wav)
     contents, format_warnings = export_text(
-        export_format, record.timeline, tracks, sound_file=sound, text=record.text
+        export_format,
+        record.timeline,
+        tracks,
+        sound_file=_sound_beside(context.scene, path),
+        text=record.text,
     )
     return ExportResult(write_export(path, contents), export_format, warnings + format_warnings)
+
+
+def _sound_beside(scene: bpy.types.Scene, path: Path) -> str:
+    """The scene's speech WAV as an export names it: relative to the export's folder where it can be."""
+    wav = sequencer.speech_wav_of(scene)
+    if wav is None:
+        return ""
+    try:
+        return os.path.relpath(wav, path.parent)
+    except ValueError:  # another drive on Windows
+        return str(wav)
+
+
+def character_path(path: Path, name: str) -> Path:
+    """One character's file of a scene's export: the name after the chosen file's stem (scene_Ayşe.json)."""
+    return path.with_name(f"{path.stem}_{'_'.join(name.split())}{path.suffix}")
+
+
+def export_scene(context: bpy.types.Context, export_format: str, path: Path) -> tuple[ExportResult, ...]:
+    """A conversation's animation: a Papagayo project with one voice per character at path, or one file per
+    character of any other format beside it (character_path)."""
+    record = conversation_record(context.scene)
+    if record is None:
+        raise LipSyncError(
+            "The scene has no conversation to export: generate one from a script with speakers."
+        )
+    characters = [
+        (key, record.names.get(key, key), bpy.data.objects[name])
+        for key, name in record.heads.items()
+        if name in bpy.data.objects
+    ]
+    if export_format != "papagayo-pgo":
+        return tuple(
+            export_animation(context, head, export_format, character_path(path, name))
+            for _key, name, head in characters
+        )
+    voices, fps, warnings = [], record.fps, ()
+    for _key, name, head in characters:
+        animation = pipeline.animation_record(head)
+        if animation is None:
+            raise LipSyncError(
+                f"{name}'s head {head.name!r} has no generated animation: press Generate again."
+            )
+        voices.append((name, animation.timeline, animation.text))
+    if abs(fps - round(fps)) > 1e-6:
+        warnings = (
+            f"Papagayo counts whole frame rates: the project says {round(fps)} fps for the scene's {fps:g}.",
+        )
+    contents = voices_as_pgo(voices, fps, _sound_beside(context.scene, path), record.duration)
+    return (ExportResult(write_export(path, contents), export_format, warnings),)

@@ -50,36 +50,47 @@ def export_gltf(context: bpy.types.Context, head: bpy.types.Object, filepath: st
 
     The speech WAV of the scene is copied beside the file as <name>.wav.
     """
+    return export_heads_gltf(context, [head], filepath)
+
+
+def export_heads_gltf(
+    context: bpy.types.Context, heads: list[bpy.types.Object], filepath: str | Path
+) -> GltfExport:
+    """Several heads (a conversation's characters) and their parts in one .glb, each with its morph-weight
+    animation and turns; the scene's speech WAV beside it. Its counts are the first head's."""
     path = Path(bpy.path.abspath(str(filepath)))
     if path.suffix.lower() != ".glb":
         path = path.with_suffix(".glb")
-    if head is None or head.type != "MESH" or head.data.shape_keys is None:
-        raise LipSyncError(
-            "Choose a head with shape keys to export: press 'Build Shape Keys', then 'Generate Animation'."
-        )
-    key = head.data.shape_keys
-    if key.animation_data is None or key.animation_data.action is None:
-        raise LipSyncError(
-            f"{head.name!r} has no shape-key animation to export; press 'Generate Animation' first."
-        )
+    for head in heads:
+        if head is None or head.type != "MESH" or head.data.shape_keys is None:
+            raise LipSyncError(
+                "Choose a head with shape keys to export: press 'Build Shape Keys', then 'Generate "
+                "Animation'."
+            )
+        key = head.data.shape_keys
+        if key.animation_data is None or key.animation_data.action is None:
+            raise LipSyncError(
+                f"{head.name!r} has no shape-key animation to export; press 'Generate Animation' first."
+            )
     check_writable(path, "glTF file")
     speech = _speech_to_copy(context.scene, path)
-    objects = [head, *find_head_parts(head)]
-    _export_selected(context, objects, path)
+    objects = [obj for head in heads for obj in (head, *find_head_parts(head))]
+    _export_selected(context, list(dict.fromkeys(objects)), path)
     document = read_glb_document(path)
-    head_mesh = next((m for m in document.get("meshes", []) if m.get("name") == head.data.name), None)
+    meshes = {m.get("name"): m for m in document.get("meshes", [])}
     animated = {
         channel["target"].get("node")
         for animation in document.get("animations", [])
         for channel in animation.get("channels", [])
         if channel.get("target", {}).get("path") == "weights"
     }
-    if head_mesh is None or not animated:
+    if any(head.data.name not in meshes for head in heads) or len(animated) < len(heads):
         raise LipSyncError(
             f"Blender's glTF exporter wrote {path} without the speech's morph-weight animation; "
             "check that the head's shape keys are animated and export again."
         )
     wav_path = _copy_speech_beside(speech, path)
+    head_mesh = meshes[heads[0].data.name]
     targets = max((len(p.get("targets", [])) for p in head_mesh.get("primitives", [])), default=0)
     return GltfExport(
         path=str(path),

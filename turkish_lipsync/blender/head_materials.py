@@ -198,14 +198,18 @@ def _math(tree, operation: str, first, second=0.0) -> bpy.types.NodeSocket:
     return node.outputs[0]
 
 
-def skin_material(reference: ReferenceHead, uv_map: str) -> bpy.types.Material:
-    """Skin with lips, eyelids, inner mouth, painted eyebrows and short hair."""
-    existing = bpy.data.materials.get(MATERIAL_PREFIX + "skin")
+def skin_material(
+    reference: ReferenceHead, uv_map: str, tone=None, tone_name: str = ""
+) -> bpy.types.Material:
+    """Skin with lips, eyelids, inner mouth, painted eyebrows and short hair; in another skin and hair tone
+    (a conversation's tones: core/scene/tables.py's Tone) where one is given, named after it."""
+    name = f"skin {tone_name}" if tone is not None else "skin"
+    existing = bpy.data.materials.get(MATERIAL_PREFIX + name)
     if existing is not None:
         return existing
-    tables = reference_materials()
+    tables = reference_materials() if tone is None else _toned(reference_materials(), tone)
     skin = tables["skin"]
-    material, tree, shader = _new_material("skin")
+    material, tree, shader = _new_material(name)
     color = _rgba(skin["color"])
     # Surface values each layer may change, and the Principled inputs they drive.
     surface = {"roughness": float(skin["roughness"]), "coat": float(skin["coat"]), "specular": 0.5}
@@ -238,6 +242,19 @@ def skin_material(reference: ReferenceHead, uv_map: str) -> bpy.types.Material:
     tree.links.new(noise.outputs["Fac"], bump.inputs["Height"])
     tree.links.new(bump.outputs["Normal"], shader.inputs["Normal"])
     return material
+
+
+def _toned(tables: dict, tone) -> dict:
+    """The head's material settings in another tone: the skin's colour, and the lips and lids as much
+    darker or lighter as the skin; the hair's and brows' colour."""
+    toned = {name: dict(settings) for name, settings in tables.items()}
+    ratio = np.asarray(tone.skin) / np.maximum(np.asarray(tables["skin"]["color"], np.float64), 1e-6)
+    toned["skin"]["color"] = list(tone.skin)
+    for part in ("lips", "eyelids"):
+        toned[part]["color"] = list(np.clip(np.asarray(tables[part]["color"]) * ratio, 0.0, 1.0))
+    for part in ("hair", "eyebrows"):
+        toned[part]["color"] = list(tone.hair)
+    return toned
 
 
 def eye_material() -> bpy.types.Material:

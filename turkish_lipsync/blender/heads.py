@@ -76,8 +76,11 @@ def _neck_cap(vertices: np.ndarray, loop: np.ndarray) -> np.ndarray:
     return loop if float(normal @ outward) > 0 else loop[::-1]
 
 
-def _part_mesh(reference: ReferenceHead, part: str, object_name: str, origin: np.ndarray) -> bpy.types.Mesh:
-    """One part of the reference as a mesh: UVs, materials; the skin also gets its neck cap and brow UVs."""
+def _part_mesh(
+    reference: ReferenceHead, part: str, object_name: str, origin: np.ndarray, tone=None, tone_name: str = ""
+) -> bpy.types.Mesh:
+    """One part of the reference as a mesh: UVs, materials (the skin in the tone given, if one is); the
+    skin also gets its neck cap and brow UVs."""
     indices, vertices, quads, corner_uvs = reference.part_mesh_with_uvs(part)
     polygons: list | np.ndarray = quads
     uvs = corner_uvs.reshape(-1, 2)
@@ -97,7 +100,7 @@ def _part_mesh(reference: ReferenceHead, part: str, object_name: str, origin: np
         smooth = np.ones(len(mesh.polygons), dtype=bool)
         smooth[-1] = False  # the cap is flat
         mesh.polygons.foreach_set("use_smooth", smooth)
-        mesh.materials.append(head_materials.skin_material(reference, UV_MAP))
+        mesh.materials.append(head_materials.skin_material(reference, UV_MAP, tone, tone_name))
     elif part in ("left_eye", "right_eye"):
         mesh.materials.append(head_materials.eye_material())
     elif part.endswith("eyelashes"):
@@ -107,8 +110,11 @@ def _part_mesh(reference: ReferenceHead, part: str, object_name: str, origin: np
     return mesh
 
 
-def create_reference_head(context: bpy.types.Context, name: str = "TR_Head") -> dict[str, bpy.types.Object]:
-    """The default head: skin object with teeth, tongue, eyes and eyelashes as children, in metres, facing -Y.
+def create_reference_head(
+    context: bpy.types.Context, name: str = "TR_Head", tone=None, tone_name: str = ""
+) -> dict[str, bpy.types.Object]:
+    """The default head: skin object with teeth, tongue, eyes and eyelashes as children, in metres, facing -Y
+    (its skin and hair in the tone given, for a conversation's characters).
 
     Returns {"head", "upper_teeth", "lower_teeth", "tongue", "left_eye", "right_eye", "left_eyelashes",
     "right_eyelashes"} -> object. World coordinates equal MakeHuman's (origin at the hips); the head
@@ -124,7 +130,9 @@ def create_reference_head(context: bpy.types.Context, name: str = "TR_Head") -> 
     objects: dict[str, bpy.types.Object] = {}
     for part in ("skin", *PART_OBJECT_SUFFIXES):
         object_name = name if part == "skin" else f"{name}_{PART_OBJECT_SUFFIXES[part]}"
-        obj = bpy.data.objects.new(object_name, _part_mesh(reference, part, object_name, origin))
+        obj = bpy.data.objects.new(
+            object_name, _part_mesh(reference, part, object_name, origin, tone, tone_name)
+        )
         obj[REFERENCE_PART_PROPERTY] = part
         collection.objects.link(obj)
         objects["head" if part == "skin" else part] = obj

@@ -109,13 +109,19 @@ def rig_and_target(
 
 
 def key_living_motion(
-    context: bpy.types.Context, rig: LivingRig | None, tracks: WeightTracks, start_frame: float
+    context: bpy.types.Context,
+    rig: LivingRig | None,
+    tracks: WeightTracks,
+    start_frame: float,
+    *,
+    clear: bool = True,
 ) -> LivingResult:
     """Replace our living motion with the tracks' rotations (or just remove it when they have none: then
-    the rig is not needed)."""
-    scene = context.scene
-    remove_living_motion(scene)
-    context.view_layer.update()  # the rest pose, without our deltas, for the parents' frames
+    the rig is not needed). clear=False keys beside the living motion already there: the next character
+    of a conversation, after the first cleared the scene of the last Generate's."""
+    if clear:
+        remove_living_motion(context.scene)
+        context.view_layer.update()  # the rest pose, without our deltas, for the parents' frames
     motion = tracks.head_and_eyes
     if rig is None or motion is None or not len(motion.head):
         return LivingResult((), (), 0, ())

@@ -14,7 +14,10 @@ from ..core.base.errors import HeadError, LipSyncError
 from ..core.faces.landmark_fallbacks import landmark_layout_in_box
 from ..core.faces.reference import load_reference_head
 from ..core.pipeline import LipSyncOptions
-from . import exports, gltf_export, landmarks, mesh, pipeline, shapekeys
+from ..core.scene import RoleChoice
+from ..core.scene.speech import SceneSources, line_recordings_in
+from ..core.text.script import Script, has_speakers, read_script, speaker_key
+from . import conversation, exports, gltf_export, landmarks, mesh, pipeline, shapekeys
 from .preferences import ADDON_PACKAGE, configure_speech_engine
 from .properties import LAYER_VALUES
 
@@ -132,6 +135,31 @@ def keys_built(context) -> str | None:
     return None
 
 
+def speaks_a_script(context) -> bool:
+    """Whether Generate speaks a script with speakers: the Text has speakers, or (a file, not read at every
+    redraw) the cast list has been filled from one."""
+    settings = settings_of(context)
+    if settings.source_kind == "TEXT":
+        return settings.text is not None and has_speakers(settings.text.as_string())
+    return len(settings.cast) > 0
+
+
+def head_ready(context) -> str | None:
+    """One head needs choosing, with its keys; a script's heads are its cast's (default heads included)."""
+    if speaks_a_script(context):
+        return None
+    return head_chosen(context) or keys_built(context)
+
+
+def text_chosen(context) -> str | None:
+    settings = settings_of(context)
+    if settings.source_kind == "TEXT" and settings.text is None:
+        return "Choose the Text to speak in the Lip Sync panel"
+    if settings.source_kind == "FILE" and not settings.file_path:
+        return "Choose the JSML file to speak in the Lip Sync panel"
+    return None
+
+
 def source_chosen(context) -> str | None:
     """A text to speak is chosen, or a cue file that may hold its own (a Papagayo project does), or a
     recording, whose words are then recognised from the audio."""
@@ -152,7 +180,18 @@ def timing_follows_recording(context) -> str | None:
     return None
 
 
+def in_conversation(context) -> bool:
+    """Whether the exports are a conversation's: the scene holds one and no other head is chosen."""
+    characters = pipeline.conversation_heads(context.scene)
+    head = chosen_head(context)
+    return bool(characters) and (head is None or head in characters)
+
+
 def speech_generated(context) -> str | None:
+    if in_conversation(context):
+        return None
+    if chosen_head(context) is None:
+        return "Choose the head object in the Lip Sync panel"
     key = chosen_head(context).data.shape_keys
     action = key.animation_data.action if key is not None and key.animation_data else None
     if action is None or pipeline.RECORD_PROPERTY not in action:
@@ -225,7 +264,7 @@ class TURKISH_LIPSYNC_OT_generate(ReportedOperator, bpy.types.Operator):
     bl_idname = "turkish_lipsync.generate"
     bl_label = "Generate Animation"
     bl_options = {"REGISTER", "UNDO"}
-    requirements = (object_mode, head_chosen, keys_built, source_chosen, timing_follows_recording)
+    requirements = (object_mode, head_ready, source_chosen, timing_follows_recording)
 
     @staticmethod
     def work(context) -> Outcome:
@@ -233,6 +272,14 @@ class TURKISH_LIPSYNC_OT_generate(ReportedOperator, bpy.types.Operator):
         head = chosen_head(context)
         configure_speech_engine(context)
         source = source_of(settings)
+        script = read_script(source) if source else None
+        if script is not None:
+            return generate_conversation(context, settings, script)
+        if head is None or not pipeline.has_lipsync_keys(head):
+            raise HeadError(
+                "The text has no speakers, so one head speaks it: choose the head in the Lip Sync panel and "
+                "build its shape keys first."
+            )
         with progress_reporter(context, "Generate") as progress:
             result = pipeline.generate(
                 context,
@@ -250,6 +297,105 @@ class TURKISH_LIPSYNC_OT_generate(ReportedOperator, bpy.types.Operator):
             f"(frames {result.frame_start}-{result.frame_end})"
         )
         return message, result.warnings
+
+
+def generate_conversation(context, settings, script: Script) -> Outcome:
+    """A script with speakers: the cast list brought up to the script, then every character generated."""
+    fill_cast(settings, script)
+    with progress_reporter(context, "Generate") as progress:
+        result = conversation.generate_conversation(
+            context,
+            script,
+            choices_of(settings),
+            options_of(settings),
+            sources=sources_of(settings),
+            audio_folder=settings.audio_folder,
+            package=ADDON_PACKAGE,
+            progress=progress,
+        )
+    for member in settings.cast:  # the heads the cast got (default heads included), for the next run
+        if member.head is None and member.name in result.heads:
+            member.head = bpy.data.objects[result.heads[member.name]]
+    message = (
+        f"{len(script.lines)} lines of {len(result.heads)} characters keyed over {result.duration:.2f} s "
+        f"(frames {result.frame_start}-{result.frame_end})"
+    )
+    return message, result.warnings
+
+
+def fill_cast(settings, script: Script) -> int:
+    """The panel's cast list made the script's speakers, in the order they first speak: a speaker already
+    listed keeps what was chosen for them; returns how many were added."""
+    chosen = {speaker_key(member.name): index for index, member in enumerate(settings.cast)}
+    added = 0
+    for speaker in script.speakers:
+        if speaker.key not in chosen:
+            member = settings.cast.add()
+            member.name = speaker.name
+            if speaker.gender is not None:
+                member.gender = speaker.gender
+            added += 1
+    keys = [speaker.key for speaker in script.speakers]
+    for index in reversed(range(len(settings.cast))):
+        if speaker_key(settings.cast[index].name) not in keys:
+            settings.cast.remove(index)
+    for position, key in enumerate(keys):
+        current = next(i for i, member in enumerate(settings.cast) if speaker_key(member.name) == key)
+        settings.cast.move(current, position)
+    settings.cast_index = min(settings.cast_index, max(len(settings.cast) - 1, 0))
+    return added
+
+
+def choices_of(settings) -> dict[str, RoleChoice]:
+    """What the cast list chose for each speaker (Auto leaves it to the cast)."""
+    choices = {}
+    for member in settings.cast:
+        chosen_voice = member.voice != "AUTO"
+        choices[member.name] = RoleChoice(
+            head=member.head.name if member.head is not None else "",
+            gender=None if member.gender == "AUTO" else member.gender,
+            variant=member.voice if chosen_voice else None,
+            pitch=member.pitch if chosen_voice else None,
+            rate=member.voice_rate if chosen_voice else None,
+            emotion_strength=settings.emotion_strength * member.emotion_strength,
+            recording=Path(bpy.path.abspath(member.recording)) if member.recording else None,
+        )
+    return choices
+
+
+def sources_of(settings) -> SceneSources:
+    """Where a scene's speech comes from: the Own Recording (the whole scene), the cast's recordings (set in
+    choices_of), a folder of line recordings, or a cue file."""
+    lines: tuple[Path, ...] = ()
+    if settings.line_recordings:
+        lines = line_recordings_in(Path(bpy.path.abspath(settings.line_recordings)))
+    return SceneSources(
+        scene_recording=Path(bpy.path.abspath(settings.recording)) if settings.recording else None,
+        line_recordings=lines,
+        cues=Path(bpy.path.abspath(settings.cue_file)) if settings.cue_file else None,
+    )
+
+
+class TURKISH_LIPSYNC_OT_fill_cast(ReportedOperator, bpy.types.Operator):
+    """List the script's speakers in the cast, keeping what was chosen for those already listed"""
+
+    bl_idname = "turkish_lipsync.fill_cast"
+    bl_label = "Fill Cast from Script"
+    bl_options = {"REGISTER", "UNDO"}
+    requirements = (object_mode, text_chosen)
+
+    @staticmethod
+    def work(context) -> Outcome:
+        settings = settings_of(context)
+        source = source_of(settings)
+        script = read_script(source)
+        if script is None:
+            raise LipSyncError(
+                'The text has no speakers: write its lines as <VOICE NAME="..."> elements or as '
+                '"NAME: text" lines (a screenplay) to have several characters speak them.'
+            )
+        added = fill_cast(settings, script)
+        return f"{len(settings.cast)} speakers in the cast ({added} new)", ()
 
 
 def options_of(settings) -> LipSyncOptions:
@@ -321,7 +467,8 @@ def output_chosen(context) -> str | None:
 
 
 def something_to_film(context) -> str | None:
-    if context.scene.camera is None and chosen_head(context) is None:
+    nothing = chosen_head(context) is None and not pipeline.conversation_heads(context.scene)
+    if context.scene.camera is None and nothing:
         return "Choose the head (to frame a camera on it) or add a camera"
     return None
 
@@ -443,12 +590,18 @@ class TURKISH_LIPSYNC_OT_export_animation(ReportedOperator, bpy.types.Operator):
     bl_idname = "turkish_lipsync.export_animation"
     bl_label = "Export Animation"
     bl_options = {"REGISTER"}
-    requirements = (object_mode, head_chosen, speech_generated, export_file_chosen)
+    requirements = (object_mode, speech_generated, export_file_chosen)
 
     @staticmethod
     def work(context) -> Outcome:
         settings = settings_of(context)
         path = exports.export_path_for(settings.export_path, settings.export_format)
+        if in_conversation(context):
+            results = exports.export_scene(context, settings.export_format, path)
+            written = ", ".join(str(result.path) for result in results)
+            return f"Exported {settings.export_format} to {written}", tuple(
+                warning for result in results for warning in result.warnings
+            )
         result = exports.export_animation(context, chosen_head(context), settings.export_format, path)
         return f"Exported {result.export_format} to {result.path}", result.warnings
 
@@ -459,11 +612,15 @@ class TURKISH_LIPSYNC_OT_export_gltf(ReportedOperator, bpy.types.Operator):
     bl_idname = "turkish_lipsync.export_gltf"
     bl_label = "Export glTF"
     bl_options = {"REGISTER"}
-    requirements = (object_mode, head_chosen, speech_generated, gltf_file_chosen)
+    requirements = (object_mode, speech_generated, gltf_file_chosen)
 
     @staticmethod
     def work(context) -> Outcome:
-        result = gltf_export.export_gltf(context, chosen_head(context), settings_of(context).gltf_path)
+        path = settings_of(context).gltf_path
+        if in_conversation(context):
+            results = conversation.export_conversation_gltf(context, path)
+            return f"Exported {', '.join(result.path for result in results)}", ()
+        result = gltf_export.export_gltf(context, chosen_head(context), path)
         sound = f", the speech in {result.wav_path}" if result.wav_path else ", no speech WAV in the scene"
         return f"Exported {result.path} ({result.morph_targets} morph targets){sound}", ()
 
@@ -472,6 +629,7 @@ CLASSES = (
     TURKISH_LIPSYNC_OT_build_shape_keys,
     TURKISH_LIPSYNC_OT_show_landmarks,
     TURKISH_LIPSYNC_OT_clear_landmarks,
+    TURKISH_LIPSYNC_OT_fill_cast,
     TURKISH_LIPSYNC_OT_generate,
     TURKISH_LIPSYNC_OT_render,
     TURKISH_LIPSYNC_OT_export_animation,

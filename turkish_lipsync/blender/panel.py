@@ -7,6 +7,18 @@ import bpy
 from .shapekeys import KEY_SOURCES_PROPERTY
 
 
+class TURKISH_LIPSYNC_UL_cast(bpy.types.UIList):
+    """The cast: each speaker of the script, the head that plays them and their voice."""
+
+    def draw_item(
+        self, _context, layout, _data, member, _icon, _active_data, _active_property, _index=0, _flt_flag=0
+    ):
+        row = layout.row(align=True)
+        row.label(text=member.name, icon="USER", translate=False)
+        row.prop(member, "head", text="")
+        row.prop(member, "voice", text="")
+
+
 class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
     bl_label = "Turkish Lip Sync"
     bl_space_type = "VIEW_3D"
@@ -54,6 +66,7 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
         column.prop(settings, "motion")
         column.prop(settings, "interpolation")
         column.prop(settings, "audio_folder")
+        self.draw_cast(layout, settings)
         self.draw_living(layout, settings)
         column = layout.column()
         column.operator("turkish_lipsync.generate", icon="PLAY_SOUND")
@@ -72,6 +85,29 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
         column.operator("turkish_lipsync.export_animation", icon="EXPORT")
         column.prop(settings, "gltf_path")
         column.operator("turkish_lipsync.export_gltf", icon="EXPORT")
+
+    @staticmethod
+    def draw_cast(layout, settings) -> None:
+        """A script with speakers: who plays each one, with which voice, and their recordings."""
+        header, body = layout.panel("TURKISH_LIPSYNC_cast", default_closed=not len(settings.cast))
+        header.label(text="Conversation")
+        if body is None:
+            return
+        body.operator("turkish_lipsync.fill_cast", icon="COMMUNITY")
+        body.template_list("TURKISH_LIPSYNC_UL_cast", "", settings, "cast", settings, "cast_index", rows=3)
+        if 0 <= settings.cast_index < len(settings.cast):
+            member = settings.cast[settings.cast_index]
+            column = body.column()
+            column.prop(member, "head")
+            column.prop(member, "gender")
+            column.prop(member, "voice")
+            voiced = column.column(align=True)
+            voiced.active = member.voice != "AUTO"
+            voiced.prop(member, "pitch")
+            voiced.prop(member, "voice_rate")
+            column.prop(member, "emotion_strength")
+            column.prop(member, "recording")
+        body.prop(settings, "line_recordings")
 
     @staticmethod
     def draw_living(layout, settings) -> None:
@@ -111,6 +147,6 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
             row.label(text=source, translate=False)
 
 
-CLASSES = (VIEW3D_PT_turkish_lipsync,)
+CLASSES = (TURKISH_LIPSYNC_UL_cast, VIEW3D_PT_turkish_lipsync)
 
 register, unregister = bpy.utils.register_classes_factory(CLASSES)

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import bpy
+import numpy as np
 
 from ..core.base.errors import HeadError, TextError
 from ..core.base.files import read_user_text
@@ -31,6 +32,7 @@ from ..core.pipeline import LipSyncOptions, lip_sync
 from . import compat, heads, keyframes, living, render, sequencer, shapekeys
 from .living_rig import find_rig
 from .owned_keys import owned_keys
+from .scene_record import conversation_record, forget_conversation_record
 from .shapekeys import BuildReport
 
 Progress = Callable[[float, str], None]
@@ -212,6 +214,7 @@ def generate(
     written = keyframes.write_weight_tracks(objects, tracks, start, action_name)
     _keep_record(head, source, spoken, start)
     progress(0.85, "Placing the speech in the sequencer")
+    forget_conversation(scene)
     strip_name = None
     frame_count = shown_frame_count(timeline.duration, fps)
     if wav_path is not None:
@@ -319,10 +322,50 @@ def animation_record(head: bpy.types.Object) -> AnimationRecord | None:
 
 
 def frame_head(scene: bpy.types.Scene, head: bpy.types.Object | None) -> dict[str, bool]:
-    """Our camera and lights in front of the head's face, whichever way it looks (render.frame_face)."""
+    """Our camera and lights in front of the head's face, whichever way it looks (render.frame_face); in a
+    conversation, in front of every character's (a two-shot, or three-...)."""
+    characters = conversation_heads(scene)
+    if characters and (head is None or head in characters):
+        return frame_conversation(scene, characters)
     if head is None:
         return render.frame_face(scene, [])
     return render.frame_face(scene, head_objects(head), find_rig(head).frame)
+
+
+def forget_conversation(scene: bpy.types.Scene) -> None:
+    """One head speaking after a conversation: the conversation's strips go, and its record (its other
+    characters keep their keys, as any other head does)."""
+    record = conversation_record(scene)
+    if record is not None:
+        sequencer.remove_scene_strips(scene, record.strips)
+        forget_conversation_record(scene)
+
+
+def conversation_heads(scene: bpy.types.Scene) -> list[bpy.types.Object]:
+    """The heads of the scene's last conversation (empty where it has none)."""
+    record = conversation_record(scene)
+    return record.head_objects() if record is not None else []
+
+
+def group_facing(rigs: list) -> np.ndarray:
+    """The way a group of heads faces together (columns: left, up, forward; up the world's Z): the mean of
+    their facings, level; -Y where they face every way."""
+    forward = np.sum([rig.frame[:, 2] for rig in rigs], axis=0) if rigs else np.zeros(3)
+    forward[2] = 0.0
+    if np.linalg.norm(forward) < 1e-6:
+        return render.FACING_MINUS_Y
+    forward /= np.linalg.norm(forward)
+    up = np.array([0.0, 0.0, 1.0])
+    return np.column_stack([np.cross(up, forward), up, forward])
+
+
+def frame_conversation(scene: bpy.types.Scene, heads: list[bpy.types.Object]) -> dict[str, bool]:
+    """Our camera and lights framing every character's face, facing the way the group faces; the user's
+    own camera and lights stay."""
+    with living.at_rest(scene):
+        rigs = [find_rig(head) for head in heads]
+    objects = [obj for head in heads for obj in head_objects(head)]
+    return render.frame_face(scene, objects, group_facing(rigs), group=True)
 
 
 @dataclass(frozen=True, eq=False)

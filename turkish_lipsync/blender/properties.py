@@ -3,7 +3,15 @@
 from __future__ import annotations
 
 import bpy
-from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
+from bpy.props import (
+    BoolProperty,
+    CollectionProperty,
+    EnumProperty,
+    FloatProperty,
+    IntProperty,
+    PointerProperty,
+    StringProperty,
+)
 
 from ..core.base.choices import Choice
 from ..core.faces.key_sources import KEY_SOURCE_CHOICES, RHO_RANGE
@@ -16,6 +24,9 @@ from ..core.pipeline import (
     TIMING_CHOICES,
     LipSyncOptions,
 )
+from ..core.scene.cast import PITCH_RANGE
+from ..core.scene.cast import RATE_RANGE as VOICE_RATE_RANGE
+from ..core.scene.tables import conversation_table
 
 DEFAULTS = LipSyncOptions()
 
@@ -49,6 +60,85 @@ def _amount(name: str, description: str):
         max=AMOUNT_RANGE[1],
         soft_max=1.5,
         description=description,
+    )
+
+
+VOICE_LABELS = {"female": "Female", "male": "Male"}
+VOICE_DESCRIPTIONS = {
+    "female": "A woman's voice: a variant of eSpeak NG's Turkish voice",
+    "male": "A man's voice: a variant of eSpeak NG's Turkish voice",
+}
+
+
+def _voice_items() -> tuple[tuple[str, str, str], ...]:
+    """Auto, then every eSpeak NG variant the cast gives, numbered per gender as the panel shows them."""
+    voices = conversation_table().voices
+    items = [("AUTO", "Auto", "The cast's voice for the speaker's gender, distinct from the others'")]
+    for gender, variants in (("female", voices.female), ("male", voices.male)):
+        for number, variant in enumerate(variants, start=1):
+            items.append((variant, f"{VOICE_LABELS[gender]} {number}", VOICE_DESCRIPTIONS[gender]))
+    return tuple(items)
+
+
+class TurkishLipSyncCastMember(bpy.types.PropertyGroup):
+    """One speaker of a script with speakers (its name: the script's), and who plays them: a row of the
+    panel's cast list."""
+
+    head: PointerProperty(
+        name="Head",
+        type=bpy.types.Object,
+        poll=_is_mesh,
+        description="The head that plays this speaker (empty: a default head of its own, in a tone of its "
+        "own, standing beside the others)",
+    )
+    gender: EnumProperty(
+        name="Gender",
+        items=(
+            (
+                "AUTO",
+                "Auto",
+                "As the script says, else as the name says, else the gender the cast has fewest of",
+            ),
+            ("female", "Female", "A woman's voice"),
+            ("male", "Male", "A man's voice"),
+        ),
+        default="AUTO",
+        description="Whose voice the speaker gets when the voice is Auto",
+    )
+    voice: EnumProperty(
+        name="Voice",
+        items=_voice_items(),
+        default="AUTO",
+        description="The speech engine's voice for this speaker",
+    )
+    pitch: FloatProperty(
+        name="Voice Pitch",
+        default=1.0,
+        min=PITCH_RANGE[0],
+        max=PITCH_RANGE[1],
+        description="Multiplier of the chosen voice's pitch (with an Auto voice, the cast chooses it)",
+    )
+    voice_rate: FloatProperty(
+        name="Voice Rate",
+        default=1.0,
+        min=VOICE_RATE_RANGE[0],
+        max=VOICE_RATE_RANGE[1],
+        description="Multiplier of the chosen voice's speaking rate (with an Auto voice, the cast chooses "
+        "it)",
+    )
+    emotion_strength: FloatProperty(
+        name="Emotion Strength",
+        default=1.0,
+        min=0.0,
+        max=1.0,
+        subtype="FACTOR",
+        description="How strongly this speaker's emotions show, times the Speech panel's Emotion Strength",
+    )
+    recording: StringProperty(
+        name="Speaker Recording",
+        subtype="FILE_PATH",
+        description="This speaker's track of the scene (WAV, FLAC, OGG), starting where the scene starts and "
+        "silent while the others speak; give one to every speaker, or one Own Recording of the whole scene",
     )
 
 
@@ -210,6 +300,20 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
         type=bpy.types.Object,
         description="The object the eyes seek while talking (empty: the scene's camera)",
     )
+    cast: CollectionProperty(
+        type=TurkishLipSyncCastMember,
+        name="Cast",
+        description="Who plays each speaker of a script with speakers, filled from the script",
+    )
+    cast_index: IntProperty(
+        name="Cast Row", default=0, min=0, description="The speaker chosen in the cast list"
+    )
+    line_recordings: StringProperty(
+        name="Line Recordings",
+        subtype="DIR_PATH",
+        description="A folder of recordings, one per line of the script, in the order of their file names "
+        "(empty: the lines are synthesised, or the Own Recording holds the whole scene)",
+    )
     gltf_path: StringProperty(
         name="glTF File",
         subtype="FILE_PATH",
@@ -219,7 +323,7 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
     )
 
 
-CLASSES = (TurkishLipSyncSettings,)
+CLASSES = (TurkishLipSyncCastMember, TurkishLipSyncSettings)
 
 
 def register() -> None:

@@ -29,6 +29,7 @@ CAMERA_LENS_MM = 70.0
 FACE_MARGIN_ABOVE = 0.27
 FACE_MARGIN_BELOW = 0.06
 FACE_MARGIN_SIDES = 0.1
+GROUP_MARGIN = 0.15  # room around a group of heads, as a share of their height
 PROBE_ENVIRONMENT_VARIABLE = "TURKISH_LIPSYNC_PROBE_OPENGL"
 
 
@@ -281,6 +282,18 @@ def face_points(objects) -> np.ndarray:
     return np.concatenate(points)
 
 
+def whole_points(objects) -> np.ndarray:
+    """World points of every vertex of the objects (the heads of a group, whole)."""
+    points = [
+        mesh.to_world(obj, mesh.read_coordinates(obj.data.vertices, len(obj.data.vertices)))
+        for obj in objects
+        if obj is not None and obj.type == "MESH" and len(obj.data.vertices)
+    ]
+    if not points:
+        raise RenderError("No head mesh to frame: the conversation's heads have no vertices.")
+    return np.concatenate(points)
+
+
 def face_bounds(objects) -> tuple[np.ndarray, np.ndarray]:
     """World-space box of the face (face_points)."""
     stacked = face_points(objects)
@@ -309,18 +322,25 @@ FACING_MINUS_Y = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
 
 
 def camera_placement(
-    scene: bpy.types.Scene, head_objects, facing: np.ndarray | None = None
+    scene: bpy.types.Scene, head_objects, facing: np.ndarray | None = None, group: bool = False
 ) -> tuple[Vector, float, float, float]:
     """(centre of the framed head, camera distance, sensor width, framed size) of the camera frame_face
     adds, in front of the face. facing: the head's frame (columns: its left, up and forward in world axes);
-    a face looking along -Y where it is not given."""
+    a face looking along -Y where it is not given. group: several heads (a conversation), framed whole
+    with a little room around them, since each turns toward the others."""
     facing = FACING_MINUS_Y if facing is None else np.asarray(facing, np.float64)
-    local = face_points(head_objects) @ facing  # across, up, forward
-    low, high = local.min(axis=0), local.max(axis=0)
-    face_height = float(high[1] - low[1])
-    # The whole head from its crown to the top of the neck.
-    low = low - face_height * np.array([FACE_MARGIN_SIDES, FACE_MARGIN_BELOW, 0.0])
-    high = high + face_height * np.array([FACE_MARGIN_SIDES, FACE_MARGIN_ABOVE, 0.0])
+    if group:
+        local = whole_points(head_objects) @ facing
+        low, high = local.min(axis=0), local.max(axis=0)
+        room = GROUP_MARGIN * float(high[1] - low[1])
+        low, high = low - np.array([room, room, 0.0]), high + np.array([room, room, 0.0])
+    else:
+        local = face_points(head_objects) @ facing  # across, up, forward
+        low, high = local.min(axis=0), local.max(axis=0)
+        face_height = float(high[1] - low[1])
+        # The whole head from its crown to the top of the neck.
+        low = low - face_height * np.array([FACE_MARGIN_SIDES, FACE_MARGIN_BELOW, 0.0])
+        high = high + face_height * np.array([FACE_MARGIN_SIDES, FACE_MARGIN_ABOVE, 0.0])
     width, height, depth = (high - low).tolist()
     centre = Vector((facing @ ((low + high) / 2)).tolist())
     aspect = (
@@ -336,14 +356,16 @@ def camera_placement(
     return centre, max(distance, 1e-3), sensor, max(width, height)
 
 
-def frame_face(scene: bpy.types.Scene, head_objects, facing: np.ndarray | None = None) -> dict[str, bool]:
+def frame_face(
+    scene: bpy.types.Scene, head_objects, facing: np.ndarray | None = None, group: bool = False
+) -> dict[str, bool]:
     """Add a camera and three-point lights in front of the face where the scene has none; re-aim ours.
 
-    facing as for camera_placement (a VRM avatar looks along +Y, others along X). The user's own camera and
-    lights are never moved. Returns which were added or re-aimed.
+    facing and group as for camera_placement (a VRM avatar looks along +Y, others along X). The user's own
+    camera and lights are never moved. Returns which were added or re-aimed.
     """
     facing = FACING_MINUS_Y if facing is None else np.asarray(facing, np.float64)
-    centre, distance, sensor, size = camera_placement(scene, head_objects, facing)
+    centre, distance, sensor, size = camera_placement(scene, head_objects, facing, group)
     done = {"camera": False, "lights": False}
 
     camera = scene.camera

@@ -13,6 +13,7 @@ from ..core.base.errors import AudioError
 from ..core.motion.frames import shown_frame_count
 from ..core.speech.wav import speech_wav_in
 from . import compat
+from .scene_record import conversation_record
 
 SPEECH_STRIP_NAME = "TR_speech"
 SPEECH_FOLDER_NAME = "lipsync_audio"
@@ -146,6 +147,43 @@ def place_speech_strip(
     return strip.name
 
 
+def place_scene_strips(
+    scene: bpy.types.Scene, sounds: list[tuple[str, Path, int, int]], mix_path: Path | None
+) -> tuple[str, ...]:
+    """A conversation's sound strips (name, WAV, first frame, frames), each on the lowest channel free for
+    it; the scene's mix recorded as its speech (what a render without audio support adds, what exports
+    name). Returns the strips' names (none where this Blender has no audio)."""
+    if mix_path is not None:
+        scene[SPEECH_PATH_PROPERTY] = blend_relative(Path(mix_path))
+    if not compat.HAS_AUDIO:
+        return ()
+    strips = compat.sequencer_strips(scene, create=True)
+    names = []
+    for name, wav, start_frame, frame_count in sounds:
+        if not Path(wav).is_file():
+            raise AudioError(f"The speech audio {wav} does not exist; generate the animation again.")
+        channel = _free_channel(strips, int(start_frame), int(start_frame) + frame_count)
+        strip = strips.new_sound(name, blend_relative(Path(wav)), channel, int(start_frame))
+        names.append(strip.name)
+    if names:
+        scene.sync_mode = "AUDIO_SYNC"
+    return tuple(names)
+
+
+def remove_scene_strips(scene: bpy.types.Scene, names) -> int:
+    """Remove a conversation's strips of ours, by the names Generate recorded (the user's stay)."""
+    strips = compat.sequencer_strips(scene, create=False)
+    if strips is None:
+        return 0
+    removed = 0
+    for name in names:
+        strip = strips.get(name)
+        if strip is not None:
+            strips.remove(strip)
+            removed += 1
+    return removed
+
+
 def speech_strip(scene: bpy.types.Scene):
     strips = compat.sequencer_strips(scene, create=False)
     return strips.get(SPEECH_STRIP_NAME) if strips is not None else None
@@ -173,3 +211,15 @@ def relate_speech_to(scene: bpy.types.Scene, blend_path: Path) -> None:
     strip = speech_strip(scene)
     if strip is not None and strip.sound is not None:
         strip.sound.filepath = relative
+    record = conversation_record(scene)
+    strips = compat.sequencer_strips(scene, create=False)
+    for name in record.strips if record is not None and strips is not None else ():
+        line = strips.get(name)
+        if line is not None and line.sound is not None:
+            try:
+                line.sound.filepath = bpy.path.relpath(
+                    os.path.normpath(bpy.path.abspath(line.sound.filepath)),
+                    start=str(Path(blend_path).resolve().parent),
+                )
+            except ValueError:  # another drive on Windows
+                continue

@@ -307,7 +307,73 @@ TURKISH = {
     "The object the eyes seek while talking (empty: the scene's camera)": (
         "Konuşurken gözlerin aradığı nesne (boş: sahnenin kamerası)"
     ),
+    # a conversation: the cast
+    "Conversation": "Karşılıklı Konuşma",
+    "Fill Cast from Script": "Oyuncuları Metinden Doldur",
+    "List the script's speakers in the cast, keeping what was chosen for those already listed": (
+        "Metindeki konuşmacıları oyuncu listesine ekler; listede olanlar için seçilenleri korur"
+    ),
+    "Cast": "Oyuncular",
+    "Who plays each speaker of a script with speakers, filled from the script": (
+        "Konuşmacılı bir metinde her konuşmacıyı kimin oynadığı; metinden doldurulur"
+    ),
+    "Cast Row": "Oyuncu Satırı",
+    "The speaker chosen in the cast list": "Oyuncu listesinde seçili konuşmacı",
+    "The head that plays this speaker (empty: a default head of its own, in a tone of its own, standing "
+    "beside the others)": (
+        "Bu konuşmacıyı oynayan kafa (boş: kendi tonunda, ötekilerin yanında duran kendine ait bir "
+        "varsayılan kafa)"
+    ),
+    "Gender": "Cinsiyet",
+    "As the script says, else as the name says, else the gender the cast has fewest of": (
+        "Metin ne diyorsa o; yoksa adın söylediği; o da yoksa oyuncular arasında en az olan cinsiyet"
+    ),
+    "Female": "Kadın",
+    "Male": "Erkek",
+    "A woman's voice": "Bir kadın sesi",
+    "A man's voice": "Bir erkek sesi",
+    "Whose voice the speaker gets when the voice is Auto": (
+        "Ses Otomatik olduğunda konuşmacının kimin sesini aldığı"
+    ),
+    "Voice": "Ses",
+    "The speech engine's voice for this speaker": "Konuşma motorunun bu konuşmacı için sesi",
+    "The cast's voice for the speaker's gender, distinct from the others'": (
+        "Oyuncuların konuşmacının cinsiyetine göre seçtiği, ötekilerden farklı ses"
+    ),
+    "A woman's voice: a variant of eSpeak NG's Turkish voice": (
+        "Bir kadın sesi: eSpeak NG'nin Türkçe sesinin bir çeşidi"
+    ),
+    "A man's voice: a variant of eSpeak NG's Turkish voice": (
+        "Bir erkek sesi: eSpeak NG'nin Türkçe sesinin bir çeşidi"
+    ),
+    "Voice Pitch": "Ses Perdesi",
+    "Multiplier of the chosen voice's pitch (with an Auto voice, the cast chooses it)": (
+        "Seçilen sesin perdesinin çarpanı (ses Otomatik ise oyuncular seçer)"
+    ),
+    "Voice Rate": "Ses Hızı",
+    "Multiplier of the chosen voice's speaking rate (with an Auto voice, the cast chooses it)": (
+        "Seçilen sesin konuşma hızının çarpanı (ses Otomatik ise oyuncular seçer)"
+    ),
+    "How strongly this speaker's emotions show, times the Speech panel's Emotion Strength": (
+        "Bu konuşmacının duygularının ne kadar güçlü göründüğü; Konuşma bölümündeki Duygu Şiddeti ile "
+        "çarpılır"
+    ),
+    "Speaker Recording": "Konuşmacı Kaydı",
+    "This speaker's track of the scene (WAV, FLAC, OGG), starting where the scene starts and silent while "
+    "the others speak; give one to every speaker, or one Own Recording of the whole scene": (
+        "Bu konuşmacının sahnedeki kaydı (WAV, FLAC, OGG): sahneyle birlikte başlar, ötekiler konuşurken "
+        "sessizdir; her konuşmacıya bir tane verin ya da bütün sahnenin tek bir Kendi Kaydı'nı"
+    ),
+    "Line Recordings": "Satır Kayıtları",
+    "A folder of recordings, one per line of the script, in the order of their file names (empty: the lines "
+    "are synthesised, or the Own Recording holds the whole scene)": (
+        "Metnin her satırı için bir kayıt içeren, dosya adlarının sırasıyla okunan bir klasör (boş: satırlar "
+        "sentezlenir ya da Kendi Kaydı bütün sahneyi tutar)"
+    ),
 }
+# The cast's voices, numbered per gender as the panel lists them.
+TURKISH |= {f"Female {number}": f"Kadın {number}" for number in range(1, 10)}
+TURKISH |= {f"Male {number}": f"Erkek {number}" for number in range(1, 10)}
 
 # Operator labels are looked up in the "Operator" context, everything else in the default one.
 _CONTEXTS = ("*", "Operator")

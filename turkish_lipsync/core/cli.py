@@ -23,6 +23,7 @@ from .pipeline import (
     identifiers,
     lip_sync,
 )
+from .text.script import read_script
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -209,6 +210,10 @@ def _run_normalize(args: argparse.Namespace) -> int:
 
 def _run_timeline(args: argparse.Namespace) -> int:
     check_paths(args, wav=args.wav)
+    source = read_source(args.file, args.text, args.cues, args.audio)
+    script = read_script(source) if source.strip() else None
+    if script is not None:
+        return _run_scene_timeline(args, script)
     result = _lip_sync(args)
     if args.wav:
         if result.synthesis is None:
@@ -224,10 +229,83 @@ def _run_timeline(args: argparse.Namespace) -> int:
     return 0
 
 
+def _run_scene_timeline(args: argparse.Namespace, script) -> int:
+    """A script with speakers: its lines on the scene's timeline, then each speaker's own timeline."""
+    from .scene import cast_for, scene_speech
+    from .scene.speech import SceneSources
+
+    options = options_from(args)
+    cast = cast_for(script, emotion_strength=options.emotion_strength)
+    sources = SceneSources(scene_recording=options.recording, cues=options.cues)
+    speech = scene_speech(script, cast, options, sources)
+    for warning in speech.warnings:
+        print(f"warning: {warning}", file=sys.stderr)
+    if args.wav:
+        mix = speech.mix()
+        if mix is None:
+            raise LipSyncError("--wav needs a speech engine: use --timing phone or word")
+        from .speech import write_wav
+
+        write_wav(args.wav, mix)
+    if args.format == "json":
+        data = {
+            "duration": round(speech.duration, 4),
+            "cast": [
+                {
+                    "name": r.name,
+                    "gender": r.gender,
+                    "voice": r.voice.variant,
+                    "pitch": r.voice.pitch,
+                    "rate": r.voice.rate,
+                }
+                for r in cast.roles
+            ],
+            "lines": [_line_as_dict(line, cast) for line in speech.lines],
+            "speakers": {
+                role.name: timeline_as_dict(speech.speaker_timeline(role.key), args.fps)
+                for role in cast.roles
+            },
+        }
+        print(json.dumps(data, ensure_ascii=False, indent=1))
+        return 0
+    lines = [
+        f"# scene\tlines {len(speech.lines)}\tspeakers {len(cast.roles)}\tduration {speech.duration:.3f}"
+    ]
+    lines.append("line\tstart\tend\tspeaker\taddressee\ttext")
+    for line in speech.lines:
+        entry = _line_as_dict(line, cast)
+        lines.append(
+            f"{entry['line']}\t{entry['start']:.3f}\t{entry['end']:.3f}\t{entry['speaker']}\t{entry['addressee']}\t"
+            f"{entry['text']}"
+        )
+    for role in cast.roles:
+        lines.append("")
+        lines.append(f"# speaker {role.name}\tvoice {role.voice.variant}")
+        lines.append(timeline_as_tsv(speech.speaker_timeline(role.key), args.fps))
+    print("\n".join(lines))
+    return 0
+
+
+def _line_as_dict(line, cast) -> dict:
+    addressee = cast.role(line.addressee).name if line.addressee in cast.keys else line.addressee
+    return {
+        "line": line.index + 1,
+        "start": round(line.first_phone, 4),
+        "end": round(line.last_phone, 4),
+        "speaker": cast.role(line.speaker).name,
+        "addressee": addressee,
+        "text": " ".join(word.text for word in line.utterance.words),
+    }
+
+
 def _run_export(args: argparse.Namespace) -> int:
     from .interchange import export_text, write_export
 
     check_paths(args, out=args.out, wav=args.wav)
+    source = read_source(args.file, args.text, args.cues, args.audio)
+    script = read_script(source) if source.strip() else None
+    if script is not None:
+        return _run_scene_export(args, script)
     result = _lip_sync(args)
     sound_file = ""
     if args.wav:
@@ -252,6 +330,66 @@ def _run_export(args: argparse.Namespace) -> int:
         sys.stdout.write(contents)
     else:
         write_export(args.out, contents)
+    return 0
+
+
+def _run_scene_export(args: argparse.Namespace, script) -> int:
+    """A script with speakers: a Papagayo project with one voice per character, or a file per character
+    (OUT_<Name>.ext) of any other format, the core's own scene (default heads on the arc, camera in front)."""
+    from .interchange import export_format_named, export_text, write_export
+    from .scene import cast_for, converse
+    from .scene.speech import SceneSources
+    from .speech.cues.papagayo_pgo import voices_as_pgo
+
+    options = options_from(args)
+    cast = cast_for(script, emotion_strength=options.emotion_strength)
+    scene = converse(
+        script, cast, options, sources=SceneSources(scene_recording=options.recording, cues=options.cues)
+    )
+    for warning in scene.warnings:
+        print(f"warning: {warning}", file=sys.stderr)
+    sound_file = ""
+    if args.wav:
+        mix = scene.speech.mix()
+        if mix is None:
+            raise LipSyncError("--wav needs speech: use --timing phone or word")
+        from .speech import write_wav
+
+        write_wav(args.wav, mix)
+        sound_file = _relative_to(args.wav, args.out.parent if args.out else Path.cwd())
+    if args.export_format == "papagayo-pgo":
+        voices = [
+            (
+                c.role.name,
+                c.timeline,
+                "\n".join(
+                    " ".join(w.text for w in line.utterance.words)
+                    for line in scene.speech.lines
+                    if line.speaker == c.role.key
+                ),
+            )
+            for c in scene.characters
+        ]
+        contents = voices_as_pgo(voices, options.fps, sound_file, scene.speech.duration)
+        if args.out is None:
+            sys.stdout.write(contents)
+        else:
+            write_export(args.out, contents)
+        return 0
+    if args.out is None:
+        raise LipSyncError(
+            f"A script with speakers gives a {args.export_format} file per character: give --out (each is "
+            "written beside it, named after the character)."
+        )
+    suffix = export_format_named(args.export_format).suffix
+    for character in scene.characters:
+        contents, warnings = export_text(
+            args.export_format, character.timeline, character.tracks, sound_file=sound_file
+        )
+        for warning in warnings:
+            print(f"warning: {character.role.name}: {warning}", file=sys.stderr)
+        name = "_".join(character.role.name.split())
+        write_export(args.out.with_name(f"{args.out.stem}_{name}{suffix}"), contents)
     return 0
 
 

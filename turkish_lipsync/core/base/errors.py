@@ -11,6 +11,7 @@ class MarkupError(LipSyncError):
     """Malformed JSML; carries the 1-based line and column of the offending text."""
 
     def __init__(self, message: str, line: int, column: int, snippet: str) -> None:
+        self.message = message
         self.line = line
         self.column = column
         self.snippet = snippet

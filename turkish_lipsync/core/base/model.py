@@ -59,6 +59,7 @@ class Style:
     pitch: float = 1.0  # multiplier of the engine's default pitch
     volume: float = 1.0  # multiplier of the default volume
     emphasis: bool = False
+    voice: str = ""  # the speech engine's voice variant of the speaker (a conversation's cast); "" its own
 
 
 @dataclass(frozen=True)

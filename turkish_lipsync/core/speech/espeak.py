@@ -127,6 +127,7 @@ class _Library:
                 f"eSpeak NG ({self.origin}) has no Turkish voice 'tr'; "
                 f"reinstall it with its data: {INSTALL_HINT}"
             )
+        self.voice = ""  # the variant now set ("" the Turkish voice itself)
         self.collector = _Collector([], [])
         # Kept on the instance: ctypes must not free the callback while the library may call it.
         self.callback = _SynthCallback(self._on_synth)
@@ -153,6 +154,16 @@ class _Library:
 
     def speak(self, text: str, style: Style) -> _Collector:
         """Audio and events of one stretch of plain text (caller holds the lock)."""
+        if style.voice != self.voice:
+            # A variant of the Turkish voice (a speaker of a conversation): the same language and phones,
+            # another voice; setting it is not a second initialisation.
+            name = f"tr+{style.voice}" if style.voice else "tr"
+            if self.handle.espeak_SetVoiceByName(name.encode()) != 0:
+                raise SpeechEngineError(
+                    f"eSpeak NG ({self.origin}) has no voice variant {style.voice!r}; choose another voice "
+                    f"(its data may lack the variants: {INSTALL_HINT})"
+                )
+            self.voice = style.voice
         rate, pitch, pitch_range, volume = _parameters(style)
         for parameter, value in (
             (_PARAMETER_RATE, rate),
@@ -297,9 +308,9 @@ def _stretches(utterance: Utterance) -> list[_Stretch]:
     return stretches
 
 
-def _spoken_style(style: Style) -> tuple[float, float, float, bool]:
+def _spoken_style(style: Style) -> tuple[float, float, float, bool, str]:
     """The part of a style the voice hears (emotions only change the face)."""
-    return (style.rate, style.pitch, style.volume, style.emphasis)
+    return (style.rate, style.pitch, style.volume, style.emphasis, style.voice)
 
 
 @cache

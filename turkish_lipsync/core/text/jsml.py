@@ -8,7 +8,7 @@ text run keeps its index in the source, so later stages can point back at what t
 from __future__ import annotations
 
 import re
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from functools import cache
 
 from ..base.data import DATA_DIR, load_table
@@ -39,8 +39,14 @@ assert set(EMOTION_TAGS.values()) == set(EMOTIONS)
 _NEUTRAL_CONTAINERS = frozenset({"JSML", "ENGINE", "SAYAS", "DIV"})
 _EMPTY_ELEMENTS = frozenset({"BREAK", "MARKER"})
 _KNOWN_TAGS = (
-    frozenset(EMOTION_TAGS) | _NEUTRAL_CONTAINERS | _EMPTY_ELEMENTS | {"SENT", "PARA", "PROS", "EMP"}
+    frozenset(EMOTION_TAGS) | _NEUTRAL_CONTAINERS | _EMPTY_ELEMENTS | {"SENT", "PARA", "PROS", "EMP", "VOICE"}
 )
+# <VOICE>: who speaks (JSML's and SSML's NAME and GENDER, JSML's VARIANT), to whom (TO: a speaker's name or
+# "camera") and whether the line overlaps the end of the one before (OVERLAP: yes, or how much: 300ms).
+VOICE_ATTRIBUTES = frozenset({"NAME", "GENDER", "VARIANT", "TO", "OVERLAP"})
+GENDER_WORDS = {"female": "female", "kadın": "female", "male": "male", "erkek": "male", "neutral": None}
+CAMERA_WORDS = frozenset({"camera", "kamera", "audience", "seyirci"})
+_OVERLAP_WORDS = {"yes": True, "true": True, "evet": True, "no": False, "false": False, "hayır": False}
 
 # The words/min JSML assumes for RATE, and the descriptive values of PROS (multipliers of the default).
 DEFAULT_WORDS_PER_MINUTE = 175.0
@@ -69,6 +75,7 @@ _IGNORED_ATTRIBUTES = {
     "DIV": {"TYPE", "LANG", "MARK"},
     "EMP": {"MARK"},
     "BREAK": {"MARK"},
+    "VOICE": {"AGE"},
 }
 
 _ENTITIES = {"lt": "<", "gt": ">", "amp": "&", "quot": '"', "apos": "'"}
@@ -78,6 +85,19 @@ _SPACE = re.compile(r"\s*")
 _ENTITY = re.compile(r"&(#[0-9]{1,8}|#[xX][0-9A-Fa-f]{1,8}|[A-Za-z][A-Za-z0-9]{0,31});")
 _UNQUOTED_VALUE = re.compile(r"[^\s>/\"'<=]+")
 _NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)")
+
+
+@dataclass(frozen=True)
+class VoiceMarkup:
+    """A <VOICE> element: who speaks its text, to whom, and whether it overlaps the line before."""
+
+    name: str
+    offset: int  # source index of the element's '<'
+    gender: str | None = None  # "female", "male" or None (not said)
+    variant: str | None = None  # the voice asked for (VARIANT), checked against the cast's voices
+    addressee: str | None = None  # a speaker's name, "camera", or None (the last speaker)
+    overlaps: bool = False
+    overlap: float | None = None  # seconds, where the markup says how much
 
 
 @cache
@@ -107,16 +127,23 @@ def pause_seconds() -> dict[str, dict[str, float]]:
 class _Open:
     """An element on the stack of open elements; a SAYAS that overrides its reading holds the new text."""
 
-    __slots__ = ("name", "written", "offset", "style", "substitute")
+    __slots__ = ("name", "written", "offset", "style", "substitute", "voice")
 
     def __init__(
-        self, name: str, written: str, offset: int, style: Style, substitute: str | None = None
+        self,
+        name: str,
+        written: str,
+        offset: int,
+        style: Style,
+        substitute: str | None = None,
+        voice: int | None = None,
     ) -> None:
         self.name = name
         self.written = written
         self.offset = offset
         self.style = style
         self.substitute = substitute
+        self.voice = voice  # the index of the <VOICE> the element is in
 
 
 class _Parser:
@@ -125,6 +152,8 @@ class _Parser:
         # Plain text (no markup at all) may use '&' as a word ("Ali & Veli"); inside markup it must be &amp;.
         self.plain_text = "<" not in source
         self.items: list[TextRun | Pause] = []
+        self.voices: list[VoiceMarkup] = []
+        self.item_voices: list[int | None] = []  # per item: the <VOICE> it is in
         self.stack: list[_Open] = []
         self.text_parts: list[str] = []
         self.offset_parts: list[range | tuple[int, ...]] = []
@@ -132,16 +161,17 @@ class _Parser:
     # ------------------------------------------------------------ errors
 
     def error(self, message: str, index: int, length: int = 20) -> MarkupError:
-        line = self.source.count("\n", 0, index) + 1
-        column = index - (self.source.rfind("\n", 0, index) + 1) + 1
-        snippet = self.source[index : index + length].split("\n")[0]
-        return MarkupError(message, line, column, snippet)
+        return markup_error(self.source, index, message, length)
 
     # ------------------------------------------------------------ output
 
     @property
     def style(self) -> Style:
         return self.stack[-1].style if self.stack else Style()
+
+    @property
+    def voice(self) -> int | None:
+        return self.stack[-1].voice if self.stack else None
 
     def flush_text(self) -> None:
         if not self.text_parts:
@@ -154,10 +184,12 @@ class _Parser:
         self.offset_parts.clear()
         if text.strip():
             self.items.append(TextRun(text=text, offsets=tuple(offsets), style=self.style))
+            self.item_voices.append(self.voice)
 
     def add_pause(self, seconds: float, offset: int, kind: str) -> None:
         self.flush_text()
         self.items.append(Pause(seconds=seconds, offset=offset, kind=kind))
+        self.item_voices.append(self.voice)
 
     # ------------------------------------------------------------ scanning
 
@@ -349,6 +381,8 @@ class _Parser:
             allowed |= {"LEVEL"}
         elif name == "SAYAS":
             allowed |= {"SUB", "CLASS"}
+        elif name == "VOICE":
+            allowed |= VOICE_ATTRIBUTES
         for key, (_value, where) in attributes.items():
             if key not in allowed:
                 expected = ", ".join(sorted(allowed)) or "none"
@@ -380,8 +414,50 @@ class _Parser:
         elif name == "PARA" or name == "SENT":
             pass
         substitute = self.sayas_reading(attributes, index) if name == "SAYAS" else None
+        voice = self.voice
+        if name == "VOICE":
+            if voice is not None:
+                raise self.error(
+                    "<VOICE> inside another <VOICE>: close the first speaker's line before the next begins",
+                    index,
+                )
+            self.voices.append(self.voice_markup(attributes, index))
+            voice = len(self.voices) - 1
         self.flush_text()
-        self.stack.append(_Open(name, written, index, style, substitute))
+        self.stack.append(_Open(name, written, index, style, substitute, voice))
+
+    def voice_markup(self, attributes: dict[str, tuple[str, int]], index: int) -> VoiceMarkup:
+        """The speaker and their line's attributes of a <VOICE>, each checked."""
+        name = " ".join(attributes.get("NAME", ("", index))[0].split())
+        if not name:
+            raise self.error('<VOICE> needs the speaker\'s name: <VOICE NAME="Ayşe">', index)
+        gender = None
+        if "GENDER" in attributes:
+            value, where = attributes["GENDER"]
+            if value.strip().lower() not in GENDER_WORDS:
+                raise self.error(f"GENDER={value!r} is not valid; expected female, male or neutral", where)
+            gender = GENDER_WORDS[value.strip().lower()]
+        variant = attributes["VARIANT"][0].strip().lower() or None if "VARIANT" in attributes else None
+        addressee = None
+        if "TO" in attributes:
+            value, where = attributes["TO"]
+            addressee = " ".join(value.split())
+            if not addressee:
+                raise self.error('TO="" names nobody; give a speaker\'s name or "camera"', where)
+        overlaps, overlap = False, None
+        if "OVERLAP" in attributes:
+            value, where = attributes["OVERLAP"]
+            text = value.strip().lower()
+            if text in _OVERLAP_WORDS:
+                overlaps = _OVERLAP_WORDS[text]
+            else:
+                overlap = _seconds(text)
+                if overlap is None or overlap > 10:
+                    raise self.error(
+                        f"OVERLAP={value!r} is not valid; expected yes, no, or how much, e.g. 300ms", where
+                    )
+                overlaps = overlap > 0
+        return VoiceMarkup(name, index, gender, variant, addressee, overlaps, overlap)
 
     def sayas_reading(self, attributes: dict[str, tuple[str, int]], index: int) -> str | None:
         """What a SAYAS says instead of its text: SUB="..." (any reading), or CLASS="literal" (letter by
@@ -430,10 +506,10 @@ class _Parser:
             return int(value) / 1000.0
         if "TIME" in attributes:
             value, where = attributes["TIME"]
-            match = re.fullmatch(r"\s*([0-9]+(?:\.[0-9]+)?)\s*(ms|s)\s*", value.lower())
-            if not match or float(match.group(1)) * (1 if match.group(2) == "s" else 0.001) > 600:
+            seconds = _seconds(value)
+            if seconds is None or seconds > 600:
                 raise self.error(f"TIME={value!r} is not valid; expected e.g. 300ms or 1.5s", where)
-            return float(match.group(1)) * (1.0 if match.group(2) == "s" else 0.001)
+            return seconds
         if "SIZE" in attributes:
             value, where = attributes["SIZE"]
             key = value.strip().lower()
@@ -497,6 +573,22 @@ def _relative(value: str, current: float, words: dict[str, float], unit: float) 
     return number / unit
 
 
+def _seconds(value: str) -> float | None:
+    """A duration written as 300ms or 1.5s (None when it is not one)."""
+    match = re.fullmatch(r"\s*([0-9]+(?:\.[0-9]+)?)\s*(ms|s)\s*", value.lower())
+    if not match:
+        return None
+    return float(match.group(1)) * (1.0 if match.group(2) == "s" else 0.001)
+
+
+def markup_error(source: str, index: int, message: str, length: int = 20) -> MarkupError:
+    """A MarkupError pointing at a character of the source (line and column counted from 1)."""
+    line = source.count("\n", 0, index) + 1
+    column = index - (source.rfind("\n", 0, index) + 1) + 1
+    snippet = source[index : index + length].split("\n")[0]
+    return MarkupError(message, line, column, snippet)
+
+
 _SPELLED_CLASSES = frozenset({"literal", "characters", "spell", "digits"})
 
 
@@ -517,3 +609,13 @@ def _spelled(text: str) -> str:
 def parse_jsml(source: str) -> tuple[TextRun | Pause, ...]:
     """Styled text runs and pauses, in source order; plain text without markup is one run."""
     return _Parser(source).parse()
+
+
+def parse_jsml_voices(
+    source: str,
+) -> tuple[tuple[TextRun | Pause, ...], tuple[int | None, ...], tuple[VoiceMarkup, ...]]:
+    """parse_jsml's items, the <VOICE> each item is in (an index into the voices, None outside any), and
+    the <VOICE> elements in source order (a script's lines: text/script.py)."""
+    parser = _Parser(source)
+    items = parser.parse()
+    return items, tuple(parser.item_voices), tuple(parser.voices)

@@ -35,15 +35,15 @@ from ..frames import decimated_keys, sparse_track
 from .blinks import blink_curve, blink_durations, place_blinks
 from .brows import brow_curve
 from .expression import emotion_life
-from .gaze import GazeSetup, eye_angles, plan_gaze
+from .gaze import GazePlan, GazeSetup, eye_angles, plan_gaze
 from .head import head_angles
 from .parameters import living_parameters
-from .phrases import speech_structure
-from .prosody import measure_prosody
+from .phrases import SpeechStructure, speech_structure
+from .prosody import Prosody, measure_prosody
 
 __all__ = ["GazeSetup", "LivingOptions", "living_tracks", "speech_structure"]
 LOOK_TOLERANCE = 0.1 / LOOK_KEY_DEGREES
-_LAYER_SEEDS = {"gaze": 1, "blinks": 2, "head": 3, "expression": 4}
+_LAYER_SEEDS = {"gaze": 1, "blinks": 2, "head": 3, "expression": 4, "nods": 5}
 
 
 @dataclass(frozen=True)
@@ -56,10 +56,16 @@ class LivingOptions:
     expression: float = 1.0
     seed: int = 0
     setup: GazeSetup = field(default_factory=GazeSetup)
+    character: int = 0  # which character of a conversation (each draws its own); 0 for one head alone
 
     @property
     def any(self) -> bool:
         return max(self.gaze, self.blinks, self.head, self.expression) > 0
+
+    def rng(self, layer: str) -> np.random.Generator:
+        """The layer's own generator: turning one layer off leaves the others as they were."""
+        seed = [self.seed, _LAYER_SEEDS[layer]] + ([self.character] if self.character else [])
+        return np.random.default_rng(seed)
 
 
 def living_tracks(
@@ -73,27 +79,45 @@ def living_tracks(
     if not options.any:
         return tracks
     settings = living_parameters()
+    times = np.arange(tracks.frame_count) / tracks.fps
+    structure = speech_structure(timeline, measured_prosody(samples, sample_rate))
+    head = head_angles(structure, times, options.rng("head"), settings["head"], options.head)
+    plan = plan_gaze(structure, times, options.rng("gaze"), settings["gaze"], options.gaze)
+    left, right, _direction = eye_angles(plan, head, options.setup)
+    return assembled_tracks(tracks, timeline, options, structure, structure, head, plan, left, right)
+
+
+def measured_prosody(samples: np.ndarray | None, sample_rate: int) -> Prosody | None:
+    return measure_prosody(samples, sample_rate) if samples is not None and len(samples) else None
+
+
+def assembled_tracks(
+    tracks: WeightTracks,
+    timeline: Timeline,
+    options: LivingOptions,
+    structure: SpeechStructure,
+    heard: SpeechStructure,
+    head: np.ndarray,
+    plan: GazePlan,
+    left: np.ndarray,
+    right: np.ndarray,
+) -> WeightTracks:
+    """The tracks with the layers' motion: the head's and eyes' rotations (and the look keys), blinks at
+    the pauses and phrase ends of the speech heard (`heard`: the character's own, or a whole conversation's)
+    and the gaze's saccades, brows and the life of emotions on the character's own speech (`structure`)."""
+    settings = living_parameters()
     fps, frame_count = tracks.fps, tracks.frame_count
     times = np.arange(frame_count) / fps
-    prosody = measure_prosody(samples, sample_rate) if samples is not None and len(samples) else None
-    structure = speech_structure(timeline, prosody)
-
-    def rng(layer: str) -> np.random.Generator:
-        return np.random.default_rng([options.seed, _LAYER_SEEDS[layer]])
-
     columns: dict[str, np.ndarray] = {}
-    head = head_angles(structure, times, rng("head"), settings["head"], options.head)
-    plan = plan_gaze(structure, times, rng("gaze"), settings["gaze"], options.gaze)
-    left, right, _direction = eye_angles(plan, head, options.setup)
     if options.gaze > 0 or options.head > 0:  # the eyes keep the target while the head moves
         for eye, angles in (("left", left), ("right", right)):
             columns.update(_look_columns(eye, angles))
 
     blink_spans: list[tuple[float, float]] = []
     if options.blinks > 0:
-        blink_rng = rng("blinks")
+        blink_rng = options.rng("blinks")
         starts = place_blinks(
-            structure, plan.saccades, timeline.duration, blink_rng, settings["blinks"], options.blinks
+            heard, plan.saccades, timeline.duration, blink_rng, settings["blinks"], options.blinks
         )
         planned = tuple(zip(starts, blink_durations(starts, blink_rng, settings["blinks"]), strict=True))
         closure = _eye_closure(tracks, settings["blinks"]["eye_closure"])
@@ -108,7 +132,9 @@ def living_tracks(
     replaced = dict.fromkeys(columns)
     kept = [track for track in tracks.tracks if track.name not in replaced]
     if options.expression > 0 and tracks.mode == "natural":
-        factor = emotion_life(structure, times, rng("expression"), settings["expression"], options.expression)
+        factor = emotion_life(
+            structure, times, options.rng("expression"), settings["expression"], options.expression
+        )
         kept = _with_life(kept, factor)
     key_frames = np.arange(frame_count, dtype=np.float64)
     added = tuple(_track(name, key_frames, values) for name, values in columns.items())

@@ -67,14 +67,25 @@ def plan_gaze(
 ) -> GazePlan:
     """Fixations and saccades over the frame times (deterministic for the generator's seed)."""
     duration = float(times[-1]) if times.size else 0.0
-    fixations = _fixations(structure, duration, rng, settings, amount)
+    return gaze_plan(talking_fixations(structure, 0.0, duration, rng, settings, amount), times, settings)
+
+
+def gaze_plan(fixations: list[tuple[float, np.ndarray]], times: np.ndarray, settings: dict) -> GazePlan:
+    """The eyes' way over the frame times through the given shifts (time a saccade starts, where it lands
+    relative to the target), in order; a shift starting before the last one has landed is dropped."""
+    kept: list[tuple[float, np.ndarray]] = []
+    for when, where in sorted(fixations, key=lambda shift: shift[0]):
+        if kept and when - kept[-1][0] < 0.15:
+            continue
+        kept.append((when, where))
+    fixations = kept
     # Each shift's saccade starts at its time from where the last one landed and lasts as the main sequence
     # says; a frame is on the way of the last shift begun by then (or at rest on the target before any).
     starts = np.array([start for start, _ in fixations])
     targets = np.array([target for _, target in fixations]).reshape(-1, 2)
     sources = np.vstack([np.zeros((1, 2)), targets])[:-1]  # each shift starts where the last one landed
     amplitudes = np.hypot(*(targets - sources).T)
-    lengths = (settings["duration_base"] + settings["duration_slope"] * amplitudes) / 1000.0
+    lengths = saccade_seconds(amplitudes, settings)
     current = np.searchsorted(starts, times, side="right") - 1
     offsets = np.zeros((times.size, 2))
     moving = current >= 0
@@ -95,17 +106,23 @@ def plan_gaze(
     return GazePlan(offsets=offsets, saccades=saccades)
 
 
-def _fixations(
-    structure, duration: float, rng, settings: dict, amount: float
+def saccade_seconds(amplitudes, settings: dict):
+    """How long saccades of these amplitudes (degrees) last: the main sequence."""
+    return (settings["duration_base"] + settings["duration_slope"] * np.asarray(amplitudes)) / 1000.0
+
+
+def talking_fixations(
+    structure, start: float, duration: float, rng, settings: dict, amount: float
 ) -> list[tuple[float, np.ndarray]]:
-    """(time the saccade starts, where it lands relative to the target) for every gaze shift."""
-    if amount <= 0 or duration <= 0:
+    """(time the saccade starts, where it lands relative to the target) for every gaze shift of a speaker
+    from start until duration seconds, starting on the target."""
+    if amount <= 0 or duration <= start:
         return []
     phrase_starts = np.array([start for start, _ in structure.phrases])
     phrase_ends = np.array([end for _, end in structure.phrases])
     listening = [(s, e) for s, e in structure.pauses if e - s >= settings["listening_pause"]]
     shifts: list[tuple[float, np.ndarray]] = []
-    time = _gamma(rng, settings["contact_mean"] / 2, settings["contact_shape"])
+    time = start + gamma(rng, settings["contact_mean"] / 2, settings["contact_shape"])
     position = np.zeros(2)
     while time < duration:
         time = _pulled(time, phrase_starts, rng, settings)
@@ -115,9 +132,9 @@ def _fixations(
         # Look away: a few places in turn, then back to the listener.
         visits = rng.geometric(1.0 / max(settings["away_fixations_mean"], 1.0))
         for _ in range(int(visits)):
-            position = _next_place(position, rng, settings, amount)
+            position = next_place(position, rng, settings, amount)
             shifts.append((time, position))
-            time += _gamma(rng, settings["away_fixation_mean"], settings["away_fixation_shape"])
+            time += gamma(rng, settings["away_fixation_mean"], settings["away_fixation_shape"])
         time = _pulled(time, phrase_ends, rng, settings)
         pause = next(((s, e) for s, e in listening if s - 0.3 <= time <= e), None)
         if pause is not None:
@@ -126,18 +143,11 @@ def _fixations(
             break
         position = np.zeros(2)
         shifts.append((time, position))
-        time += _gamma(rng, settings["contact_mean"], settings["contact_shape"])
-    shifts.sort(key=lambda shift: shift[0])
-    # A saccade must finish before the next one starts.
-    kept: list[tuple[float, np.ndarray]] = []
-    for when, where in shifts:
-        if kept and when - kept[-1][0] < 0.15:
-            continue
-        kept.append((when, where))
-    return kept
+        time += gamma(rng, settings["contact_mean"], settings["contact_shape"])
+    return shifts
 
 
-def _gamma(rng, mean: float, shape: float) -> float:
+def gamma(rng, mean: float, shape: float) -> float:
     return float(rng.gamma(shape, mean / shape))
 
 
@@ -158,7 +168,7 @@ def _after_listening(time: float, listening: list[tuple[float, float]]) -> float
     return time
 
 
-def _next_place(position: np.ndarray, rng, settings: dict, amount: float) -> np.ndarray:
+def next_place(position: np.ndarray, rng, settings: dict, amount: float) -> np.ndarray:
     """A saccade of an exponentially distributed amplitude, mostly along an axis, kept near the target."""
     low, high = settings["amplitude_min"], settings["amplitude_max"]
     for _ in range(12):
@@ -181,17 +191,37 @@ def _next_place(position: np.ndarray, rng, settings: dict, amount: float) -> np.
 def eye_angles(
     plan: GazePlan, head: np.ndarray, setup: GazeSetup
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(left, right eye yaw/pitch relative to the head, gaze direction in the rest frame) per frame, the
+    target where the set-up puts it (eye_angles_toward)."""
+    count = len(plan.offsets)
+    return eye_angles_toward(
+        plan.offsets,
+        head,
+        setup,
+        np.full(count, setup.target_yaw),
+        np.full(count, setup.target_pitch),
+        np.full(count, setup.target_distance),
+    )
+
+
+def eye_angles_toward(
+    offsets: np.ndarray,
+    head: np.ndarray,
+    setup: GazeSetup,
+    target_yaw: np.ndarray,
+    target_pitch: np.ndarray,
+    target_distance: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(left, right eye yaw/pitch relative to the head, gaze direction in the rest frame) per frame.
 
-    Each eye turns toward the fixation point: the target, or the point a look-away's angles from it at the
-    target's distance. The head's rotation about its pivot moves the eyes too; what is left is the eyes'.
+    Each eye turns toward the fixation point: the target of the frame (its direction from between the eyes,
+    in degrees, and distance), or the point a look-away's angles (offsets) from it at the target's
+    distance. The head's rotation about its pivot moves the eyes too; what is left is the eyes'.
     """
     eyes = setup.eye_positions()
     middle = eyes.mean(axis=0)
-    fixation_direction = direction(
-        setup.target_yaw + plan.offsets[:, 0], setup.target_pitch + plan.offsets[:, 1]
-    )
-    fixation = middle + setup.target_distance * fixation_direction
+    fixation_direction = direction(target_yaw + offsets[:, 0], target_pitch + offsets[:, 1])
+    fixation = middle + np.asarray(target_distance)[:, None] * fixation_direction
     rotations = head_matrices(head)
     # The eyes roll a little against the head's tilt (ocular counter-roll).
     roll = -setup.counter_roll * head[:, 2:3]

@@ -35,7 +35,7 @@ def head_angles(
     pitch += settings["nod"] * _nods(structure.accents, times, fps, settings["nod_width"])
 
     postures = _postures(structure, times, rng, settings)
-    sway = _sway(times, rng, settings) * (loudness * ~still)[:, None]
+    sway = sway_motion(times, rng, settings["sway"]) * (loudness * ~still)[:, None]
     angles[:, 0] = postures[:, 0] + sway[:, 0]
     angles[:, 1] = pitch + postures[:, 1] + sway[:, 1]
     angles[:, 2] = postures[:, 2] + sway[:, 2]
@@ -105,14 +105,15 @@ def _postures(structure: SpeechStructure, times: np.ndarray, rng, settings: dict
     return postures
 
 
-def _sway(times: np.ndarray, rng, settings: dict) -> np.ndarray:
-    """A slow, irregular sway on each axis: a few sinusoids of 0.15-0.6 Hz with random phases."""
+def sway_motion(times: np.ndarray, rng, amplitude: float) -> np.ndarray:
+    """A slow, irregular sway on each axis (degrees about amplitude): a few sinusoids of 0.15-0.6 Hz with
+    random phases."""
     sway = np.zeros((times.size, 3))
     for axis in range(3):
         frequencies = rng.uniform(0.15, 0.6, 3)
         phases = rng.uniform(0, 2 * np.pi, 3)
         wave = sum(np.sin(2 * np.pi * f * times + p) for f, p in zip(frequencies, phases, strict=True))
-        sway[:, axis] = settings["sway"] * wave / np.sqrt(1.5)
+        sway[:, axis] = amplitude * wave / np.sqrt(1.5)
     return sway
 
 

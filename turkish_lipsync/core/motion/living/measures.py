@@ -118,3 +118,26 @@ def distance_to_spans(time: float, spans: list[tuple[float, float]]) -> float:
     if not spans:
         return np.inf
     return float(min(max(start - time, time - end, 0.0) for start, end in spans))
+
+
+NOD_DEPTH = 2.0  # degrees a head dips below its running level that count as a nod
+
+
+def nods(pitch: np.ndarray, fps: float, depth: float = NOD_DEPTH) -> list[float]:
+    """Times (seconds) of the lowest point of each nod in a head's pitch (degrees, up positive): dips of at
+    least `depth` below the median of the 1.5 s around them; dips within 0.7 s of one (a double nod) are
+    one nod."""
+    pitch = np.asarray(pitch, np.float64)
+    if pitch.size < 3:
+        return []
+    half = max(int(0.75 * fps), 1)
+    padded = np.pad(pitch, half, mode="edge")
+    level = np.median(np.lib.stride_tricks.sliding_window_view(padded, 2 * half + 1), axis=1)[: pitch.size]
+    below = level - pitch
+    found: list[int] = []
+    for start, stop in runs(below >= depth):
+        lowest = start + int(np.argmax(below[start:stop]))
+        if found and (lowest - found[-1]) / fps < 0.7:
+            continue
+        found.append(lowest)
+    return [index / fps for index in found]

@@ -10,9 +10,11 @@ from ...base.errors import DataError
 from ...base.model import EMOTIONS
 
 TABLE = "living"
-SECTIONS = ("gaze", "blinks", "head", "brows", "expression", "eyes")
+SECTIONS = ("gaze", "blinks", "head", "brows", "expression", "eyes", "listening", "addressing")
 SHARES = {"cardinal_share", "phrase_pull_share", "close_share", "hold_share", "blink_suppress_closure"}
-SHARES |= {"gaze_shift_share", "depth", "loudness"}
+SHARES |= {"gaze_shift_share", "depth", "loudness", "amplitude_share", "nod_spread", "double_nod_share"}
+SHARES |= {"nod_chance_low", "nod_chance_level", "nod_chance_region", "low_pitch_share", "emotion_share"}
+SHARES |= {"head_yaw_share", "head_pitch_share"}
 # What each section must hold (the modules read these).
 REQUIRED = {
     "gaze": "contact_mean contact_shape away_fixation_mean away_fixation_shape away_fixations_mean "
@@ -26,6 +28,11 @@ REQUIRED = {
     "brows": "weight accent_weight accent_rise accent_gap lead rise fall",
     "expression": "depth tempo loudness",
     "eyes": "painted_key_degrees",
+    "listening": "contact_mean contact_shape away_fixation_mean away_fixations_mean amplitude_share "
+    "anticipation sway nod nod_spread nod_width double_nod_share nod_delay nod_min_gap nod_chance_low "
+    "nod_chance_level nod_chance_region low_pitch_share low_pitch_length low_pitch_after emotion_share",
+    "addressing": "long_turn turn_start_away turn_end_contact head_yaw_share head_pitch_share "
+    "head_turn_limit head_ease head_lag away_min contact_mean away_fixations_mean",
 }
 
 

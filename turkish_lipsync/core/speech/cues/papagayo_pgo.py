@@ -2,6 +2,8 @@
 
 It counts in frames: the spoken text, its words with their frame spans, and each word's phonemes at the frame
 they start (frames from 0), in Papagayo's Preston Blair phoneme set (AI, E, etc, FV, L, MBP, O, rest, U, WQ).
+A project holds one voice or several (Papagayo-NG's characters): a conversation is written with one voice per
+character, named after the speaker, and read back voice by voice (core/scene/speech.py).
 """
 
 from __future__ import annotations
@@ -41,9 +43,10 @@ class PapagayoDocument:
     fps: float
     sound_path: str
     duration_frames: int
-    text: str  # the first voice's text, lines joined with newlines
+    text: str  # the voice's text, lines joined with newlines
     words: tuple[PapagayoWord, ...]
     voice_count: int
+    voice_name: str = "Voice 1"
 
     def word_cues(self, word: PapagayoWord) -> tuple[MouthCue, ...]:
         """A word's phonemes as cues: each lasts until the next, the last until the word's end."""
@@ -57,8 +60,26 @@ class PapagayoDocument:
 def timeline_as_pgo(timeline: Timeline, fps: float, sound_path: str = "", text: str = "") -> str:
     """A Papagayo project of the timeline (one voice, one phrase per stretch of speech between pauses), so
     the timing can be refined in Papagayo-NG and read back as a timing source."""
+    return voices_as_pgo([("Voice 1", timeline, text)], fps, sound_path, timeline.duration)
+
+
+def voices_as_pgo(
+    voices: list[tuple[str, Timeline, str]], fps: float, sound_path: str = "", duration: float = 0.0
+) -> str:
+    """A Papagayo project of several voices, each (name, its timeline, its text or "" for its phrases), on
+    one timeline `duration` seconds long (the longest voice's where shorter)."""
+    duration = max([duration] + [timeline.duration for _, timeline, _ in voices])
+    duration_frames = max(1, math.ceil(duration * fps - 1e-6))
+    # Papagayo reads a whole frame rate: 29.97 is written 30 and the frames counted at 29.97 (0.1% slow).
+    lines = [PAPAGAYO_HEADER, sound_path, str(round(fps)), str(duration_frames), str(len(voices))]
+    for name, timeline, text in voices:
+        lines += _voice_lines(name, timeline, fps, text)
+    return "\n".join(lines) + "\n"
+
+
+def _voice_lines(name: str, timeline: Timeline, fps: float, text: str) -> list[str]:
+    """One voice of a project: its name, text and phrases (stretches of speech between pauses)."""
     names = shape_table().preston_blair
-    duration_frames = max(1, math.ceil(timeline.duration * fps - 1e-6))
     words_by_index = {word.index: word for word in timeline.words}
     phrases: list[list[int]] = []
     for word in timeline.words:
@@ -66,8 +87,7 @@ def timeline_as_pgo(timeline: Timeline, fps: float, sound_path: str = "", text: 
             phrases.append([])
         phrases[-1].append(word.index)
     phrase_texts = [" ".join(words_by_index[index].text for index in phrase) for phrase in phrases]
-    # Papagayo reads a whole frame rate: 29.97 is written 30 and the frames counted at 29.97 (0.1% slow).
-    lines = [PAPAGAYO_HEADER, sound_path, str(round(fps)), str(duration_frames), "1", "\tVoice 1"]
+    lines = [f"\t{' '.join(name.split()) or 'Voice'}"]
     lines += [
         "\t" + ("|".join(phrase_texts) if not text else "|".join(text.splitlines())),
         f"\t{len(phrases)}",
@@ -81,14 +101,14 @@ def timeline_as_pgo(timeline: Timeline, fps: float, sound_path: str = "", text: 
                 if phone.word_index != index:
                     continue
                 frame = max(start, min(end, frame_of(phone.start, fps)))
-                name = names[shape_for_viseme(phone.viseme)]
+                name_of_mouth = names[shape_for_viseme(phone.viseme)]
                 if phonemes and phonemes[-1][0] == frame:
-                    phonemes[-1] = (frame, name)
-                elif not phonemes or phonemes[-1][1] != name:
-                    phonemes.append((frame, name))
+                    phonemes[-1] = (frame, name_of_mouth)
+                elif not phonemes or phonemes[-1][1] != name_of_mouth:
+                    phonemes.append((frame, name_of_mouth))
             lines.append(f"\t\t\t{words_by_index[index].text} {start} {end} {len(phonemes)}")
-            lines += [f"\t\t\t\t{frame} {name}" for frame, name in phonemes]
-    return "\n".join(lines) + "\n"
+            lines += [f"\t\t\t\t{frame} {mouth}" for frame, mouth in phonemes]
+    return lines
 
 
 def _word_frames(word, fps: float) -> tuple[int, int]:
@@ -127,6 +147,11 @@ class _Lines:
 
 def read_pgo(path: Path) -> PapagayoDocument:
     """The first voice of a Papagayo project: its text, words and phonemes (Preston Blair or Rhubarb)."""
+    return read_pgo_voices(path)[0]
+
+
+def read_pgo_voices(path: Path) -> tuple[PapagayoDocument, ...]:
+    """Every voice of a Papagayo project (one document each, the project's sound and length shared)."""
     text = read_text(path)
     check_cue_count(path, text.count("\n"))
     lines = _Lines(path, text)
@@ -140,8 +165,21 @@ def read_pgo(path: Path) -> PapagayoDocument:
     voice_count = lines.number_of("the number of voices")
     if voice_count < 1:
         raise CueFileError(f"{path}: line {lines.number}: the project has no voice")
-    lines.next("the voice's name")
-    text = lines.next("the voice's text").replace("|", "\n").strip()
+    documents = []
+    for number in range(voice_count):
+        if number and lines.number >= len(lines.lines):
+            break  # a project that announces more voices than it holds: the ones it holds
+        name = lines.next("the voice's name") or f"Voice {number + 1}"
+        voice_text = lines.next("the voice's text").replace("|", "\n").strip()
+        words = _voice_words(path, lines, first=number == 0)
+        documents.append(
+            PapagayoDocument(fps, sound_path, duration_frames, voice_text, words, voice_count, name)
+        )
+    return tuple(documents)
+
+
+def _voice_words(path: Path, lines: _Lines, first: bool) -> tuple[PapagayoWord, ...]:
+    """The words of one voice: its phrases' words, each with its phonemes as Rhubarb shapes."""
     raw_words: list[tuple[str, int, int, list[tuple[int, str, int]]]] = []
     for _ in range(lines.number_of("the number of phrases")):
         lines.next("the phrase's text")
@@ -182,11 +220,11 @@ def read_pgo(path: Path) -> PapagayoDocument:
                 )
             shapes.append((frame, shape))
         words.append(PapagayoWord(word_text, start, end, tuple(shapes)))
-    if not words:
+    if not words and first:
         raise CueFileError(
             f"{path}: the first voice has no words broken into phonemes; break them down first"
         )
-    return PapagayoDocument(fps, sound_path, duration_frames, text, tuple(words), voice_count)
+    return tuple(words)
 
 
 def spoken_words(document: PapagayoDocument) -> tuple[tuple[str, tuple[MouthCue, ...]], ...]:
