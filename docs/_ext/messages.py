@@ -92,6 +92,11 @@ GROUPS: dict[str, tuple[str, ...]] = {
         "turkish_lipsync/blender/keyframes.py",
         "turkish_lipsync/blender/compat.py",
     ),
+    "conversation": (
+        "turkish_lipsync/core/scene/",
+        "turkish_lipsync/blender/conversation.py",
+        "turkish_lipsync/blender/scene_record.py",
+    ),
     "exports": (
         "turkish_lipsync/core/interchange/",
         "turkish_lipsync/blender/exports.py",

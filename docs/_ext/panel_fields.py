@@ -19,6 +19,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 BLENDER_LAYER = ROOT / "turkish_lipsync" / "blender"
 SETTINGS = "settings"  # the name panel.py gives the add-on's settings (context.scene.turkish_lipsync)
+# Names panel.py gives an item of a collection of the settings, the one chosen in its list
+# (member = settings.cast[settings.cast_index]): the collection each names.
+COLLECTION_ITEMS = {"member": "cast"}
 
 
 @dataclass(frozen=True)
@@ -214,6 +217,20 @@ def operator_rna(idname: str):
         return None
 
 
+def struct_of(variable: str, settings):
+    """The RNA struct whose properties the panel draws through this variable, or None when unknown."""
+    if variable == SETTINGS:
+        return settings
+    collection = COLLECTION_ITEMS.get(variable)
+    return settings.properties[collection].fixed_type if collection else None
+
+
+def path_of(item: Drawn) -> str:
+    """How a script reaches the drawn property from the settings: "head", "cast[i].head"."""
+    collection = COLLECTION_ITEMS.get(item.struct)
+    return f"{collection}[i].{item.name}" if collection else item.name
+
+
 def turkish(text: str) -> str | None:
     from turkish_lipsync.blender.translations import TURKISH
 
@@ -264,13 +281,14 @@ def reference_problems(drawn: list[Drawn], struct) -> list[str]:
         where = f"{item.file_name}:{item.line}"
         if item.kind == "operator":
             problems += [f"{where}: {problem}" for problem in operator_problems(item.name)]
-        elif item.struct != SETTINGS:
+        elif struct_of(item.struct, struct) is None:
             problems.append(
                 f"{where}: draws {item.struct}.{item.name}, a property of another data block than the "
                 "add-on's settings, which the reference cannot describe"
             )
         else:
-            problems += [f"{where}: {problem}" for problem in property_problems(struct, item.name)]
+            owner = struct_of(item.struct, struct)
+            problems += [f"{where}: {problem}" for problem in property_problems(owner, item.name)]
     return problems
 
 
@@ -286,20 +304,37 @@ def condition_text(expression: ast.expr, struct) -> str:
     """A condition on the settings in words: "Shape-Key Source is Auto or Own Visemes"."""
     negated = isinstance(expression, ast.UnaryOp) and isinstance(expression.op, ast.Not)
     test = expression.operand if negated else expression
-    if isinstance(test, ast.Attribute) and getattr(test.value, "id", "") == SETTINGS:
-        name = struct.properties[test.attr].name
+    if isinstance(test, ast.Attribute) and struct_of(getattr(test.value, "id", ""), struct) is not None:
+        name = struct_of(test.value.id, struct).properties[test.attr].name
         return f"{name} is {'off' if negated else 'on'}"
     if (
         isinstance(test, ast.Compare)
         and isinstance(test.left, ast.Attribute)
-        and getattr(test.left.value, "id", "") == SETTINGS
+        and struct_of(getattr(test.left.value, "id", ""), struct) is not None
         and len(test.ops) == 1
     ):
+        owner = struct_of(test.left.value.id, struct)
         identifier = test.left.attr
-        name = struct.properties[identifier].name
+        name = owner.properties[identifier].name
         values = ast.literal_eval(test.comparators[0])
         values = values if isinstance(values, tuple) else (values,)
-        words = " or ".join(_value_name(struct, identifier, value) for value in values)
+        words = " or ".join(_value_name(owner, identifier, value) for value in values)
         positive = isinstance(test.ops[0], (ast.Eq, ast.In))
         return f"{name} is {'' if positive != negated else 'not '}{words}"
+    chosen = _chosen_row(test)
+    if chosen is not None and not negated:
+        return f"a row of the {struct.properties[chosen].name} list is chosen"
     return f"`{ast.unparse(expression)}`"
+
+
+def _chosen_row(test: ast.expr) -> str | None:
+    """The collection of `0 <= settings.X_index < len(settings.X)` (a row of its list chosen), else None."""
+    if not (isinstance(test, ast.Compare) and len(test.ops) == 2):
+        return None
+    index, length = test.comparators
+    if not (isinstance(index, ast.Attribute) and index.attr.endswith("_index")):
+        return None
+    collection = index.attr.removesuffix("_index")
+    if ast.unparse(length) != f"len({SETTINGS}.{collection})":
+        return None
+    return collection

@@ -23,10 +23,12 @@ from panel_fields import (
     dependencies,
     drawn_by_the_panels,
     operator_rna,
+    path_of,
     preferences_rna,
     property_problems,
     reference_problems,
     settings_rna,
+    struct_of,
     turkish,
 )
 from sphinx.util import logging
@@ -87,17 +89,23 @@ def _term(name: str, identifier: str) -> nodes.term:
     return term
 
 
-def property_item(struct, identifier: str, drawn: Drawn | None = None) -> nodes.definition_list_item:
+def property_item(
+    struct, identifier: str, drawn: Drawn | None = None, settings=None
+) -> nodes.definition_list_item:
+    """One field: `struct` holds it, `settings` (the add-on's settings, when they are not the struct) say
+    how a script reaches it and what its conditions name."""
+    settings = settings or struct
     prop = struct.properties[identifier]
-    item = nodes.definition_list_item(ids=[f"field-{identifier.replace('_', '-')}"])
-    item += _term(prop.name, identifier)
+    path = path_of(drawn) if drawn is not None else identifier
+    item = nodes.definition_list_item(ids=[f"field-{path.replace('_', '-').replace('[i].', '-')}"])
+    item += _term(prop.name, path)
     definition = nodes.definition()
     definition += _paragraph(prop.description)
     details = [_type_text(prop)]
     if drawn is not None and drawn.shown_when:
-        details.append("shown when " + " and ".join(condition_text(c, struct) for c in drawn.shown_when))
+        details.append("shown when " + " and ".join(condition_text(c, settings) for c in drawn.shown_when))
     if drawn is not None and drawn.active_when:
-        details.append("active when " + " and ".join(condition_text(c, struct) for c in drawn.active_when))
+        details.append("active when " + " and ".join(condition_text(c, settings) for c in drawn.active_when))
     definition += _paragraph(nodes.emphasis("", _sentence(details)))
     if prop.type == "ENUM":
         items = nodes.bullet_list()
@@ -163,7 +171,7 @@ class PanelFields(SphinxDirective):
                 continue  # drawn twice (in both branches of a condition): described once
             seen.add((item.kind, item.name))
             fields += (
-                property_item(struct, item.name, item)
+                property_item(struct_of(item.struct, struct), item.name, item, struct)
                 if item.kind == "property"
                 else operator_item(item, struct)
             )

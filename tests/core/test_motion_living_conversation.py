@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from turkish_lipsync.core.base.rotations import direction, head_matrices
 from turkish_lipsync.core.motion.living.conversation import (
     LISTENING,
     SPEAKING,
@@ -15,7 +16,6 @@ from turkish_lipsync.core.motion.living.conversation import (
 from turkish_lipsync.core.motion.living.measures import angle_between, nods
 from turkish_lipsync.core.motion.living.parameters import living_parameters
 from turkish_lipsync.core.motion.living.phrases import SpeechStructure
-from turkish_lipsync.core.motion.living.rotations import direction, head_matrices
 from turkish_lipsync.core.pipeline import LipSyncOptions
 from turkish_lipsync.core.scene import cast_for, converse
 from turkish_lipsync.core.scene.layout import default_standings, face_path, surroundings

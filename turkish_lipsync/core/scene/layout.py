@@ -13,9 +13,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..base.rotations import head_matrices
 from ..motion.living import GazeSetup
 from ..motion.living.conversation import Surroundings
-from ..motion.living.rotations import head_matrices
 from ..text.script import CAMERA
 from .tables import conversation_table
 

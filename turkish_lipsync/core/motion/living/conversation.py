@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...base.model import Timeline, WeightTracks
+from ...base.rotations import angles_of
 from . import assembled_tracks, measured_prosody
 from .easing import minimum_jerk, smoothstep
 from .gaze import (
@@ -41,7 +42,6 @@ from .gaze import (
 from .head import head_angles, sway_motion
 from .parameters import living_parameters
 from .phrases import SpeechStructure, speech_structure
-from .rotations import angles_of
 
 SPEAKING, LISTENING = "speaking", "listening"
 
