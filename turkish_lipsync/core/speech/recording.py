@@ -45,9 +45,13 @@ from .features import (
 )
 from .judgement import Fit, PhraseMatch, judge, match_ranks
 from .reverberation import dereverberate, estimate_rt60
+from .speech_detector import detect_speech
 from .timewarp import TimeWarp, warp_from_path, warp_synthesis
 from .voice_activity import above_floor, clean_speech_frames, runs, speech_frames, under_speech
 
+# Frames (100 ms) of the WebRTC-based mask below which a person's short word may be all it missed: Silero's
+# detector (trained on people) decides then.
+LEAST_SPEECH_FRAMES = 10
 MAX_LENGTH_RATIO = 3.0  # recordings this many times longer or shorter than the synthetic speech are refused
 CHUNK_LETTERS = 3_000  # about 5 minutes of speech synthesised at a time (split at sentences)
 SENTENCE_PAUSE = 0.3  # seconds: a word after a pause this long may start a chunk
@@ -162,7 +166,7 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
         output = resampled_pcm(native, native_rate, output_rate)
         del native
         recorded = resample(output, output_rate, ANALYSIS_RATE, 1 / 32768)
-        recorded_speech = speech_frames(recorded, frame_count(recorded.size))
+        recorded_speech = _checked_speech(path, recorded, speech_frames(recorded, frame_count(recorded.size)))
         recorded_loudness = above_floor(recorded, len(recorded_speech))
         recorded_under_speech = under_speech(recorded, len(recorded_speech))
         reference, synthetic_energies, synthetic_speech = rendition.result()
@@ -254,11 +258,20 @@ def _pauses(
     return Pauses(free, ~synthetic_speech, hold, PAUSE_COST)
 
 
+def _checked_speech(path: Path, recorded: np.ndarray, speech: np.ndarray) -> np.ndarray:
+    """The recording's speech frames; where the WebRTC-based mask holds less than a short word, those of
+    the detector trained on people (speech_detector.py), and the take is silent only if it finds none."""
+    if np.count_nonzero(speech) >= LEAST_SPEECH_FRAMES:
+        return speech
+    detection = detect_speech(recorded, speech.size)
+    if not detection.found:
+        raise AudioError(f"recording {path} is silent (no speech found); record the text again")
+    return detection.speech
+
+
 def _check_lengths(path: Path, recorded_speech: np.ndarray, synthetic_speech: np.ndarray) -> None:
     recorded_frames = np.flatnonzero(recorded_speech)
     synthetic_frames = np.flatnonzero(synthetic_speech)
-    if recorded_frames.size < 10:
-        raise AudioError(f"recording {path} is silent (no speech found); record the text again")
     if synthetic_frames.size == 0:
         raise AudioError("the synthetic speech is silent, so there is nothing to align the recording to")
     recorded_span = recorded_frames[-1] - recorded_frames[0] + 1

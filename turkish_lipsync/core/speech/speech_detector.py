@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from ..base.errors import DataError
-from .features import ANALYSIS_RATE, HOP, WINDOW
+from .features import ANALYSIS_RATE, HOP, WINDOW, frame_count
 from .voice_activity import runs
 
 CHUNK = 512  # samples (32 ms at 16 kHz) the network gives one probability
@@ -67,6 +67,7 @@ SPEECH_THRESHOLD = 0.5  # Silero's default: a person's syllable in a quiet room 
 SILENCE_THRESHOLD = 0.35  # Silero's default (threshold - 0.15): a stop closure inside a word stays speech
 SHORTEST_SILENCE = 0.1  # seconds: Silero's default; shorter dips are closures and breaths between words
 SHORTEST_SPEECH = 0.1  # seconds: a 0.2 s word's core holds 0.1 s above the threshold; a click does not
+SPEECH_PADDING = 0.03  # seconds each side: Silero's default; a word's onset lies in the chunk before its run
 
 
 class DetectorWeights:
@@ -104,7 +105,7 @@ class DetectorWeights:
 
 
 def read_onnx_weights(path: Path) -> dict[str, np.ndarray]:
-    """The float tensors stored in an ONNX model (its graph's initializers), read from the protobuf wire format.
+    """The float tensors of an ONNX model (its graph's initializers), read from the protobuf wire format.
 
     Only what a model's weights need: ModelProto field 7 (graph), GraphProto field 5 (initializer),
     TensorProto fields 1 (dims), 2 (data type), 8 (name), 9 (raw little-endian data), 4 (packed floats).
@@ -240,6 +241,72 @@ def chunk_probabilities(samples: np.ndarray) -> np.ndarray:
     output_weight, output_bias = weights.output
     logits = np.maximum(states, 0) @ output_weight + output_bias
     return (1 / (1 + np.exp(-logits))).astype(np.float32)
+
+
+@dataclass(frozen=True, eq=False)
+class SpeechDetection:
+    """Where a take speaks, per 10 ms analysis frame (features.py's frames: hop i's window centred at
+    i * HOP + WINDOW / 2 samples)."""
+
+    probabilities: (
+        np.ndarray
+    )  # float32 0..1: Silero's probability of the 32 ms chunk holding the frame's centre
+    speech: np.ndarray  # bool: inside a run of speech (thresholds with hysteresis, shortest runs and gaps)
+
+    @property
+    def found(self) -> bool:
+        """Whether the take holds any speech at all."""
+        return bool(self.speech.any())
+
+    def spans(self) -> np.ndarray:
+        """(start, stop) frame pairs of the runs of speech."""
+        return runs(self.speech)
+
+
+def detect_speech(samples: np.ndarray, frames: int | None = None) -> SpeechDetection:
+    """Speech probability and decision for each of `frames` analysis frames of 16 kHz samples in [-1, 1].
+
+    `frames` defaults to features.frame_count(samples.size); frames past the samples are silence.
+    """
+    frames = frame_count(samples.size) if frames is None else frames
+    probabilities = chunk_probabilities(samples)
+    speech = speech_chunks(probabilities)
+    centres = np.arange(frames) * HOP + WINDOW // 2
+    chunk = np.minimum(centres // CHUNK, probabilities.size - 1)
+    inside = centres < samples.size
+    return SpeechDetection(np.where(inside, probabilities[chunk], 0), np.where(inside, speech[chunk], False))
+
+
+def speech_chunks(probabilities: np.ndarray) -> np.ndarray:
+    """Which 32 ms chunks are speech, given their probabilities: Silero's get_speech_timestamps' rules.
+
+    A run starts at a chunk reaching SPEECH_THRESHOLD; a dip under SILENCE_THRESHOLD ends it where it
+    began unless the speech threshold is reached again within SHORTEST_SILENCE; runs shorter than
+    SHORTEST_SPEECH are dropped and the rest widened by SPEECH_PADDING each side.
+    """
+    seconds = CHUNK / ANALYSIS_RATE
+    shortest_silence = int(round(SHORTEST_SILENCE / seconds))
+    speech = np.zeros(probabilities.size, bool)
+    start = dip = None
+    for index, probability in enumerate(probabilities.tolist()):
+        if probability >= SPEECH_THRESHOLD:
+            dip = None
+            if start is None:
+                start = index
+        elif start is not None and probability < SILENCE_THRESHOLD:
+            dip = index if dip is None else dip
+            if index - dip >= shortest_silence:
+                speech[start:dip] = True
+                start = dip = None
+    if start is not None:
+        speech[start : probabilities.size if dip is None else dip] = True
+    padding = int(round(SPEECH_PADDING / seconds))
+    for begin, stop in runs(speech):
+        if (stop - begin) * seconds < SHORTEST_SPEECH:
+            speech[begin:stop] = False
+    for begin, stop in runs(speech):
+        speech[max(0, begin - padding) : stop + padding] = True
+    return speech
 
 
 def _chunk_features(signal: np.ndarray, weights: DetectorWeights) -> np.ndarray:

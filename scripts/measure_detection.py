@@ -1,0 +1,358 @@
+"""How well speech is told from silence, noise and music: Silero VAD (speech_detector.py) on people's voices.
+
+    python scripts/measure_detection.py                 # the report sets (nobody tuned on them)
+    python scripts/measure_detection.py --tune          # the tuning sets, and the constants tried on them
+    python scripts/measure_detection.py --product       # also the recogniser's and the aligner's decisions
+    python scripts/measure_detection.py --agreement     # Silero against the WebRTC mask on eSpeak NG takes
+    python scripts/measure_detection.py --speed         # 10 minutes of audio through the detector, one core
+
+Speech (each recording as it is, with white hiss at 20 dB SNR, cut to its loudest 0.2 s with 0.25 s of
+silence each side, that core with the hiss, and 30 dB quieter):
+- klettres syllables and Fish Fillets NG's Dutch lines: /work/data/voices, built by
+  ../shared/voices/dev_voices.py (apt-get download klettres-data fillets-ng-data fillets-ng-data-nl, then
+  dpkg-deb -x); its manifest.tsv lists them. Tuned on klettres-ru and klettres-tn and on the Dutch levels
+  whose name's position in the sorted list of levels is not a multiple of 3; reported on klettres-uk,
+  -fr, -cs and the levels at positions 0, 3, 6, ...
+- ktuberling's single words, every language (report only): `apt-get download ktuberling-data`, then
+  `dpkg-deb -x ktuberling-data_*.deb DIR`; the words are DIR/usr/share/ktuberling/sounds/<lang>/*.ogg.
+- Fish Fillets NG's Czech voice acting (report only): `apt-get download fillets-ng-data-cs`, then
+  `dpkg-deb -x`; the lines are DIR/usr/share/games/fillets-ng/sound/<level>/cs/*.ogg.
+
+Not speech (every one should be "no speech found"): digital silence; white, pink, brown and babble-like
+noise and synthetic music (scripts/train_recogniser.py's, other seeds for tuning than for the report) at
+several levels; Fish Fillets NG's game music and sound effects (fillets-ng-data, under the voices'
+packages/ folder).
+
+The recordings are read where they lie and never copied (GPL and other licences). Prints figures, asserts
+nothing; docs/developer/measured/detection.md holds the last run's.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import tempfile
+import time
+from collections import defaultdict
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+REPOSITORY = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPOSITORY))
+sys.path.insert(0, str(REPOSITORY / "scripts"))
+
+from train_recogniser import coloured_noise, music, speech_power  # noqa: E402
+
+from turkish_lipsync.core.base.errors import AudioError  # noqa: E402
+from turkish_lipsync.core.speech import speech_detector  # noqa: E402
+from turkish_lipsync.core.speech.audio import read_audio, resample  # noqa: E402
+from turkish_lipsync.core.speech.features import ANALYSIS_RATE  # noqa: E402
+
+VOICES = Path("/work/data/voices")
+KTUBERLING = Path("/work/data/debs/x/kt/usr/share/ktuberling/sounds")
+FILLETS_CS = Path("/work/data/debs/x/cs/usr/share/games/fillets-ng/sound")
+FILLETS_GAME = Path("/work/data/voices/packages/usr/share/games/fillets-ng")
+TUNING_KLETTRES = ("klettres-ru", "klettres-tn")
+CORE = 0.2  # seconds of a word kept by the "0.2 s core" condition (its loudest stretch)
+CORE_SILENCE = 0.25  # seconds of silence put around the core
+HISS_SNR = 20.0  # dB
+QUIET_DB = -30.0
+# The constants --tune tries, one at a time around the chosen ones (speech_detector.py).
+TRIED = {
+    "SPEECH_THRESHOLD": (0.3, 0.4, 0.5, 0.6, 0.7, 0.8),
+    "SILENCE_THRESHOLD": (0.15, 0.25, 0.35, 0.45),
+    "SHORTEST_SPEECH": (0.03, 0.06, 0.1, 0.15, 0.2, 0.25),
+    "SHORTEST_SILENCE": (0.05, 0.1, 0.2, 0.3),
+}
+
+
+@dataclass(frozen=True, eq=False)
+class Clip:
+    """One recording or made-up sound at 16 kHz, the set it belongs to, whether it holds speech and a
+    Turkish spelling of what it says (where known)."""
+
+    set_name: str
+    name: str
+    samples: np.ndarray
+    speech: bool
+    turkish: str = ""
+
+
+def read_16k(path: Path) -> np.ndarray | None:
+    """The recording at 16 kHz, or None for one that holds no audio (fillets-nl has a few empty files)."""
+    try:
+        samples, rate = read_audio(path)
+    except AudioError:
+        return None
+    return resample(samples, rate, ANALYSIS_RATE)
+
+
+def voices_manifest(folder: Path) -> list[dict[str, str]]:
+    lines = (folder / "manifest.tsv").read_text(encoding="utf-8").splitlines()
+    header = lines[0].split("\t")
+    return [dict(zip(header, line.split("\t"), strict=False)) for line in lines[1:] if line.strip()]
+
+
+def speech_clips(tune: bool, voices: Path, ktuberling: Path, fillets_cs: Path) -> Iterator[Clip]:
+    """The people's recordings of the tuning part or of the report part."""
+    manifest = voices_manifest(voices)
+    levels = sorted(
+        {row["source"].split("/", 1)[1] for row in manifest if row["source"].startswith("fillets")}
+    )
+    reported_levels = set(levels[::3])
+    for row in manifest:
+        source = row["source"]
+        if source.startswith("klettres"):
+            if (source in TUNING_KLETTRES) != tune:
+                continue
+            set_name = f"klettres syllables ({source.removeprefix('klettres-')})"
+        else:
+            if (source.split("/", 1)[1] not in reported_levels) != tune:
+                continue
+            set_name = "fillets-nl lines"
+        yield Clip(set_name, row["id"], read_16k(voices / row["wav"]), True, row["turkish"])
+    if tune:
+        return
+    for language in sorted(path.name for path in ktuberling.iterdir() if path.is_dir()):
+        for path in sorted((ktuberling / language).glob("*.ogg")):
+            yield Clip("ktuberling words", f"{language}/{path.stem}", read_16k(path), True)
+    for path in sorted(fillets_cs.glob("*/cs/*.ogg")):
+        yield Clip("fillets-cs lines", f"{path.parent.parent.name}/{path.stem}", read_16k(path), True)
+
+
+def non_speech_clips(tune: bool, game: Path) -> Iterator[Clip]:
+    """Silence, made-up noise and music (other seeds for tuning), and, for the report, real game sounds."""
+    rng = np.random.default_rng(100 if tune else 0)
+    seconds = 5 * ANALYSIS_RATE
+    yield Clip("silence", "digital", np.zeros(seconds, np.float32), False)
+    for colour in ("white", "pink", "brown", "babble"):
+        for level in (0.003, 0.03, 0.3):
+            noise = level * coloured_noise(seconds, colour, rng)
+            yield Clip(f"{colour} noise", f"rms {level}", noise.astype(np.float32), False)
+    for number in range(10):
+        yield Clip(
+            "synthetic music",
+            f"seed {number}",
+            (0.2 * music(8 * ANALYSIS_RATE, rng)).astype(np.float32),
+            False,
+        )
+    if tune:
+        return
+    for path in sorted((game / "music").glob("*.ogg")):
+        yield Clip("game music", path.stem, read_16k(path), False)
+    for path in sorted((game / "sound" / "share").glob("sp-*.ogg")):
+        yield Clip("game sound effects", path.stem, read_16k(path), False)
+
+
+def hissed(samples: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    level = np.sqrt(speech_power(samples) / 10 ** (HISS_SNR / 10))
+    return (samples + level * coloured_noise(samples.size, "white", rng)).astype(np.float32)
+
+
+def core(samples: np.ndarray) -> np.ndarray:
+    """The loudest CORE seconds of a recording with CORE_SILENCE seconds of silence each side."""
+    width = int(CORE * ANALYSIS_RATE)
+    if samples.size > width:
+        energy = np.convolve(samples.astype(np.float64) ** 2, np.ones(width), "valid")
+        start = int(np.argmax(energy))
+        samples = samples[start : start + width]
+    silence = np.zeros(int(CORE_SILENCE * ANALYSIS_RATE), np.float32)
+    return np.concatenate((silence, samples, silence))
+
+
+CONDITIONS: dict[str, Callable[[np.ndarray, np.random.Generator], np.ndarray]] = {
+    "as recorded": lambda samples, rng: samples,
+    f"hiss {HISS_SNR:g} dB SNR": hissed,
+    f"{CORE:g} s core": lambda samples, rng: core(samples),
+    f"{CORE:g} s core + hiss": lambda samples, rng: hissed(core(samples), rng),
+    f"{-QUIET_DB:g} dB quieter": lambda samples, rng: samples * np.float32(10 ** (QUIET_DB / 20)),
+}
+
+
+def probabilities_of(clips: Iterator[Clip], speech_conditions: bool) -> list[tuple[Clip, str, np.ndarray]]:
+    """Silero's chunk probabilities of every clip under every condition (speech) or as it is (the rest)."""
+    rng = np.random.default_rng(5)
+    measured = []
+    for clip in clips:
+        if clip.samples is None:
+            continue
+        for condition, make in CONDITIONS.items() if speech_conditions else (("as recorded", None),):
+            samples = make(clip.samples, rng) if make else clip.samples
+            measured.append((clip, condition, speech_detector.chunk_probabilities(samples)))
+    return measured
+
+
+def found(probabilities: np.ndarray) -> bool:
+    return bool(speech_detector.speech_chunks(probabilities).any())
+
+
+def report_speech(measured) -> None:
+    table: dict[tuple[str, str], list[bool]] = defaultdict(list)
+    for clip, condition, probabilities in measured:
+        table[(clip.set_name, condition)].append(found(probabilities))
+    sets = list(dict.fromkeys(name for name, _ in table))
+    print(f"{'speech: share found (no speech found)':<40}" + "".join(f"{c:>22}" for c in CONDITIONS))
+    for set_name in sets:
+        cells = []
+        for condition in CONDITIONS:
+            hits = table[(set_name, condition)]
+            cells.append(f"{np.mean(hits):.1%} ({len(hits) - sum(hits)}/{len(hits)})")
+        print(f"{set_name:<40}" + "".join(f"{cell:>22}" for cell in cells))
+
+
+def report_non_speech(measured) -> None:
+    table: dict[str, list[tuple[str, bool, float]]] = defaultdict(list)
+    for clip, _, probabilities in measured:
+        table[clip.set_name].append((clip.name, found(probabilities), float(probabilities.max())))
+    print(f"{'not speech: taken for speech':<40}{'highest probability':>22}  minutes")
+    for set_name, rows in table.items():
+        false = [name for name, hit, _ in rows if hit]
+        highest = max(probability for _, _, probability in rows)
+        print(f"{set_name:<40}{f'{len(false)} of {len(rows)}':>10}{highest:>12.3f}", end="")
+        print(f"  {', '.join(false)}" if false else "")
+
+
+def tune(speech, non_speech) -> None:
+    """Each constant varied alone: misses per speech condition, and false speech, on the tuning sets."""
+    print("one constant at a time (the others as chosen): speech missed per condition / non-speech taken")
+    for name, values in TRIED.items():
+        chosen = getattr(speech_detector, name)
+        for value in values:
+            setattr(speech_detector, name, value)
+            misses = defaultdict(int)
+            for _, condition, probabilities in speech:
+                misses[condition] += not found(probabilities)
+            false = sum(found(probabilities) for _, _, probabilities in non_speech)
+            mark = " (chosen)" if value == chosen else ""
+            cells = " ".join(f"{misses[c]:>4}" for c in CONDITIONS)
+            print(f"  {name:<18}{value:>6}{mark:<10} missed {cells}   false {false} of {len(non_speech)}")
+        setattr(speech_detector, name, chosen)
+    counts = defaultdict(int)
+    for clip, condition, _ in speech:
+        counts[condition] += 1
+    print("  (clips per condition: " + ", ".join(f"{c} {n}" for c, n in counts.items()) + ")")
+
+
+def product_decisions(clips: list[Clip], folder: Path) -> None:
+    """The recogniser's and the aligner's "no speech" on the 0.2 s cores and on the non-speech sounds."""
+    from measure_recordings import write_wav
+
+    from turkish_lipsync.core.speech import synthesize_timeline
+    from turkish_lipsync.core.speech.recognition import speech_from_audio
+    from turkish_lipsync.core.text.utterance import build_utterance
+
+    rng = np.random.default_rng(6)
+    table: dict[tuple[str, str], list[int]] = defaultdict(lambda: [0, 0, 0])
+    for clip in clips:
+        variants = {"as recorded": clip.samples}
+        if clip.speech:
+            variants = {
+                f"{CORE:g} s core": core(clip.samples),
+                f"{CORE:g} s core + hiss": hissed(core(clip.samples), rng),
+            }
+        for condition, samples in variants.items():
+            path = write_wav(folder / "clip.wav", samples, ANALYSIS_RATE)
+            row = table[(clip.set_name, condition)]
+            row[0] += 1
+            try:
+                speech_from_audio(path)
+            except AudioError as error:
+                row[1] += "no speech found" in str(error)
+            if clip.turkish and clip.set_name.startswith("klettres"):
+                try:
+                    synthesize_timeline(build_utterance(clip.turkish), recording=path)
+                except AudioError as error:
+                    row[2] += "silent" in str(error)
+    print(f"{'product decisions':<48}{'clips':>6}{'recogniser: no speech':>24}{'aligner: silent':>18}")
+    for (set_name, condition), (count, recogniser, aligner) in table.items():
+        print(f"{set_name + ', ' + condition:<48}{count:>6}{recogniser:>24}{aligner:>18}")
+
+
+def agreement() -> None:
+    """Silero's frame mask against the WebRTC-based one (voice_activity.speech_frames) on eSpeak NG takes."""
+    from corpus import held_out_sentences
+    from measure_recordings import CONDITIONS as TAKE_CONDITIONS
+    from measure_recordings import HELD_OUT_VOICES, TALKER, VOICES as TAKE_VOICES, speak
+    from takes import RATE
+
+    from turkish_lipsync.core.speech.features import frame_count
+    from turkish_lipsync.core.speech.voice_activity import speech_frames
+
+    texts = held_out_sentences()[:10]
+    context = {"talker": speak(" ".join(held_out_sentences()[10:13]), TALKER).samples}
+    spoken = [speak(text, TAKE_VOICES[voice]) for text in texts for voice in HELD_OUT_VOICES[:2]]
+    print(f"{'eSpeak NG takes (20 per condition)':<34}{'agree':>7}{'Silero only':>13}{'WebRTC only':>13}"
+          f"{'Silero speech':>15}{'WebRTC speech':>15}")  # fmt: skip
+    for condition, make in TAKE_CONDITIONS.items():
+        rng = np.random.default_rng(11)
+        totals = np.zeros(5)
+        for take in spoken:
+            samples = resample(make(take, rng, context).samples.astype(np.float32), RATE, ANALYSIS_RATE)
+            frames = frame_count(samples.size)
+            silero = speech_detector.detect_speech(samples, frames).speech
+            webrtc = speech_frames(samples, frames)
+            totals += [np.sum(silero == webrtc), np.sum(silero & ~webrtc), np.sum(webrtc & ~silero),
+                       silero.sum(), webrtc.sum()]  # fmt: skip
+        count = totals[0] + totals[1] + totals[2]
+        print(f"{condition:<34}{totals[0] / count:>7.1%}{totals[1] / count:>13.1%}{totals[2] / count:>13.1%}"
+              f"{totals[3] / count:>15.1%}{totals[4] / count:>15.1%}")  # fmt: skip
+
+
+def speed() -> None:
+    """10 minutes of 16 kHz audio (a Dutch line over and over, with noise) through the detector."""
+    rng = np.random.default_rng(7)
+    line = read_16k(next(VOICES.glob("wav/fillets-nl_*.wav")))
+    count = 600 * ANALYSIS_RATE
+    samples = np.tile(line, count // line.size + 1)[:count]
+    samples = (samples + 0.01 * rng.normal(size=count)).astype(np.float32)
+    speech_detector.load_detector()
+    times = []
+    for _ in range(5):
+        began = time.perf_counter()
+        speech_detector.detect_speech(samples)
+        times.append(time.perf_counter() - began)
+    print(f"10 minutes of 16 kHz audio: Silero's probabilities and the speech mask in {np.median(times):.2f} s "
+          f"(median of 5; fastest {min(times):.2f} s)")  # fmt: skip
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--tune", action="store_true", help="the tuning sets and the constants tried on them")
+    parser.add_argument(
+        "--product", action="store_true", help="also the recogniser's and aligner's decisions"
+    )
+    parser.add_argument("--agreement", action="store_true", help="Silero against WebRTC on eSpeak NG takes")
+    parser.add_argument("--speed", action="store_true", help="10 minutes of audio through the detector")
+    parser.add_argument("--voices", type=Path, default=VOICES, help="dev_voices.py's folder")
+    parser.add_argument("--ktuberling", type=Path, default=KTUBERLING, help="ktuberling's sounds/ folder")
+    parser.add_argument(
+        "--fillets-cs", type=Path, default=FILLETS_CS, help="fillets-ng-data-cs's sound/ folder"
+    )
+    parser.add_argument("--game", type=Path, default=FILLETS_GAME, help="fillets-ng-data's games/fillets-ng/")
+    args = parser.parse_args(argv)
+    if args.speed:
+        speed()
+        return 0
+    if args.agreement:
+        agreement()
+        return 0
+    constants = ", ".join(f"{name} {getattr(speech_detector, name)}" for name in TRIED)
+    print(f"{'tuning' if args.tune else 'report'} sets; {constants}")
+    speech = probabilities_of(speech_clips(args.tune, args.voices, args.ktuberling, args.fillets_cs), True)
+    non_speech = probabilities_of(non_speech_clips(args.tune, args.game), False)
+    report_speech(speech)
+    report_non_speech(non_speech)
+    if args.tune:
+        tune(speech, non_speech)
+    if args.product:
+        clips = list(dict.fromkeys(clip for clip, _, _ in speech + non_speech))
+        with tempfile.TemporaryDirectory() as folder:
+            product_decisions(clips, Path(folder))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
