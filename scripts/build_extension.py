@@ -265,7 +265,8 @@ core = import_module(module + ".turkish_lipsync.core.text.utterance")
 utterance = core.build_utterance("Şu köşe yaz köşesi")
 # Speech detection reads the weights the zip ships, not an installed silero-vad.
 detector = import_module(module + ".turkish_lipsync.core.speech.speech_detector")
-assert detector.weights_path().parent == detector.EXTENSION_ROOT / detector.BUNDLED_FOLDER, detector.weights_path()
+weights = detector.weights_path()
+assert weights.parent == detector.EXTENSION_ROOT / detector.BUNDLED_FOLDER, weights
 import numpy
 assert not detector.detect_speech(numpy.zeros(16000, numpy.float32)).found
 print("EXTENSION_OK", result, len(utterance.letters), len(head.units))

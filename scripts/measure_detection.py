@@ -14,7 +14,8 @@ silence each side, that core with the hiss, and 30 dB quieter):
   whose name's position in the sorted list of levels is not a multiple of 3; reported on klettres-uk,
   -fr, -cs and the levels at positions 0, 3, 6, ...
 - ktuberling's single words, every language (report only): `apt-get download ktuberling-data`, then
-  `dpkg-deb -x ktuberling-data_*.deb DIR`; the words are DIR/usr/share/ktuberling/sounds/<lang>/*.ogg.
+  `dpkg-deb -x ktuberling-data_*.deb DIR`; the words are DIR/usr/share/ktuberling/sounds/<lang>/*
+  (.ogg, .wav, .opus; the Serbian scripts' folders hold the same recordings, heard once).
 - Fish Fillets NG's Czech voice acting (report only): `apt-get download fillets-ng-data-cs`, then
   `dpkg-deb -x`; the lines are DIR/usr/share/games/fillets-ng/sound/<level>/cs/*.ogg.
 
@@ -30,6 +31,8 @@ nothing; docs/developer/measured/detection.md holds the last run's.
 from __future__ import annotations
 
 import argparse
+import hashlib
+import itertools
 import sys
 import tempfile
 import time
@@ -62,10 +65,13 @@ HISS_SNR = 20.0  # dB
 QUIET_DB = -30.0
 # The constants --tune tries, one at a time around the chosen ones (speech_detector.py).
 TRIED = {
-    "SPEECH_THRESHOLD": (0.3, 0.4, 0.5, 0.6, 0.7, 0.8),
-    "SILENCE_THRESHOLD": (0.15, 0.25, 0.35, 0.45),
-    "SHORTEST_SPEECH": (0.03, 0.06, 0.1, 0.15, 0.2, 0.25),
-    "SHORTEST_SILENCE": (0.05, 0.1, 0.2, 0.3),
+    "SPEECH_THRESHOLD": (0.2, 0.3, 0.4, 0.5),
+    "SILENCE_THRESHOLD": (0.1, 0.15, 0.2, 0.25),
+    "SHORTEST_SILENCE": (0.05, 0.1, 0.2),
+    "CERTAIN_SPEECH": (0.25, 0.32, 0.38, 0.45),
+    "SHORTEST_WORD": (0.03, 0.06, 0.1),
+    "WORD_ENERGY_SHARE": (0.3, 0.5, 0.7),
+    "LOUD_LEVEL_DB": (-20.0, -10.0, -5.0, -2.0),
 }
 
 
@@ -116,9 +122,13 @@ def speech_clips(tune: bool, voices: Path, ktuberling: Path, fillets_cs: Path) -
         yield Clip(set_name, row["id"], read_16k(voices / row["wav"]), True, row["turkish"])
     if tune:
         return
+    heard = set()  # the Serbian scripts' folders hold the same recordings
     for language in sorted(path.name for path in ktuberling.iterdir() if path.is_dir()):
-        for path in sorted((ktuberling / language).glob("*.ogg")):
-            yield Clip("ktuberling words", f"{language}/{path.stem}", read_16k(path), True)
+        for path in sorted((ktuberling / language).iterdir()):
+            digest = hashlib.sha1(path.read_bytes()).hexdigest()
+            if path.suffix in (".ogg", ".wav", ".opus") and digest not in heard:
+                heard.add(digest)
+                yield Clip("ktuberling words", f"{language}/{path.stem}", read_16k(path), True)
     for path in sorted(fillets_cs.glob("*/cs/*.ogg")):
         yield Clip("fillets-cs lines", f"{path.parent.parent.name}/{path.stem}", read_16k(path), True)
 
@@ -172,72 +182,86 @@ CONDITIONS: dict[str, Callable[[np.ndarray, np.random.Generator], np.ndarray]] =
 }
 
 
-def probabilities_of(clips: Iterator[Clip], speech_conditions: bool) -> list[tuple[Clip, str, np.ndarray]]:
-    """Silero's chunk probabilities of every clip under every condition (speech) or as it is (the rest)."""
+@dataclass(frozen=True, eq=False)
+class Heard:
+    """What the detector made of one clip (its samples dropped) under one condition."""
+
+    set_name: str
+    name: str
+    condition: str
+    probabilities: np.ndarray
+    energies: np.ndarray
+
+    def found(self) -> bool:
+        return bool(speech_detector.speech_chunks(self.probabilities, self.energies).any())
+
+
+def hear(clips: Iterator[Clip], speech_conditions: bool) -> list[Heard]:
+    """Silero's chunk probabilities (the take levelled) and the chunks' energies under every condition."""
     rng = np.random.default_rng(5)
-    measured = []
+    heard = []
     for clip in clips:
         if clip.samples is None:
             continue
         for condition, make in CONDITIONS.items() if speech_conditions else (("as recorded", None),):
             samples = make(clip.samples, rng) if make else clip.samples
-            measured.append((clip, condition, speech_detector.chunk_probabilities(samples)))
-    return measured
+            probabilities, energies = speech_detector.levelled_probabilities(samples)
+            heard.append(Heard(clip.set_name, clip.name, condition, probabilities, energies))
+    return heard
 
 
-def found(probabilities: np.ndarray) -> bool:
-    return bool(speech_detector.speech_chunks(probabilities).any())
-
-
-def report_speech(measured) -> None:
+def report_speech(heard: list[Heard]) -> None:
     table: dict[tuple[str, str], list[bool]] = defaultdict(list)
-    for clip, condition, probabilities in measured:
-        table[(clip.set_name, condition)].append(found(probabilities))
-    sets = list(dict.fromkeys(name for name, _ in table))
-    print(f"{'speech: share found (no speech found)':<40}" + "".join(f"{c:>22}" for c in CONDITIONS))
-    for set_name in sets:
+    for item in heard:
+        table[(item.set_name, item.condition)].append(item.found())
+    print(f"{'speech: share found (missed/clips)':<34}" + "".join(f"{c:>20}" for c in CONDITIONS))
+    for set_name in dict.fromkeys(name for name, _ in table):
         cells = []
         for condition in CONDITIONS:
             hits = table[(set_name, condition)]
             cells.append(f"{np.mean(hits):.1%} ({len(hits) - sum(hits)}/{len(hits)})")
-        print(f"{set_name:<40}" + "".join(f"{cell:>22}" for cell in cells))
+        print(f"{set_name:<34}" + "".join(f"{cell:>20}" for cell in cells))
 
 
-def report_non_speech(measured) -> None:
-    table: dict[str, list[tuple[str, bool, float]]] = defaultdict(list)
-    for clip, _, probabilities in measured:
-        table[clip.set_name].append((clip.name, found(probabilities), float(probabilities.max())))
-    print(f"{'not speech: taken for speech':<40}{'highest probability':>22}  minutes")
-    for set_name, rows in table.items():
-        false = [name for name, hit, _ in rows if hit]
-        highest = max(probability for _, _, probability in rows)
-        print(f"{set_name:<40}{f'{len(false)} of {len(rows)}':>10}{highest:>12.3f}", end="")
-        print(f"  {', '.join(false)}" if false else "")
+def report_non_speech(heard: list[Heard]) -> None:
+    table: dict[str, list[Heard]] = defaultdict(list)
+    for item in heard:
+        table[item.set_name].append(item)
+    print(f"{'not speech':<34}{'taken for speech':>18}{'highest probability':>21}{'minutes':>9}")
+    for set_name, items in table.items():
+        false = [item.name for item in items if item.found()]
+        highest = max(float(item.probabilities.max()) for item in items)
+        minutes = sum(item.energies.size for item in items) * speech_detector.CHUNK / ANALYSIS_RATE / 60
+        print(f"{set_name:<34}{f'{len(false)} of {len(items)}':>18}{highest:>21.3f}{minutes:>9.1f}", end="")
+        print(f"  ({', '.join(false)})" if false else "")
 
 
-def tune(speech, non_speech) -> None:
-    """Each constant varied alone: misses per speech condition, and false speech, on the tuning sets."""
-    print("one constant at a time (the others as chosen): speech missed per condition / non-speech taken")
+def tune(speech: list[Heard], non_speech: list[Heard], remake) -> None:
+    """Each constant varied alone (the level by hearing the clips again): misses per speech condition and
+    false speech, on the tuning sets."""
+    print("one constant at a time, the others as chosen: speech missed per condition; not speech taken")
+    print(f"{'':<36}" + "".join(f"{condition[:14]:>16}" for condition in CONDITIONS))
     for name, values in TRIED.items():
         chosen = getattr(speech_detector, name)
         for value in values:
             setattr(speech_detector, name, value)
+            tried_speech, tried_non_speech = (
+                (speech, non_speech) if value == chosen or name != "LOUD_LEVEL_DB" else remake()
+            )
             misses = defaultdict(int)
-            for _, condition, probabilities in speech:
-                misses[condition] += not found(probabilities)
-            false = sum(found(probabilities) for _, _, probabilities in non_speech)
-            mark = " (chosen)" if value == chosen else ""
-            cells = " ".join(f"{misses[c]:>4}" for c in CONDITIONS)
-            print(f"  {name:<18}{value:>6}{mark:<10} missed {cells}   false {false} of {len(non_speech)}")
+            for item in tried_speech:
+                misses[item.condition] += not item.found()
+            false = sum(item.found() for item in tried_non_speech)
+            label = f"{name} {value}" + (" (chosen)" if value == chosen else "")
+            cells = "".join(f"{misses[condition]:>16}" for condition in CONDITIONS)
+            print(f"  {label:<34}{cells}   not speech taken: {false} of {len(tried_non_speech)}")
         setattr(speech_detector, name, chosen)
-    counts = defaultdict(int)
-    for clip, condition, _ in speech:
-        counts[condition] += 1
-    print("  (clips per condition: " + ", ".join(f"{c} {n}" for c, n in counts.items()) + ")")
+    print(f"  ({len(speech) // len(CONDITIONS)} speech clips per condition)")
 
 
-def product_decisions(clips: list[Clip], folder: Path) -> None:
-    """The recogniser's and the aligner's "no speech" on the 0.2 s cores and on the non-speech sounds."""
+def product_decisions(clips: Iterator[Clip], folder: Path) -> None:
+    """The recogniser's "no speech found" and "no letters heard", and the aligner's "silent", on the single
+    words and syllables (as recorded, their 0.2 s cores, the cores with hiss) and on what is not speech."""
     from measure_recordings import write_wav
 
     from turkish_lipsync.core.speech import synthesize_timeline
@@ -245,14 +269,14 @@ def product_decisions(clips: list[Clip], folder: Path) -> None:
     from turkish_lipsync.core.text.utterance import build_utterance
 
     rng = np.random.default_rng(6)
-    table: dict[tuple[str, str], list[int]] = defaultdict(lambda: [0, 0, 0])
+    table: dict[tuple[str, str], list[int]] = defaultdict(lambda: [0, 0, 0, 0])
     for clip in clips:
+        if clip.samples is None or clip.set_name.startswith("fillets"):
+            continue
         variants = {"as recorded": clip.samples}
         if clip.speech:
-            variants = {
-                f"{CORE:g} s core": core(clip.samples),
-                f"{CORE:g} s core + hiss": hissed(core(clip.samples), rng),
-            }
+            variants[f"{CORE:g} s core"] = core(clip.samples)
+            variants[f"{CORE:g} s core + hiss"] = hissed(core(clip.samples), rng)
         for condition, samples in variants.items():
             path = write_wav(folder / "clip.wav", samples, ANALYSIS_RATE)
             row = table[(clip.set_name, condition)]
@@ -261,21 +285,24 @@ def product_decisions(clips: list[Clip], folder: Path) -> None:
                 speech_from_audio(path)
             except AudioError as error:
                 row[1] += "no speech found" in str(error)
-            if clip.turkish and clip.set_name.startswith("klettres"):
+                row[2] += "no letters heard" in str(error)
+            if clip.turkish:
                 try:
                     synthesize_timeline(build_utterance(clip.turkish), recording=path)
                 except AudioError as error:
-                    row[2] += "silent" in str(error)
-    print(f"{'product decisions':<48}{'clips':>6}{'recogniser: no speech':>24}{'aligner: silent':>18}")
-    for (set_name, condition), (count, recogniser, aligner) in table.items():
-        print(f"{set_name + ', ' + condition:<48}{count:>6}{recogniser:>24}{aligner:>18}")
+                    row[3] += "silent" in str(error)
+    header = f"{'clips':>6}{'no speech found':>17}{'no letters heard':>18}{'aligner: silent':>17}"
+    print(f"{'product decisions':<52}{header}")
+    for (set_name, condition), (count, nothing, no_letters, silent) in table.items():
+        print(f"{set_name + ', ' + condition:<52}{count:>6}{nothing:>17}{no_letters:>18}{silent:>17}")
 
 
 def agreement() -> None:
     """Silero's frame mask against the WebRTC-based one (voice_activity.speech_frames) on eSpeak NG takes."""
     from corpus import held_out_sentences
     from measure_recordings import CONDITIONS as TAKE_CONDITIONS
-    from measure_recordings import HELD_OUT_VOICES, TALKER, VOICES as TAKE_VOICES, speak
+    from measure_recordings import HELD_OUT_VOICES, TALKER, speak
+    from measure_recordings import VOICES as TAKE_VOICES
     from takes import RATE
 
     from turkish_lipsync.core.speech.features import frame_count
@@ -314,7 +341,8 @@ def speed() -> None:
         began = time.perf_counter()
         speech_detector.detect_speech(samples)
         times.append(time.perf_counter() - began)
-    print(f"10 minutes of 16 kHz audio: Silero's probabilities and the speech mask in {np.median(times):.2f} s "
+    median = np.median(times)
+    print(f"10 minutes of 16 kHz audio: Silero's probabilities and the speech mask in {median:.2f} s "
           f"(median of 5; fastest {min(times):.2f} s)")  # fmt: skip
 
 
@@ -341,14 +369,21 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     constants = ", ".join(f"{name} {getattr(speech_detector, name)}" for name in TRIED)
     print(f"{'tuning' if args.tune else 'report'} sets; {constants}")
-    speech = probabilities_of(speech_clips(args.tune, args.voices, args.ktuberling, args.fillets_cs), True)
-    non_speech = probabilities_of(non_speech_clips(args.tune, args.game), False)
+
+    def remake() -> tuple[list[Heard], list[Heard]]:
+        clips = speech_clips(args.tune, args.voices, args.ktuberling, args.fillets_cs)
+        return hear(clips, True), hear(non_speech_clips(args.tune, args.game), False)
+
+    speech, non_speech = remake()
     report_speech(speech)
     report_non_speech(non_speech)
     if args.tune:
-        tune(speech, non_speech)
+        tune(speech, non_speech, remake)
     if args.product:
-        clips = list(dict.fromkeys(clip for clip, _, _ in speech + non_speech))
+        clips = itertools.chain(
+            speech_clips(args.tune, args.voices, args.ktuberling, args.fillets_cs),
+            non_speech_clips(args.tune, args.game),
+        )
         with tempfile.TemporaryDirectory() as folder:
             product_decisions(clips, Path(folder))
     return 0

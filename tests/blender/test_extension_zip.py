@@ -103,7 +103,7 @@ def test_every_zip_holds_silero_vads_model_and_licence_which_load(built_zips, tm
             model = archive.read(f"{folder}/{speech_detector.WEIGHTS_NAME}")
             licence = archive.read(f"{folder}/LICENSE").decode("utf-8")
         assert "MIT License" in licence and "Silero Team" in licence
-        unwanted = ("silero_vad-", "torch", ".jit", ".safetensors")  # the wheel, its runtime, its other models
+        unwanted = ("silero_vad-", "torch", ".jit", ".safetensors")  # the wheel, torch, other models
         assert not [name for name in names if any(part in name for part in unwanted)]
         assert len(model) < 1_500_000
     copy = tmp_path / speech_detector.WEIGHTS_NAME

@@ -25,7 +25,7 @@ PEOPLE = Path("/work/data")
 KTUBERLING = PEOPLE / "debs/x/kt/usr/share/ktuberling/sounds"
 KLETTRES = PEOPLE / "voices/wav"
 # Words whose loudest 0.2 s is the whole word, said by people (ktuberling: one word a file).
-PEOPLES_WORDS = ("en/ball.ogg", "en/bow.ogg", "de/ball.ogg", "ru/ball.ogg", "uk/ball.ogg", "fr/ball.ogg")
+PEOPLES_WORDS = ("en/ball.ogg", "en/bow.ogg", "de/ball.ogg", "ru/ball.ogg", "uk/ball.ogg", "fr/chapeau.wav")
 
 
 def spoken(text: str) -> np.ndarray:

@@ -59,15 +59,27 @@ LAYER_SHAPES = {
 }
 ONNX_FLOAT = 1  # TensorProto.DataType FLOAT
 
-# Speech and silence in the spirit of Silero's own get_speech_timestamps: a run starts where the probability
-# reaches SPEECH_THRESHOLD and lasts until it stays under SILENCE_THRESHOLD for SHORTEST_SILENCE; runs
-# shorter than SHORTEST_SPEECH are dropped. Tuned on the tuning part of the people's recordings
-# (scripts/measure_detection.py --tune): see docs/developer/measured/detection.md.
-SPEECH_THRESHOLD = 0.5  # Silero's default: a person's syllable in a quiet room reaches 0.9 and more
-SILENCE_THRESHOLD = 0.35  # Silero's default (threshold - 0.15): a stop closure inside a word stays speech
+# Speech and silence, in the spirit of Silero's own get_speech_timestamps: a run starts at a chunk whose
+# probability reaches SPEECH_THRESHOLD and ends where it falls under SILENCE_THRESHOLD, unless the speech
+# threshold is reached again within SHORTEST_SILENCE. Silero drops runs under 250 ms; a person's word of
+# 0.2 s gives a run of two to five chunks, and so does a blip in music: a run of CERTAIN_SPEECH is speech
+# wherever it lies, shorter runs (from SHORTEST_WORD) only when the runs together hold WORD_ENERGY_SHARE
+# of the take's sound above its floor (a short word alone in a quiet or hissing room, not a blip inside
+# music or noise). Chosen on the tuning part of the people's recordings (scripts/measure_detection.py
+# --tune; docs/developer/measured/detection.md).
+SPEECH_THRESHOLD = 0.3  # under Silero's 0.5: a person's 0.2 s word often peaks at 0.3-0.5 (no noise passes)
+SILENCE_THRESHOLD = 0.2  # SPEECH_THRESHOLD less Silero's 0.15 (rounded): a stop closure stays speech
 SHORTEST_SILENCE = 0.1  # seconds: Silero's default; shorter dips are closures and breaths between words
-SHORTEST_SPEECH = 0.1  # seconds: a 0.2 s word's core holds 0.1 s above the threshold; a click does not
-SPEECH_PADDING = 0.03  # seconds each side: Silero's default; a word's onset lies in the chunk before its run
+CERTAIN_SPEECH = 0.38  # seconds (12 chunks): music and noise gave no run this long in the tuning sets
+SHORTEST_WORD = 0.06  # seconds (2 chunks): a single chunk is a click or a blip
+WORD_ENERGY_SHARE = 0.5  # of the sound above the floor (its quietest tenth of chunks) inside the runs
+SPEECH_PADDING = 0.03  # seconds each side (Silero's default): a word's onset lies in the chunk before its run
+# Each take's loud chunks (its 95th percentile of chunk energy) are brought to this level (dB full scale)
+# before the network hears it: Silero misses more of a quiet take (the tuning lines 30 dB quieter: 34 of
+# 1046 missed, 2 as recorded) and of a short word at the recordings' own level (about -8 dB) than at -5 dB
+# (0.2 s cores of the tuning lines: 41 missed at -8 to -10 dB, 28 at -5 dB; no noise or music passes).
+LOUD_LEVEL_DB = -5.0
+MOST_GAIN_DB = 60.0  # a take whose loud chunks lie under -65 dB holds nothing but its quantisation noise
 
 
 class DetectorWeights:
@@ -266,47 +278,80 @@ class SpeechDetection:
 def detect_speech(samples: np.ndarray, frames: int | None = None) -> SpeechDetection:
     """Speech probability and decision for each of `frames` analysis frames of 16 kHz samples in [-1, 1].
 
-    `frames` defaults to features.frame_count(samples.size); frames past the samples are silence.
+    `frames` defaults to features.frame_count(samples.size); frames past the samples are silence. The
+    take is brought to LOUD_LEVEL_DB first (the probabilities are those of the take at that level).
     """
     frames = frame_count(samples.size) if frames is None else frames
-    probabilities = chunk_probabilities(samples)
-    speech = speech_chunks(probabilities)
+    probabilities, energies = levelled_probabilities(samples)
+    speech = speech_chunks(probabilities, energies)
     centres = np.arange(frames) * HOP + WINDOW // 2
     chunk = np.minimum(centres // CHUNK, probabilities.size - 1)
     inside = centres < samples.size
     return SpeechDetection(np.where(inside, probabilities[chunk], 0), np.where(inside, speech[chunk], False))
 
 
-def speech_chunks(probabilities: np.ndarray) -> np.ndarray:
-    """Which 32 ms chunks are speech, given their probabilities: Silero's get_speech_timestamps' rules.
+def levelled_probabilities(samples: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Silero's chunk probabilities of the take brought to LOUD_LEVEL_DB, and the chunks' energies."""
+    energies = _chunk_energies(samples)
+    loud = 10 * np.log10(np.percentile(energies, 95) / CHUNK + 1e-30)
+    gain = 10 ** (min(MOST_GAIN_DB, LOUD_LEVEL_DB - loud) / 20) if energies.any() else 1.0
+    return chunk_probabilities(samples * np.float32(gain)), energies
 
-    A run starts at a chunk reaching SPEECH_THRESHOLD; a dip under SILENCE_THRESHOLD ends it where it
-    began unless the speech threshold is reached again within SHORTEST_SILENCE; runs shorter than
-    SHORTEST_SPEECH are dropped and the rest widened by SPEECH_PADDING each side.
-    """
+
+def speech_chunks(probabilities: np.ndarray, energies: np.ndarray) -> np.ndarray:
+    """Which 32 ms chunks are speech, from their probabilities and sound energies (see the constants)."""
     seconds = CHUNK / ANALYSIS_RATE
-    shortest_silence = int(round(SHORTEST_SILENCE / seconds))
+    padding = int(round(SPEECH_PADDING / seconds))
+    spans = [
+        (start, stop)
+        for start, stop in _hysteresis_runs(probabilities, int(round(SHORTEST_SILENCE / seconds)))
+        if (stop - start) * seconds >= SHORTEST_WORD - 1e-9
+    ]
+    padded = np.zeros(probabilities.size, bool)
+    for start, stop in spans:
+        padded[max(0, start - padding) : stop + padding] = True
+    above_floor = np.maximum(energies - np.percentile(energies, 10), 0) if energies.size else energies
+    if above_floor[padded].sum() >= WORD_ENERGY_SHARE * above_floor.sum() and padded.any():
+        return padded
     speech = np.zeros(probabilities.size, bool)
+    for start, stop in spans:
+        if (stop - start) * seconds >= CERTAIN_SPEECH - 1e-9:
+            speech[max(0, start - padding) : stop + padding] = True
+    return speech
+
+
+def _hysteresis_runs(probabilities: np.ndarray, shortest_silence: int) -> list[tuple[int, int]]:
+    """(start, stop) chunk pairs: from a chunk reaching SPEECH_THRESHOLD to the first of SHORTEST_SILENCE
+    chunks in which it is not reached again, starting under SILENCE_THRESHOLD (Silero's state machine)."""
+    spans = []
     start = dip = None
     for index, probability in enumerate(probabilities.tolist()):
         if probability >= SPEECH_THRESHOLD:
             dip = None
-            if start is None:
-                start = index
+            start = index if start is None else start
         elif start is not None and probability < SILENCE_THRESHOLD:
             dip = index if dip is None else dip
             if index - dip >= shortest_silence:
-                speech[start:dip] = True
+                spans.append((start, dip))
                 start = dip = None
     if start is not None:
-        speech[start : probabilities.size if dip is None else dip] = True
-    padding = int(round(SPEECH_PADDING / seconds))
-    for begin, stop in runs(speech):
-        if (stop - begin) * seconds < SHORTEST_SPEECH:
-            speech[begin:stop] = False
-    for begin, stop in runs(speech):
-        speech[max(0, begin - padding) : stop + padding] = True
-    return speech
+        spans.append((start, probabilities.size if dip is None else dip))
+    return spans
+
+
+def _chunk_energies(samples: np.ndarray) -> np.ndarray:
+    """Sum of squares of each 512-sample chunk (the last completed with zeros), float64."""
+    count = -(-samples.size // CHUNK)
+    full = samples.size // CHUNK
+    energies = np.zeros(count)
+    energies[:full] = np.einsum(
+        "ij,ij->i",
+        samples[: full * CHUNK].reshape(full, CHUNK),
+        samples[: full * CHUNK].reshape(full, CHUNK),
+        dtype=np.float64,
+    )
+    energies[full:] = np.sum(samples[full * CHUNK :].astype(np.float64) ** 2)
+    return energies
 
 
 def _chunk_features(signal: np.ndarray, weights: DetectorWeights) -> np.ndarray:
