@@ -152,18 +152,27 @@ def test_frames_follow_the_analysis_frames_and_mark_the_word():
     assert not longer.speech[-50:].any() and (longer.speech[:-50] == detection.speech).all()
 
 
-def test_runs_start_at_the_threshold_bridge_short_dips_and_drop_blips():
-    low, high, dip = 0.05, 0.9, 0.2  # under the silence threshold, over the speech threshold, a dip
-    blip = [low] * 10 + [high] + [low] * 10
-    assert not speech_detector.speech_chunks(np.array(blip)).any()
-    word = np.array([low] * 10 + [high] * 4 + [dip] + [high] * 4 + [low] * 10)
-    speech = speech_detector.speech_chunks(word)
-    (start, stop), *others = speech_detector.runs(speech)
-    assert not others  # the one-chunk dip is a closure inside the word
-    padding = round(speech_detector.SPEECH_PADDING * RATE / speech_detector.CHUNK)
-    assert (start, stop) == (10 - padding, 19 + padding)
-    pause = np.array([low] * 10 + [high] * 6 + [low] * 12 + [high] * 6 + [low] * 10)
-    assert len(speech_detector.runs(speech_detector.speech_chunks(pause))) == 2
+def test_a_short_run_is_speech_where_the_takes_sound_is_and_a_long_one_anywhere():
+    low, high, dip = 0.02, 0.9, 0.1  # under the silence threshold, over the speech threshold, a dip
+    chunk = speech_detector.CHUNK / RATE
+    padding = round(speech_detector.SPEECH_PADDING / chunk)
+
+    def take(run_chunks, loud_everywhere):
+        probabilities = np.array([low] * 20 + [high] * run_chunks + [low] * 20)
+        energies = np.full(probabilities.size, 1.0 if loud_everywhere else 1e-4)
+        energies[20 : 20 + run_chunks] = 1.0
+        return speech_detector.speech_chunks(probabilities, energies)
+
+    short = round(0.15 / chunk)  # a word of 0.15 s
+    assert speech_detector.runs(take(short, False)).tolist() == [[20 - padding, 20 + short + padding]]
+    assert not take(short, True).any()  # the same run inside loud music or noise is a blip
+    long = round(speech_detector.CERTAIN_SPEECH / chunk) + 1
+    assert take(long, True).any()
+    assert not take(1, False).any()  # one chunk is a click
+    closure = np.array([low] * 20 + [high] * 4 + [dip] + [high] * 4 + [low] * 20)
+    assert len(speech_detector.runs(speech_detector.speech_chunks(closure, closure))) == 1
+    pause = np.array([low] * 20 + [high] * 6 + [low] * 12 + [high] * 6 + [low] * 20)
+    assert len(speech_detector.runs(speech_detector.speech_chunks(pause, pause))) == 2
 
 
 def test_missing_weights_are_a_clear_error(monkeypatch, tmp_path):

@@ -311,7 +311,8 @@ def speech_chunks(probabilities: np.ndarray, energies: np.ndarray) -> np.ndarray
     for start, stop in spans:
         padded[max(0, start - padding) : stop + padding] = True
     above_floor = np.maximum(energies - np.percentile(energies, 10), 0) if energies.size else energies
-    if above_floor[padded].sum() >= WORD_ENERGY_SHARE * above_floor.sum() and padded.any():
+    total = above_floor.sum()  # zero for a sound that never changes: nothing in it stands out as a word
+    if total > 0 and above_floor[padded].sum() >= WORD_ENERGY_SHARE * total:
         return padded
     speech = np.zeros(probabilities.size, bool)
     for start, stop in spans:
