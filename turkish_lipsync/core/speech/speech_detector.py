@@ -35,7 +35,7 @@ STFT_STRIDE = 128
 STATE = 128  # the LSTM's width
 # Silero's 16 kHz model as ONNX (the same weights as its TorchScript and default ONNX models, v6.2); the
 # wheel's silero_vad_16k.safetensors holds another checkpoint, whose probabilities differ from these by up to
-# 0.5 (measured on people's syllables; upstream issue snakers4/silero-vad#768), so it is not used.
+# 0.54 (measured on people's syllables; upstream issue snakers4/silero-vad#768), so it is not used.
 WEIGHTS_NAME = "silero_vad_16k_op15.onnx"
 BUNDLED_FOLDER = "silero_vad_data"  # at the extension's root, beside head_data/ (scripts/build_extension.py)
 EXTENSION_ROOT = Path(__file__).resolve().parents[3]
@@ -67,17 +67,18 @@ ONNX_FLOAT = 1  # TensorProto.DataType FLOAT
 # of the take's sound above its floor (a short word alone in a quiet or hissing room, not a blip inside
 # music or noise). Chosen on the tuning part of the people's recordings (scripts/measure_detection.py
 # --tune; docs/developer/measured/detection.md).
-SPEECH_THRESHOLD = 0.3  # under Silero's 0.5: a person's 0.2 s word often peaks at 0.3-0.5 (no noise passes)
+# Figures: misses among the 1143 tuning clips' 0.2 s cores, and the tuning noise and music taken for speech.
+SPEECH_THRESHOLD = 0.3  # Silero's 0.5 missed 81 cores, 0.3 46; 0.2 took synthetic music for speech
 SILENCE_THRESHOLD = 0.2  # SPEECH_THRESHOLD less Silero's 0.15 (rounded): a stop closure stays speech
 SHORTEST_SILENCE = 0.1  # seconds: Silero's default; shorter dips are closures and breaths between words
-CERTAIN_SPEECH = 0.38  # seconds (12 chunks): music and noise gave no run this long in the tuning sets
-SHORTEST_WORD = 0.06  # seconds (2 chunks): a single chunk is a click or a blip
-WORD_ENERGY_SHARE = 0.5  # of the sound above the floor (its quietest tenth of chunks) inside the runs
+CERTAIN_SPEECH = 0.38  # seconds (12 chunks): the longest run in noise or music was 9 chunks; 0.25 s took one
+SHORTEST_WORD = 0.06  # seconds (2 chunks): a single chunk is a click or a blip (0.1 s missed 90 cores)
+WORD_ENERGY_SHARE = 0.5  # of the sound above the floor (its quietest tenth of chunks); music's runs held 0.1
 SPEECH_PADDING = 0.03  # seconds each side (Silero's default): a word's onset lies in the chunk before its run
 # Each take's loud chunks (its 95th percentile of chunk energy) are brought to this level (dB full scale)
-# before the network hears it: Silero misses more of a quiet take (the tuning lines 30 dB quieter: 34 of
-# 1046 missed, 2 as recorded) and of a short word at the recordings' own level (about -8 dB) than at -5 dB
-# (0.2 s cores of the tuning lines: 41 missed at -8 to -10 dB, 28 at -5 dB; no noise or music passes).
+# before the network hears it: it misses more words the quieter they are (cores missed: 162 at -20 dB, 84
+# at -10, 46 at -5, 35 at -2), and a take recorded 30 dB too quietly is heard as if it were not. At -5 dB
+# a take's peaks lie about full scale; -2 dB would feed the network samples far beyond it.
 LOUD_LEVEL_DB = -5.0
 MOST_GAIN_DB = 60.0  # a take whose loud chunks lie under -65 dB holds nothing but its quantisation noise
 
