@@ -52,7 +52,7 @@ from train_recogniser import coloured_noise, music, speech_power  # noqa: E402
 from turkish_lipsync.core.base.errors import AudioError  # noqa: E402
 from turkish_lipsync.core.speech import speech_detector  # noqa: E402
 from turkish_lipsync.core.speech.audio import read_audio, resample  # noqa: E402
-from turkish_lipsync.core.speech.features import ANALYSIS_RATE  # noqa: E402
+from turkish_lipsync.core.speech.features import ANALYSIS_RATE, HOP  # noqa: E402
 
 VOICES = Path("/work/data/voices")
 KTUBERLING = Path("/work/data/debs/x/kt/usr/share/ktuberling/sounds")
@@ -102,8 +102,11 @@ def voices_manifest(folder: Path) -> list[dict[str, str]]:
     return [dict(zip(header, line.split("\t"), strict=False)) for line in lines[1:] if line.strip()]
 
 
-def speech_clips(tune: bool, voices: Path, ktuberling: Path, fillets_cs: Path) -> Iterator[Clip]:
-    """The people's recordings of the tuning part or of the report part."""
+def speech_clips(
+    tune: bool, voices: Path, ktuberling: Path, fillets_cs: Path, lines: bool = True
+) -> Iterator[Clip]:
+    """The people's recordings of the tuning part or of the report part (without the lines: the words and
+    syllables only)."""
     manifest = voices_manifest(voices)
     levels = sorted(
         {row["source"].split("/", 1)[1] for row in manifest if row["source"].startswith("fillets")}
@@ -116,7 +119,7 @@ def speech_clips(tune: bool, voices: Path, ktuberling: Path, fillets_cs: Path) -
                 continue
             set_name = f"klettres syllables ({source.removeprefix('klettres-')})"
         else:
-            if (source.split("/", 1)[1] not in reported_levels) != tune:
+            if (source.split("/", 1)[1] not in reported_levels) != tune or not lines:
                 continue
             set_name = "fillets-nl lines"
         yield Clip(set_name, row["id"], read_16k(voices / row["wav"]), True, row["turkish"])
@@ -129,7 +132,7 @@ def speech_clips(tune: bool, voices: Path, ktuberling: Path, fillets_cs: Path) -
             if path.suffix in (".ogg", ".wav", ".opus") and digest not in heard:
                 heard.add(digest)
                 yield Clip("ktuberling words", f"{language}/{path.stem}", read_16k(path), True)
-    for path in sorted(fillets_cs.glob("*/cs/*.ogg")):
+    for path in sorted(fillets_cs.glob("*/cs/*.ogg")) if lines else ():
         yield Clip("fillets-cs lines", f"{path.parent.parent.name}/{path.stem}", read_16k(path), True)
 
 
@@ -173,6 +176,7 @@ def core(samples: np.ndarray) -> np.ndarray:
     return np.concatenate((silence, samples, silence))
 
 
+CORE_CONDITIONS = (f"{CORE:g} s core", f"{CORE:g} s core + hiss")
 CONDITIONS: dict[str, Callable[[np.ndarray, np.random.Generator], np.ndarray]] = {
     "as recorded": lambda samples, rng: samples,
     f"hiss {HISS_SNR:g} dB SNR": hissed,
@@ -196,14 +200,17 @@ class Heard:
         return bool(speech_detector.speech_chunks(self.probabilities, self.energies).any())
 
 
-def hear(clips: Iterator[Clip], speech_conditions: bool) -> list[Heard]:
-    """Silero's chunk probabilities (the take levelled) and the chunks' energies under every condition."""
+def hear(clips: Iterator[Clip], speech_conditions: bool, tune_lines: bool = False) -> list[Heard]:
+    """Silero's chunk probabilities (the take levelled) and the chunks' energies under every condition (the
+    0.2 s cores of sentences only when tuning: they stand in for the tuning sets' few words)."""
     rng = np.random.default_rng(5)
     heard = []
     for clip in clips:
         if clip.samples is None:
             continue
         for condition, make in CONDITIONS.items() if speech_conditions else (("as recorded", None),):
+            if condition in CORE_CONDITIONS and clip.set_name.endswith("lines") and not tune_lines:
+                continue  # a 0.2 s piece of a sentence is not a word: reported on the words and syllables
             samples = make(clip.samples, rng) if make else clip.samples
             probabilities, energies = speech_detector.levelled_probabilities(samples)
             heard.append(Heard(clip.set_name, clip.name, condition, probabilities, energies))
@@ -219,7 +226,7 @@ def report_speech(heard: list[Heard]) -> None:
         cells = []
         for condition in CONDITIONS:
             hits = table[(set_name, condition)]
-            cells.append(f"{np.mean(hits):.1%} ({len(hits) - sum(hits)}/{len(hits)})")
+            cells.append(f"{np.mean(hits):.1%} ({len(hits) - sum(hits)}/{len(hits)})" if hits else "-")
         print(f"{set_name:<34}" + "".join(f"{cell:>20}" for cell in cells))
 
 
@@ -259,7 +266,7 @@ def tune(speech: list[Heard], non_speech: list[Heard], remake) -> None:
     print(f"  ({len(speech) // len(CONDITIONS)} speech clips per condition)")
 
 
-def product_decisions(clips: Iterator[Clip], folder: Path) -> None:
+def product_decisions(clips: Iterator[Clip], folder: Path, every: int) -> None:
     """The recogniser's "no speech found" and "no letters heard", and the aligner's "silent", on the single
     words and syllables (as recorded, their 0.2 s cores, the cores with hiss) and on what is not speech."""
     from measure_recordings import write_wav
@@ -270,8 +277,8 @@ def product_decisions(clips: Iterator[Clip], folder: Path) -> None:
 
     rng = np.random.default_rng(6)
     table: dict[tuple[str, str], list[int]] = defaultdict(lambda: [0, 0, 0, 0])
-    for clip in clips:
-        if clip.samples is None or clip.set_name.startswith("fillets"):
+    for number, clip in enumerate(clips):
+        if clip.samples is None or number % every:
             continue
         variants = {"as recorded": clip.samples}
         if clip.speech:
@@ -298,7 +305,9 @@ def product_decisions(clips: Iterator[Clip], folder: Path) -> None:
 
 
 def agreement() -> None:
-    """Silero's frame mask against the WebRTC-based one (voice_activity.speech_frames) on eSpeak NG takes."""
+    """Silero's frame mask against the WebRTC-based one (voice_activity.speech_frames) on eSpeak NG takes:
+    frames on which they agree, frames only one calls speech, and the share of the words' onsets (the
+    truth, moved with the take) whose frame 30 ms later each calls speech."""
     from corpus import held_out_sentences
     from measure_recordings import CONDITIONS as TAKE_CONDITIONS
     from measure_recordings import HELD_OUT_VOICES, TALKER, speak
@@ -311,21 +320,28 @@ def agreement() -> None:
     texts = held_out_sentences()[:10]
     context = {"talker": speak(" ".join(held_out_sentences()[10:13]), TALKER).samples}
     spoken = [speak(text, TAKE_VOICES[voice]) for text in texts for voice in HELD_OUT_VOICES[:2]]
-    print(f"{'eSpeak NG takes (20 per condition)':<34}{'agree':>7}{'Silero only':>13}{'WebRTC only':>13}"
-          f"{'Silero speech':>15}{'WebRTC speech':>15}")  # fmt: skip
+    print(f"{f'eSpeak NG takes ({len(spoken)} a condition)':<34}{'agree':>7}{'Silero only':>13}"
+          f"{'WebRTC only':>13}{'onsets: Silero':>16}{'WebRTC':>8}{'no speech: Silero':>19}")  # fmt: skip
     for condition, make in TAKE_CONDITIONS.items():
         rng = np.random.default_rng(11)
-        totals = np.zeros(5)
+        frames_counted = np.zeros(3)
+        onsets = np.zeros(3)
+        silent = 0
         for take in spoken:
-            samples = resample(make(take, rng, context).samples.astype(np.float32), RATE, ANALYSIS_RATE)
+            made = make(take, rng, context)
+            samples = resample(made.samples.astype(np.float32), RATE, ANALYSIS_RATE)
             frames = frame_count(samples.size)
-            silero = speech_detector.detect_speech(samples, frames).speech
-            webrtc = speech_frames(samples, frames)
-            totals += [np.sum(silero == webrtc), np.sum(silero & ~webrtc), np.sum(webrtc & ~silero),
-                       silero.sum(), webrtc.sum()]  # fmt: skip
-        count = totals[0] + totals[1] + totals[2]
-        print(f"{condition:<34}{totals[0] / count:>7.1%}{totals[1] / count:>13.1%}{totals[2] / count:>13.1%}"
-              f"{totals[3] / count:>15.1%}{totals[4] / count:>15.1%}")  # fmt: skip
+            detection = speech_detector.detect_speech(samples, frames)
+            silero, webrtc = detection.speech, speech_frames(samples, frames)
+            frames_counted += [np.sum(silero == webrtc), np.sum(silero & ~webrtc), np.sum(webrtc & ~silero)]
+            onset_frames = np.minimum(
+                np.round((made.words + 0.03) * ANALYSIS_RATE / HOP).astype(int), frames - 1
+            )
+            onsets += [silero[onset_frames].sum(), webrtc[onset_frames].sum(), onset_frames.size]
+            silent += not detection.found
+        shares = frames_counted / frames_counted.sum()
+        print(f"{condition:<34}{shares[0]:>7.1%}{shares[1]:>13.1%}{shares[2]:>13.1%}"
+              f"{onsets[0] / onsets[2]:>16.1%}{onsets[1] / onsets[2]:>8.1%}{silent:>19}")  # fmt: skip
 
 
 def speed() -> None:
@@ -354,6 +370,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument("--agreement", action="store_true", help="Silero against WebRTC on eSpeak NG takes")
     parser.add_argument("--speed", action="store_true", help="10 minutes of audio through the detector")
+    parser.add_argument("--every", type=int, default=1, help="--product: every Nth clip only (time)")
     parser.add_argument("--voices", type=Path, default=VOICES, help="dev_voices.py's folder")
     parser.add_argument("--ktuberling", type=Path, default=KTUBERLING, help="ktuberling's sounds/ folder")
     parser.add_argument(
@@ -372,7 +389,7 @@ def main(argv: list[str] | None = None) -> int:
 
     def remake() -> tuple[list[Heard], list[Heard]]:
         clips = speech_clips(args.tune, args.voices, args.ktuberling, args.fillets_cs)
-        return hear(clips, True), hear(non_speech_clips(args.tune, args.game), False)
+        return hear(clips, True, args.tune), hear(non_speech_clips(args.tune, args.game), False)
 
     speech, non_speech = remake()
     report_speech(speech)
@@ -381,11 +398,11 @@ def main(argv: list[str] | None = None) -> int:
         tune(speech, non_speech, remake)
     if args.product:
         clips = itertools.chain(
-            speech_clips(args.tune, args.voices, args.ktuberling, args.fillets_cs),
+            speech_clips(args.tune, args.voices, args.ktuberling, args.fillets_cs, lines=False),
             non_speech_clips(args.tune, args.game),
         )
         with tempfile.TemporaryDirectory() as folder:
-            product_decisions(clips, Path(folder))
+            product_decisions(clips, Path(folder), args.every)
     return 0
 
 
