@@ -152,6 +152,14 @@ def test_frames_follow_the_analysis_frames_and_mark_the_word():
     assert not longer.speech[-50:].any() and (longer.speech[:-50] == detection.speech).all()
 
 
+@pytest.mark.parametrize("count", [0, 1, 300, 513])
+def test_an_empty_or_tiny_take_has_no_speech_and_its_frames(count):
+    samples = np.random.default_rng(2).normal(scale=0.1, size=count).astype(np.float32)
+    detection = speech_detector.detect_speech(samples)
+    assert detection.speech.size == frame_count(count) and not detection.found
+    assert speech_detector.detect_speech(samples, 7).speech.size == 7
+
+
 def test_a_short_run_is_speech_where_the_takes_sound_is_and_a_long_one_anywhere():
     low, high, dip = 0.02, 0.9, 0.1  # under the silence threshold, over the speech threshold, a dip
     chunk = speech_detector.CHUNK / RATE

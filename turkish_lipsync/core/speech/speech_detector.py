@@ -285,6 +285,8 @@ def detect_speech(samples: np.ndarray, frames: int | None = None) -> SpeechDetec
     frames = frame_count(samples.size) if frames is None else frames
     probabilities, energies = levelled_probabilities(samples)
     speech = speech_chunks(probabilities, energies)
+    if probabilities.size == 0:
+        return SpeechDetection(np.zeros(frames, np.float32), np.zeros(frames, bool))
     centres = np.arange(frames) * HOP + WINDOW // 2
     chunk = np.minimum(centres // CHUNK, probabilities.size - 1)
     inside = centres < samples.size
@@ -294,8 +296,10 @@ def detect_speech(samples: np.ndarray, frames: int | None = None) -> SpeechDetec
 def levelled_probabilities(samples: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Silero's chunk probabilities of the take brought to LOUD_LEVEL_DB, and the chunks' energies."""
     energies = _chunk_energies(samples)
-    loud = 10 * np.log10(np.percentile(energies, 95) / CHUNK + 1e-30)
-    gain = 10 ** (min(MOST_GAIN_DB, LOUD_LEVEL_DB - loud) / 20) if energies.any() else 1.0
+    if not energies.any():  # digital silence (or nothing): no level to bring anywhere
+        return chunk_probabilities(samples), energies
+    loud = 10 * np.log10(np.percentile(energies, 95) / CHUNK)
+    gain = 10 ** (min(MOST_GAIN_DB, LOUD_LEVEL_DB - loud) / 20)
     return chunk_probabilities(samples * np.float32(gain)), energies
 
 
