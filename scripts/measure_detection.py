@@ -2,7 +2,7 @@
 
     python scripts/measure_detection.py                 # the report sets (nobody tuned on them)
     python scripts/measure_detection.py --tune          # the tuning sets, and the constants tried on them
-    python scripts/measure_detection.py --product       # also the recogniser's and the aligner's decisions
+    python scripts/measure_detection.py --product [--every N]  # the recogniser's and the aligner's decisions
     python scripts/measure_detection.py --agreement     # Silero against the WebRTC mask on eSpeak NG takes
     python scripts/measure_detection.py --speed         # 10 minutes of audio through the detector, one core
 
@@ -391,11 +391,6 @@ def main(argv: list[str] | None = None) -> int:
         clips = speech_clips(args.tune, args.voices, args.ktuberling, args.fillets_cs)
         return hear(clips, True, args.tune), hear(non_speech_clips(args.tune, args.game), False)
 
-    speech, non_speech = remake()
-    report_speech(speech)
-    report_non_speech(non_speech)
-    if args.tune:
-        tune(speech, non_speech, remake)
     if args.product:
         clips = itertools.chain(
             speech_clips(args.tune, args.voices, args.ktuberling, args.fillets_cs, lines=False),
@@ -403,6 +398,12 @@ def main(argv: list[str] | None = None) -> int:
         )
         with tempfile.TemporaryDirectory() as folder:
             product_decisions(clips, Path(folder), args.every)
+        return 0
+    speech, non_speech = remake()
+    report_speech(speech)
+    report_non_speech(non_speech)
+    if args.tune:
+        tune(speech, non_speech, remake)
     return 0
 
 
