@@ -6,8 +6,9 @@
     python scripts/measure_detection.py --agreement     # Silero against the WebRTC mask on eSpeak NG takes
     python scripts/measure_detection.py --speed         # 10 minutes of audio through the detector, one core
 
-Speech (each recording as it is, with white hiss at 20 dB SNR, cut to its loudest 0.2 s with 0.25 s of
-silence each side, that core with the hiss, and 30 dB quieter):
+Speech (each recording as it is, with white hiss at 20 dB SNR, and 30 dB quieter; the words and syllables
+also cut to their loudest 0.2 s with 0.25 s of silence each side, and that core with the hiss; the tuning
+lines too, standing in for the tuning sets' few words):
 - klettres syllables and Fish Fillets NG's Dutch lines: /work/data/voices, built by
   ../shared/voices/dev_voices.py (apt-get download klettres-data fillets-ng-data fillets-ng-data-nl, then
   dpkg-deb -x); its manifest.tsv lists them. Tuned on klettres-ru and klettres-tn and on the Dutch levels
