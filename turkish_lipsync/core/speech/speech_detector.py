@@ -235,25 +235,33 @@ def _is_windowed_fourier(basis: np.ndarray) -> bool:
     return bool(np.abs(basis - expected).max() < 1e-5)
 
 
-def chunk_probabilities(samples: np.ndarray) -> np.ndarray:
-    """Silero's speech probability (0..1, float32) of each 512-sample chunk of 16 kHz samples in [-1, 1].
+def chunk_probabilities(samples: np.ndarray, gain: float = 1.0) -> np.ndarray:
+    """Silero's speech probability (0..1, float32) of each 512-sample chunk of 16 kHz samples in [-1, 1]
+    (times `gain`, as float32).
 
-    The last chunk is completed with zeros, the first has zeros as context: as Silero's own loop does.
+    The last chunk is completed with zeros, the first has zeros as context: as Silero's own loop does. A
+    take is run BLOCK_CHUNKS at a time, the LSTM's state carried over, so its length does not change the
+    memory needed beyond its probabilities.
     """
     weights = load_detector()
     count = -(-samples.size // CHUNK)
-    padded = np.zeros(CONTEXT + count * CHUNK, np.float32)
-    padded[CONTEXT : CONTEXT + samples.size] = samples
-    features = np.empty((count, STATE), np.float32)
+    probabilities = np.empty(count, np.float32)
+    doubled_hidden, cell = np.zeros(STATE, np.float32), np.zeros(STATE, np.float32)
+    output_weight, output_bias = weights.output
     for begin in range(0, count, BLOCK_CHUNKS):
         stop = min(begin + BLOCK_CHUNKS, count)
-        features[begin:stop] = _chunk_features(padded[begin * CHUNK : stop * CHUNK + CONTEXT], weights)
-    gates = features @ weights.input_gates
-    gates += weights.gate_bias
-    states = _recurrence(gates, weights.recurrent_gates)
-    output_weight, output_bias = weights.output
-    logits = np.maximum(states, 0) @ output_weight + output_bias
-    return (1 / (1 + np.exp(-logits))).astype(np.float32)
+        signal = np.zeros(CONTEXT + (stop - begin) * CHUNK, np.float32)
+        first = begin * CHUNK - CONTEXT  # the block's context comes from the chunk before it
+        piece = samples[max(0, first) : stop * CHUNK]
+        signal[max(0, -first) : max(0, -first) + piece.size] = piece
+        if gain != 1.0:
+            signal *= np.float32(gain)
+        gates = _chunk_features(signal, weights) @ weights.input_gates
+        gates += weights.gate_bias
+        states = _recurrence(gates, weights.recurrent_gates, doubled_hidden, cell)
+        logits = np.maximum(states, 0) @ output_weight + output_bias
+        probabilities[begin:stop] = 1 / (1 + np.exp(-logits))
+    return probabilities
 
 
 @dataclass(frozen=True, eq=False)
@@ -261,9 +269,8 @@ class SpeechDetection:
     """Where a take speaks, per 10 ms analysis frame (features.py's frames: hop i's window centred at
     i * HOP + WINDOW / 2 samples)."""
 
-    probabilities: (
-        np.ndarray
-    )  # float32 0..1: Silero's probability of the 32 ms chunk holding the frame's centre
+    # float32 0..1: Silero's probability for the 32 ms chunk holding the frame's centre
+    probabilities: np.ndarray
     speech: np.ndarray  # bool: inside a run of speech (thresholds with hysteresis, shortest runs and gaps)
 
     @property
@@ -299,8 +306,7 @@ def levelled_probabilities(samples: np.ndarray) -> tuple[np.ndarray, np.ndarray]
     if not energies.any():  # digital silence (or nothing): no level to bring anywhere
         return chunk_probabilities(samples), energies
     loud = 10 * np.log10(np.percentile(energies, 95) / CHUNK)
-    gain = 10 ** (min(MOST_GAIN_DB, LOUD_LEVEL_DB - loud) / 20)
-    return chunk_probabilities(samples * np.float32(gain)), energies
+    return chunk_probabilities(samples, 10 ** (min(MOST_GAIN_DB, LOUD_LEVEL_DB - loud) / 20)), energies
 
 
 def speech_chunks(probabilities: np.ndarray, energies: np.ndarray) -> np.ndarray:
@@ -410,13 +416,14 @@ def _taps_matrix(weight: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(weight.transpose(2, 1, 0).reshape(taps * in_channels, out_channels))
 
 
-def _recurrence(gates: np.ndarray, recurrent: np.ndarray) -> np.ndarray:
+def _recurrence(
+    gates: np.ndarray, recurrent: np.ndarray, doubled_hidden: np.ndarray, cell: np.ndarray
+) -> np.ndarray:
     """Twice the LSTM's hidden state after each chunk, from the chunks' input gates (arranged and halved as
     DetectorWeights does, which also halves the recurrent weights to take the doubled state): one matrix
-    product and nine in-place operations a chunk."""
+    product and nine in-place operations a chunk. Starts from, and leaves in, `doubled_hidden` and `cell`."""
     states = np.empty((len(gates) + 1, STATE), np.float32)
-    states[0] = 0
-    cell = np.zeros(STATE, np.float32)
+    states[0] = doubled_hidden
     squashed = np.empty(4 * STATE, np.float32)
     product = np.empty(STATE, np.float32)
     sigmoids, candidate = squashed[: 3 * STATE], squashed[3 * STATE :]
@@ -430,7 +437,8 @@ def _recurrence(gates: np.ndarray, recurrent: np.ndarray) -> np.ndarray:
         cell *= forget_gate
         cell += product
         cell *= 0.5
-        doubled_hidden = states[index + 1]
-        np.tanh(cell, out=doubled_hidden)
-        doubled_hidden *= output_gate
+        hidden = states[index + 1]
+        np.tanh(cell, out=hidden)
+        hidden *= output_gate
+    doubled_hidden[:] = states[-1]
     return states[1:]
