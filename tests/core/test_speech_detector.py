@@ -241,3 +241,18 @@ def test_a_persons_fifth_of_a_second_syllable_is_not_silent_to_the_aligner_or_th
     except AudioError as error:  # the aligner, learnt from eSpeak NG, may not know the voice (issue 31)
         assert "silent" not in str(error)
     assert speech_from_audio(take)[1].timeline.phones
+
+
+@pytest.mark.parametrize(("name", "spelling"), [("de/ear.ogg", "or"), ("sv/mun.wav", "mun")])
+def test_a_word_the_webrtc_mask_barely_hears_is_not_silent_to_the_aligner(tmp_path, name, spelling):
+    from turkish_lipsync.core.speech.recording import LEAST_SPEECH_FRAMES
+    from turkish_lipsync.core.speech.voice_activity import speech_frames
+
+    samples = core(peoples_word(name))
+    assert np.count_nonzero(speech_frames(samples, frame_count(samples.size))) < LEAST_SPEECH_FRAMES
+    assert speech_detector.detect_speech(samples).found
+    take = write_wav(tmp_path / "take.wav", samples, RATE)
+    try:
+        synthesize_timeline(build_utterance(spelling), recording=take)
+    except AudioError as error:  # the aligner, learnt from eSpeak NG, may not know the voice (issue 31)
+        assert "silent" not in str(error)
