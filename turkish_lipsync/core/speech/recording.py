@@ -41,9 +41,13 @@ from .dtw import Pauses, coarse_dtw_path, dtw_path
 from .features import ANALYSIS_RATE, HOP, frame_count
 from .judgement import Fit, PhraseMatch, judge
 from .letter_warp import letter_warp
+from .speech_detector import detect_speech
 from .timewarp import TimeWarp, warp_synthesis
 from .voice_activity import above_floor, clean_speech_frames, runs, speech_frames, under_speech
 
+# Frames (100 ms) of the WebRTC-based mask below which a person's short word may be all it missed: Silero's
+# detector (trained on people) decides then.
+LEAST_SPEECH_FRAMES = 10
 MAX_LENGTH_RATIO = 4.0  # recordings with this many times more or less speech than the synthetic are refused
 LENGTH_SLACK = 3.0  # seconds of speech beyond that ratio a recording may have or lack (syllables drawn out)
 CHUNK_LETTERS = 3_000  # about 5 minutes of speech synthesised at a time (split at sentences)
@@ -167,7 +171,7 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
         del native
         recorded = resample(output, output_rate, ANALYSIS_RATE, 1 / 32768)
         frames = frame_count(recorded.size)
-        recorded_speech = speech_frames(recorded, frames)
+        recorded_speech = _checked_speech(path, recorded, speech_frames(recorded, frames))
         recorded_loudness = above_floor(recorded, frames)
         recorded_under_speech = under_speech(recorded, frames)
         log_posteriors = heard_log_posteriors(recorded, frames)
@@ -344,11 +348,20 @@ def _pauses(
     return Pauses(free, ~synthetic_speech, hold, PAUSE_COST)
 
 
+def _checked_speech(path: Path, recorded: np.ndarray, speech: np.ndarray) -> np.ndarray:
+    """The recording's speech frames; where the WebRTC-based mask holds less than a short word, those of
+    the detector trained on people (speech_detector.py), and the take is silent only if it finds none."""
+    if np.count_nonzero(speech) >= LEAST_SPEECH_FRAMES:
+        return speech
+    detection = detect_speech(recorded, speech.size)
+    if not detection.found:
+        raise AudioError(f"recording {path} is silent (no speech found); record the text again")
+    return detection.speech
+
+
 def _check_lengths(path: Path, recorded_speech: np.ndarray, synthetic_speech: np.ndarray) -> None:
     recorded_frames = np.flatnonzero(recorded_speech)
     synthetic_frames = np.flatnonzero(synthetic_speech)
-    if recorded_frames.size < 10:
-        raise AudioError(f"recording {path} is silent (no speech found); record the text again")
     if synthetic_frames.size == 0:
         raise AudioError("the synthetic speech is silent, so there is nothing to align the recording to")
     # Speech, not span: a list read with long pauses has no more speech than the text. A short text may

@@ -18,12 +18,12 @@ from ...base.model import Utterance
 from ..audio import MAX_OUTPUT_RATE, read_audio, resample, resampled_pcm
 from ..base import Synthesis
 from ..features import ANALYSIS_RATE
+from ..speech_detector import detect_speech
 from ..timeline import Speech
 from .recogniser import Recognition, recognise
 from .transcript import RECOGNISED_TIMING, heard_timeline, heard_utterance
 
 SILENT_PEAK_DB = -70.0  # a recording never louder than this (dB full scale) holds nothing
-LEAST_SPEECH = 0.3  # seconds of heard letters below which a take has no speech
 # The confidence (recogniser.py) below which a take is reported as doubtful. Measured on the tuning voices
 # (scripts/measure_recogniser.py --bad): Turkish 0.94-1.0 in noise, after a breath, through MP3, 0.81-0.97
 # in a reverberant room; eSpeak NG's English, German, French and Japanese 0.80-0.91 (Spanish and
@@ -42,12 +42,19 @@ def speech_from_audio(path: Path | str) -> tuple[Utterance, Speech]:
     peak = float(np.abs(samples).max(initial=0.0))
     if 20 * np.log10(peak + 1e-12) < SILENT_PEAK_DB:
         raise AudioError(f"no speech found in {path}: it is silent; give a recording of someone speaking")
-    recognition = recognise(samples)
-    del samples
-    if recognition.speech_seconds < LEAST_SPEECH:
+    # Whether anyone speaks is decided by a detector trained on people's speech (speech_detector.py),
+    # not by how much the recogniser, which has heard only eSpeak NG, makes of it.
+    if not detect_speech(samples).found:
         raise AudioError(
             f"no speech found in {path}: it sounds like silence, noise or music without a voice; "
             "give a recording of someone speaking Turkish, or type the text it says"
+        )
+    recognition = recognise(samples)
+    del samples
+    if not recognition.phrases:
+        raise AudioError(
+            f"no letters heard in {path}, though someone speaks in it: too short, too quiet or too "
+            "unlike Turkish for the recogniser; type the text it says instead"
         )
     utterance = heard_utterance(recognition)
     timeline = heard_timeline(utterance, recognition, output.size / output_rate)

@@ -55,7 +55,6 @@ class Recognition:
     # in any of the measured rooms, lower for another language's sounds (boundaries blur in any room, so
     # only the middles count).
     confidence: float
-    speech_seconds: float
 
 
 def recognise(samples: np.ndarray) -> Recognition:
@@ -69,7 +68,7 @@ def recognise(samples: np.ndarray) -> Recognition:
 def _phrases(segments: tuple[Segment, ...], log_posteriors: np.ndarray) -> Recognition:
     starts = frame_times(len(log_posteriors)) - FRAME_SECONDS / 2
     phrases: list[list[HeardLetter]] = [[]]
-    middles, frames = [], 0
+    middles = []
     for segment in segments:
         probabilities = np.exp(log_posteriors[segment.first : segment.stop]).mean(axis=0)
         label = _doubt_checked(segment.label, probabilities)
@@ -80,13 +79,12 @@ def _phrases(segments: tuple[Segment, ...], log_posteriors: np.ndarray) -> Recog
                 phrases.append([])
             continue
         middles.append(float(np.exp(log_posteriors[(segment.first + segment.stop) // 2, segment.label])))
-        frames += segment.stop - segment.first
         phrase = phrases[-1]
         if phrase and phrase[-1].end < start:  # a short silence inside a phrase: the letter before holds
             phrase[-1] = HeardLetter(phrase[-1].letter, phrase[-1].start, start, phrase[-1].confidence)
         phrase.append(HeardLetter(CLASSES[label], start, end, float(probabilities[label])))
     found = tuple(tuple(phrase) for phrase in phrases if phrase)
-    return Recognition(found, float(np.mean(middles)) if middles else 0.0, frames * FRAME_SECONDS)
+    return Recognition(found, float(np.mean(middles)) if middles else 0.0)
 
 
 def _doubt_checked(label: int, probabilities: np.ndarray) -> int:
