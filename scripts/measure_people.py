@@ -14,7 +14,8 @@ own rate.
   voice acting), with their text (refused / warned / clean) and without (how many "no speech found");
 - syllables (klettres): without a text, "no speech found"; the vowel heard in its class (a / e / i ı /
   o ö / u ü: the longest vowel heard); for those that start with b, m or p, a b, m or p heard before
-  that vowel; for the rest, how often one is heard there anyway;
+  that vowel; for the rest, how often one is heard there anyway (each over all the syllables and over
+  those that got a timeline);
 - lists: lists of eight words or syllables of one speaker read with pauses (people.lists_of_eight), with
   their text written with commas: refused / warned, each item's onset against where its sound starts
   (median / p90 / max), and aeneas' on the same takes with --aeneas;
@@ -118,8 +119,9 @@ def measure_words(part: str, folder: Path) -> None:
 
 def measure_syllables(part: str, folder: Path) -> None:
     chosen = people.recordings(folder, part, "syllable")
-    counts, vowel_right, vowels = Counter(), 0, 0
+    counts, vowel_right, vowels, timed_vowels = Counter(), 0, 0, 0
     bilabial_heard = bilabial_total = stray_heard = stray_total = 0
+    timed_bilabials = timed_strays = 0
     for recording in chosen:
         timeline, result = heard(recording.path)
         counts[result] += 1
@@ -131,6 +133,9 @@ def measure_syllables(part: str, folder: Path) -> None:
             vowels += 1
         if timeline is None:
             continue
+        timed_vowels += bool(spelt_vowels)
+        timed_bilabials += starts_bilabial
+        timed_strays += not starts_bilabial
         phones = timeline.phones
         heard_vowels = [p for p in phones if p.letter in VOWEL_CLASSES]
         longest = max(heard_vowels, key=lambda p: p.end - p.start) if heard_vowels else None
@@ -142,12 +147,17 @@ def measure_syllables(part: str, folder: Path) -> None:
         stray_heard += found and not starts_bilabial
     print(f"syllables, no text ({len(chosen)}): {shares(counts, len(chosen))}")
     print(
-        f"  vowel heard in its class: {vowel_right} of {vowels} ({100 * vowel_right / max(vowels, 1):.0f} %)"
+        f"  vowel heard in its class: {vowel_right} of {vowels} "
+        f"({100 * vowel_right / max(vowels, 1):.0f} %); "
+        f"of those with a timeline: {vowel_right} of {timed_vowels} "
+        f"({100 * vowel_right / max(timed_vowels, 1):.0f} %)"
     )
     print(
         f"  b/m/p heard where the syllable starts with one: {bilabial_heard} of {bilabial_total} "
-        f"({100 * bilabial_heard / max(bilabial_total, 1):.0f} %); where it does not: {stray_heard} of "
-        f"{stray_total} ({100 * stray_heard / max(stray_total, 1):.0f} %)"
+        f"({100 * bilabial_heard / max(bilabial_total, 1):.0f} %; of those with a timeline "
+        f"{100 * bilabial_heard / max(timed_bilabials, 1):.0f} %); where it does not: {stray_heard} of "
+        f"{stray_total} ({100 * stray_heard / max(stray_total, 1):.0f} %; of those with a timeline "
+        f"{100 * stray_heard / max(timed_strays, 1):.0f} %)"
     )
 
 

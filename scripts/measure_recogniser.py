@@ -3,6 +3,7 @@
     python scripts/measure_recogniser.py [--voices NAME ...] [--conditions NAME ...] [--sentences N]
     python scripts/measure_recogniser.py --speed MINUTES     # one long take: x real time, peak memory
     python scripts/measure_recogniser.py --bad               # silence, noise, music, other languages
+    python scripts/measure_recogniser.py --tune [--set NAME=VALUE ...] [--try NAME=V1,V2 ...]
 
 The takes: the held-out sentences of examples/corpus_tr.txt (lines 31-50, never in training) spoken by
 eSpeak NG variants the network was not trained on (the weights' own list of held-out variants, checked
@@ -22,6 +23,8 @@ docs/developer/measured/audio-alone.md.
 from __future__ import annotations
 
 import argparse
+import hashlib
+import pickle
 import resource
 import subprocess
 import sys
@@ -69,6 +72,7 @@ TUNED = {
     "INSERTION_COST": (0.0, 3.0),
     "DURATION_SCALE": (0.4, 1.0),
 }
+TUNING_CACHE = Path(tempfile.gettempdir()) / "recogniser_tuning"  # the tuning takes' posteriors
 TEST_CONDITIONS = (
     "clean 60 dB",
     "30 dB, leading noise",
@@ -340,18 +344,21 @@ def speak_language(text: str, language: str) -> tuple[np.ndarray, int]:
     return np.concatenate(spoken.chunks).astype(np.float32) / 32768, library.sample_rate
 
 
-def tune(folder: Path) -> None:
-    """The decoder's constants on the tuning voices and sentences: r and bilabials closed per setting."""
+def tuning_takes(folder: Path) -> list[tuple]:
+    """The tuning voices reading the tuning sentences, each in a random condition: per take its
+    posteriors, truth, lead and length (kept in TUNING_CACHE per weights file)."""
     from turkish_lipsync.core.speech.acoustic.features import recogniser_features
+    from turkish_lipsync.core.speech.acoustic.network import WEIGHTS_FILE
     from turkish_lipsync.core.speech.audio import read_audio, resample
-    from turkish_lipsync.core.speech.recognition import decoder, recogniser
-    from turkish_lipsync.core.speech.recognition.transcript import heard_timeline, heard_utterance
 
-    texts = tuning_sentences()
+    digest = hashlib.sha1(WEIGHTS_FILE.read_bytes()).hexdigest()[:12]
+    cached = TUNING_CACHE / f"synthetic_{digest}.pickle"
+    if cached.exists():
+        return pickle.loads(cached.read_bytes())
     network = load_network()
     rng = np.random.default_rng(21)
     takes = []
-    for text in texts:
+    for text in tuning_sentences():
         for voice in TUNING_VOICES.values():
             condition = TEST_CONDITIONS[int(rng.integers(len(TEST_CONDITIONS)))]
             path, truth, lead, samples = make_take(text, voice, condition, folder, rng)
@@ -359,16 +366,50 @@ def tune(folder: Path) -> None:
             features = recogniser_features(resample(native, rate, 16_000))
             duration = samples.size / RECORDED_RATE
             takes.append((network.log_posteriors(features), truth, lead, duration))
-    defaults = {name: getattr(decoder, name) for name in TUNED}
-    settings = [{}] + [{name: value} for name, values in TUNED.items() for value in values]
-    for change in settings:
-        setting = defaults | change
-        for name, value in setting.items():
-            setattr(decoder, name, value)
+    TUNING_CACHE.mkdir(parents=True, exist_ok=True)
+    cached.write_bytes(pickle.dumps(takes))
+    return takes
+
+
+def tuning_module(name: str):
+    """The module of recognition/ that holds the constant `name` (decoder.py or recogniser.py)."""
+    from turkish_lipsync.core.speech.recognition import decoder, recogniser
+
+    for module in (decoder, recogniser):
+        if hasattr(module, name):
+            return module
+    raise SystemExit(f"no constant {name} in recognition/decoder.py or recognition/recogniser.py")
+
+
+def settings_tried(baseline: list[str], tries: list[str]) -> list[dict[str, float]]:
+    """The settings a tuning run tries: the baseline (NAME=VALUE), then each NAME=V1,V2 one at a time
+    (the decoder's TUNED ranges when no --try is given)."""
+    fixed = {name: float(value) for name, value in (text.split("=") for text in baseline)}
+    varied = {name: tuple(map(float, values.split(","))) for name, values in (t.split("=") for t in tries)}
+    return [fixed] + [fixed | {name: value} for name, values in (varied or TUNED).items() for value in values]
+
+
+def applied(setting: dict[str, float]) -> dict[str, float]:
+    """Set the constants; return what they were."""
+    before = {}
+    for name, value in setting.items():
+        module = tuning_module(name)
+        before[name] = getattr(module, name)
+        setattr(module, name, type(before[name])(value))
+    return before
+
+
+def tune(folder: Path, baseline: list[str], tries: list[str]) -> None:
+    """The recogniser's constants on the tuning voices and sentences: r and bilabials closed per setting."""
+    from turkish_lipsync.core.speech.recognition import recogniser
+    from turkish_lipsync.core.speech.recognition.transcript import heard_timeline, heard_utterance
+
+    takes = tuning_takes(folder)
+    for setting in settings_tried(baseline, tries):
+        before = applied(setting)
         rs, closed, total, vowels_closed, vowels = [], 0, 0, 0, 0
         for log_posteriors, truth, lead, duration in takes:
-            segments = decoder.decode(log_posteriors, network.priors, network.transitions, network.shortest)
-            recognition = recogniser._phrases(segments, log_posteriors)
+            recognition = recogniser.recognise_posteriors(log_posteriors)
             timeline = heard_timeline(heard_utterance(recognition), recognition, duration)
             rs.append(
                 correlation(opening_trajectory(truth, duration, lead), opening_trajectory(timeline, duration))
@@ -376,8 +417,10 @@ def tune(folder: Path) -> None:
             scores = bilabial_scores(truth, timeline, lead)
             closed, total = closed + scores[0], total + scores[1]
             vowels_closed, vowels = vowels_closed + scores[2], vowels + scores[3]
+        applied(before)
         print(
-            f"{change or 'as shipped'}: r median {np.median(rs):.3f}, bilabials closed {closed / total:.1%}, "
+            f"{setting or 'as shipped'}: r median {np.median(rs):.3f}, "
+            f"bilabials closed {closed / total:.1%}, "
             f"vowels closed {vowels_closed / vowels:.1%}",
             flush=True,
         )
@@ -390,7 +433,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--sentences", type=int, default=0, help="use only the first N sentences")
     parser.add_argument("--speed", type=float, metavar="MINUTES", help="time one take this long instead")
     parser.add_argument("--bad", action="store_true", help="silence, noise, music and other languages")
-    parser.add_argument("--tune", action="store_true", help="the decoder's constants on the tuning voices")
+    parser.add_argument("--tune", action="store_true", help="the recogniser's constants on the tuning voices")
+    parser.add_argument("--set", nargs="*", default=[], metavar="NAME=VALUE", help="--tune: the baseline")
+    parser.add_argument("--try", dest="tries", nargs="*", default=[], metavar="NAME=V1,V2", help="--tune")
     parser.add_argument("--recognise", type=Path, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.recognise:
@@ -402,7 +447,7 @@ def main(argv: list[str] | None = None) -> int:
         elif args.bad:
             measure_bad_input(Path(folder))
         elif args.tune:
-            tune(Path(folder))
+            tune(Path(folder), args.set, args.tries)
         else:
             texts = held_out_sentences()[: args.sentences or None]
             measure(texts, args.voices, args.conditions, Path(folder))

@@ -50,13 +50,7 @@ from scripts import people  # noqa: E402
 from scripts.corpus import held_out_sentences, tuning_sentences  # noqa: E402
 from turkish_lipsync.core.base.errors import LipSyncError  # noqa: E402
 from turkish_lipsync.core.speech import espeak, synthesize_timeline  # noqa: E402
-from turkish_lipsync.core.speech.acoustic.features import (  # noqa: E402
-    BANDS,
-    FEATURE_COUNT,
-    LOW_HERTZ,
-    TOP_HERTZ,
-    recogniser_features,
-)
+from turkish_lipsync.core.speech.acoustic.features import FEATURE_COUNT, recogniser_features  # noqa: E402
 from turkish_lipsync.core.speech.acoustic.forced import (  # noqa: E402
     PRIOR_WEIGHT,
     force_align,
@@ -81,11 +75,6 @@ HELD_OUT_VARIANTS = ("m3", "f4", "klatt3", "Andrea", "benjamin", "steph2", "iven
 TURKISH_WORD = re.compile(r"^[abcçdefgğhıijklmnoöprsştuüvyz]+$")
 CROP_FRAMES = 400
 NON_SPEECH_SHARE = 0.05
-# People's rounds move each clip's formants by a factor in this range (a man's tract to a child's) in the
-# features, besides the degradations' resampling (at most 12 % either way): a person's vocal tract is
-# further from the training voices than eSpeak's variants are from each other.
-PEOPLE_ROUND_WARP = (0.82, 1.4)
-WARP_STEPS = 25
 LABEL_DURATION_SCALE = 0.5  # people's letters may be half as long as the shortest of eSpeak's
 WORST_FITTING_SHARE = 0.1  # people's recordings whose spelling fits worst, left out of training
 
@@ -442,37 +431,9 @@ def load_corpora(paths: list[Path]) -> dict[str, np.ndarray]:
     }
 
 
-def vocal_tract_warps(count: int, lowest: float, highest: float) -> np.ndarray:
-    """count matrices (BANDS x BANDS) that move the log mel bands as a vocal tract `factor` times
-    shorter moves the formants (factor > 1: a child's, a woman's), factors spaced evenly in the log
-    between lowest and highest: each band reads the bands at its frequency over the factor, interpolated.
-    """
-
-    def to_mel(hertz):
-        return 2595 * np.log10(1 + np.asarray(hertz) / 700)
-
-    def to_hertz(mel):
-        return 700 * (10 ** (np.asarray(mel) / 2595) - 1)
-
-    edges = np.linspace(to_mel(LOW_HERTZ), to_mel(TOP_HERTZ), BANDS + 2)
-    centres = to_hertz(edges[1:-1])
-    matrices = np.zeros((count, BANDS, BANDS), np.float32)
-    for index, factor in enumerate(np.geomspace(lowest, highest, count)):
-        source = np.interp(to_mel(centres / factor), to_mel(centres), np.arange(BANDS))
-        below = np.clip(np.floor(source).astype(int), 0, BANDS - 1)
-        above = np.clip(below + 1, 0, BANDS - 1)
-        weight = (source - below).astype(np.float32)
-        matrices[index, np.arange(BANDS), below] += 1 - weight
-        matrices[index, np.arange(BANDS), above] += weight
-    return matrices
-
-
-def train(
-    corpora: list[Path], epochs: int, seed: int, out: Path, description: str, warp: tuple[float, float] | None
-) -> None:
+def train(corpora: list[Path], epochs: int, seed: int, out: Path, description: str) -> None:
     """Train on the corpora's clips (the first is the project's own speech; its statistics feed the
-    decoder), and write the weights. warp: the range of vocal tracts each batch's clips are moved to
-    at random in the features (vocal_tract_warps), or None."""
+    decoder), and write the weights."""
     import torch
 
     torch.manual_seed(seed)
@@ -510,7 +471,6 @@ def train(
         return torch.stack(xs), torch.stack(ys)
 
     loss_function = torch.nn.CrossEntropyLoss(ignore_index=-100)
-    warps = None if warp is None else torch.from_numpy(vocal_tract_warps(WARP_STEPS, *warp))
     for epoch in range(epochs):
         began = time.time()
         network.train()
@@ -520,9 +480,6 @@ def train(
             # Channel and level changes the features' levelling does not undo entirely: a random tilt.
             tilt = torch.linspace(-1, 1, FEATURE_COUNT - 1)[None, :, None] * torch.randn(32, 1, 1)
             x[:, :-1] += 0.15 * tilt
-            if warps is not None:  # another vocal tract for each clip: formants moved up or down
-                chosen = warps[torch.from_numpy(rng.integers(0, len(warps), size=32))]
-                x[:, :-1] = torch.bmm(chosen, x[:, :-1])
             loss = loss_function(network(x), y)
             optimiser.zero_grad()
             loss.backward()
@@ -598,17 +555,16 @@ def main(argv: list[str] | None = None) -> int:
     own = "eSpeak NG's Turkish voice (variants, rates, pitches), degraded"
     network = args.cache / f"round_0_{args.seed}.npz"
     if not network.exists():
-        train([corpus], args.epochs, args.seed, network, own, None)
+        train([corpus], args.epochs, args.seed, network, own)
     for round_number in range(1, args.rounds + 1):
         name = f"round_{round_number}"
         speech = make_people_corpus(args.people, network, args.copies, args.seed, args.cache, name)
         network = args.out if round_number == args.rounds else args.cache / f"{name}_{args.seed}.npz"
         description = (
             f"{own}; and people's speech (scripts/people.py's tune part, labelled by forced alignment "
-            f"with round {round_number - 1}'s network, clean and degraded); every clip moved to vocal tracts "
-            f"{PEOPLE_ROUND_WARP[0]:g}-{PEOPLE_ROUND_WARP[1]:g} times eSpeak's"
+            f"with round {round_number - 1}'s network, clean and degraded)"
         )
-        train([corpus, speech], args.epochs, args.seed, network, description, PEOPLE_ROUND_WARP)
+        train([corpus, speech], args.epochs, args.seed, network, description)
     return 0
 
 

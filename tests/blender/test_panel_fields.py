@@ -34,6 +34,7 @@ def test_the_reference_describes_everything_the_panel_draws():
     assert list(dict.fromkeys(item.section for item in drawn)) == [
         "Head",
         "Speech",
+        "Conversation",
         "Living Face",
         "Render",
         "Export",
@@ -60,6 +61,18 @@ def test_conditions_read_as_the_panel_shows_them():
     assert shown("text") == ["Source is Text"] and shown("file_path") == ["Source is not Text"]
     assert active("rho") == ["Empowered Emotions is on"]
     assert active("gaze_amount") == ["Gaze is not Off"]
+
+
+def test_the_chosen_cast_row_is_described_through_the_settings():
+    struct = panel_fields.settings_rna()
+    member = {item.name: item for item in _drawn() if item.struct == "member"}
+    assert {"head", "voice", "pitch", "recording"} <= set(member)
+    assert panel_fields.path_of(member["pitch"]) == "cast[i].pitch"
+    assert panel_fields.struct_of("member", struct).properties["pitch"].name == "Voice Pitch"
+    pitch = member["pitch"]
+    shown = [panel_fields.condition_text(c, struct) for c in pitch.shown_when]
+    assert shown == ["a row of the Cast list is chosen"]
+    assert [panel_fields.condition_text(c, struct) for c in pitch.active_when] == ["Voice is not Auto"]
 
 
 def test_a_property_without_description_or_turkish_name_is_found():

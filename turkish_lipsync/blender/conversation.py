@@ -22,6 +22,7 @@ from mathutils import Vector
 from ..core.base.errors import HeadError
 from ..core.base.model import OWNED_PREFIX
 from ..core.interchange.animation_record import AnimationRecord, record_to_json
+from ..core.motion.frames import shown_frame_count
 from ..core.pipeline import LipSyncOptions
 from ..core.scene import Cast, RoleChoice, SceneResult, Standing, cast_for, scene_motion, scene_speech
 from ..core.scene.layout import arc_positions
@@ -113,7 +114,7 @@ def generate_conversation(
     if mix_path is None:
         scene.pop(sequencer.SPEECH_PATH_PROPERTY, None)
     strips = sequencer.place_scene_strips(scene, sounds, mix_path)
-    frame_count = sequencer.frame_count_for(result.speech.duration, fps)
+    frame_count = shown_frame_count(result.speech.duration, fps)
     warnings += sequencer.fit_frame_range(scene, start, frame_count)
     keep_conversation_record(
         scene,

@@ -59,8 +59,12 @@ class Recognition:
 
 def recognise(samples: np.ndarray) -> Recognition:
     """The letters heard in 16 kHz float samples."""
+    return recognise_posteriors(load_network().log_posteriors(recogniser_features(samples)))
+
+
+def recognise_posteriors(log_posteriors: np.ndarray) -> Recognition:
+    """The letters heard in the network's log posteriors (frames x classes): what a tuning run varies."""
     network = load_network()
-    log_posteriors = network.log_posteriors(recogniser_features(samples))
     segments = decode(log_posteriors, network.priors, network.transitions, network.shortest)
     return _phrases(segments, log_posteriors)
 
