@@ -284,3 +284,13 @@ def test_a_quiet_take_is_speech_too(tmp_path):
     speech = synthesize_timeline(build_utterance(OTHER_TEXT), recording=quiet)
     error = np.abs(np.array([w.start for w in speech.timeline.words]) - [w.start + 1.0 for w in truth.words])
     assert np.median(error) < 0.020 and speech.warnings == ()
+
+
+def test_a_word_alone_is_never_refused_and_warned_only_when_plainly_another(tmp_path):
+    """Under a second of speech is too little to refuse a take as another text: a person's word the
+    network hears poorly must not be refused; another word plainly is still warned of."""
+    voice, _ = other_voice("Kitap")
+    path = noisy_take(tmp_path / "take.wav", voice, snr=40)
+    assert synthesize_timeline(build_utterance("Kitap"), recording=path).warnings == ()
+    speech = synthesize_timeline(build_utterance("Şemsiyemi"), recording=path)
+    assert any("fits this text only loosely" in warning for warning in speech.warnings)
