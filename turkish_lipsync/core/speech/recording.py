@@ -75,14 +75,17 @@ BOUNDARY_SLACK = 1  # frames either side of a synthetic word onset where a recor
 # in the background or a room's tail fills it, and the voice activity detector takes that for speech.
 FLOOR_PAUSE_DB = 10.0
 FLOOR_PAUSE_FRAMES = 15
-# "Speech" this far under the speaker's loud frames for 300 ms may be a pause too (a voice in the
+# "Speech" this far under the speaker's loud frames for 200 ms may be a pause too (a voice in the
 # background in a quiet take), or the speaker's own quiet sounds (a slow voice's "ülm" in a reverberant
 # room): holding a word boundary through it costs FAR_UNDER_HOLD_COST a frame, which only a stretch
 # that matches nothing of the text is worth. (Person's takes, held-out voices: a hesitation filled so
 # was keyed 665 ms early, a comma's pause 178 ms, before this; at PAUSE_COST a reverberant take's
-# quiet word start was held as a pause, 323 ms late.)
+# quiet word start was held as a pause, 323 ms late. With the acoustic model placing the letters, a
+# comma's pause of 200-300 ms that a voice in the background or a room's tail fills drew the next word
+# into it at 300 ms: tuning takes misplaced, talker 22 -> 8, live room 6 -> 1 of 120 at 200 ms; 150 ms
+# put a quiet item of a people's list into a pause, 1.9 s late.)
 UNDER_SPEECH_PAUSE_DB = 15.0
-UNDER_SPEECH_PAUSE_FRAMES = 30
+UNDER_SPEECH_PAUSE_FRAMES = 20
 FAR_UNDER_HOLD_COST = 12.0
 
 
