@@ -294,3 +294,12 @@ def test_a_word_alone_is_never_refused_and_warned_only_when_plainly_another(tmp_
     assert synthesize_timeline(build_utterance("Kitap"), recording=path).warnings == ()
     speech = synthesize_timeline(build_utterance("Şemsiyemi"), recording=path)
     assert any("fits this text only loosely" in warning for warning in speech.warnings)
+
+
+def test_a_one_word_text_is_never_refused_however_long_it_is_said(tmp_path):
+    """A word drawn out or shouted for seconds is still one word's letters to judge it by: warned when it
+    does not fit, never refused (without the text's side of the evidence this take is refused)."""
+    voice, _ = other_voice("Kütüphanelerimizden", rate=-50)
+    path = noisy_take(tmp_path / "take.wav", voice, snr=40)
+    speech = synthesize_timeline(build_utterance("Şemsiye"), recording=path)
+    assert any("fits this text only loosely" in warning for warning in speech.warnings)

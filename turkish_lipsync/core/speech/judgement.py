@@ -74,10 +74,11 @@ OTHER_TEXT = 1.6
 OTHER_TEXT_ORDER_RATIO = 0.9
 PLAINLY_OTHER_TEXT = 3.0
 LOOSE = 1.25
-# A take with less speech than this (1 s) is never refused, and warned as loose only past SHORT_LOOSE: a
-# word or two said alone is too little to tell another text from a voice the network hears poorly
-# (people's single words on the tune part: mismatch median 1.0, p90 2.1, against 2.0 for another word's
-# text), and a user who gives a single word with its text has almost always given the right one.
+# A take or a text with less speech than this (1 s) is never refused, and warned as loose only past
+# SHORT_LOOSE: a word or two said alone is too little to tell another text from a voice the network
+# hears poorly (people's single words on the tune part: mismatch median 1.0, p90 2.1, against 2.0 for
+# another word's text; a word shouted for over a second fits as badly), and a user who gives a single
+# word with its text has almost always given the right one.
 SHORT_LOOSE = 2.2
 REFUSAL_EVIDENCE_FRAMES = 100
 # A word stretched this much beyond the recording's pace, and fitting this badly, has company: words
@@ -153,7 +154,9 @@ def judge(
     voiced = np.flatnonzero(spans[:, 0] >= 0)
     worst = voiced[np.argsort(-mismatch[voiced], kind="stable")]
     order_fits_little = fit.order_ratio > OTHER_TEXT_ORDER_RATIO
-    evidence = int(fit.recorded_speech[: fit.mismatch.size].sum()) >= REFUSAL_EVIDENCE_FRAMES
+    # Both sides bound the evidence: a word shouted for a second is still one word's letters to go by.
+    spoken = min(int(fit.recorded_speech[: fit.mismatch.size].sum()), int(fit.synthetic_speech.sum()))
+    evidence = spoken >= REFUSAL_EVIDENCE_FRAMES
     if evidence and ((take > OTHER_TEXT and order_fits_little) or take > PLAINLY_OTHER_TEXT):
         unheard = np.flatnonzero(mismatch > OTHER_TEXT)
         unheard = unheard if unheard.size else np.sort(worst[: max(1, worst.size // 2)])
