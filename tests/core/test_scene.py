@@ -140,3 +140,33 @@ def test_a_recording_of_the_scene_or_of_each_speaker_times_every_line(tmp_path, 
         assert abs(line.first_phone - true.first_phone) < 0.05
         assert {p.word_index for p in line.timeline.phones} == {p.word_index for p in true.timeline.phones}
     assert len(aligned.pieces) == (1 if kind == "scene" else 2)
+
+
+def test_an_overlapping_line_in_one_recording_of_the_scene_starts_where_it_is_said(tmp_path) -> None:
+    """The line said over the other's last word: the acoustic model hears the other voice as its first word,
+    so that word is placed back from the second by its own length at the speaker's pace."""
+    from turkish_lipsync.core.scene import scene_speech
+    from turkish_lipsync.core.scene.speech import SceneSources
+    from turkish_lipsync.core.speech import write_wav
+
+    script = read_script(
+        "AYŞE: Geçen hafta yeni bir işe başladım, ilk gün bana pasta bile getirdiler.\n"
+        "ALİ (overlapping): Pasta mı?\n"
+        "AYŞE: Evet, çikolatalı bir pasta. Çok şaşırdım ama çok da sevindim.\n"
+        "ALİ: Ne hoş. Peki, bu akşam boş musun?"
+    )
+    cast = cast_for(script)
+    for reading in ({}, {"rate": 1.12, "pitch": 0.9}):
+        choices = {
+            role.name: RoleChoice(
+                variant=role.voice.variant,
+                pitch=role.voice.pitch * reading.get("pitch", 1.0),
+                rate=role.voice.rate * reading.get("rate", 1.0),
+            )
+            for role in cast.roles
+        }
+        truth = converse(script, cast_for(script, choices), LipSyncOptions(fps=25)).speech
+        take = write_wav(tmp_path / "scene.wav", truth.mix())
+        found = scene_speech(script, cast, LipSyncOptions(fps=25), SceneSources(scene_recording=take))
+        errors = [abs(a.first_phone - b.first_phone) for a, b in zip(found.lines, truth.lines, strict=True)]
+        assert max(errors) < 0.05, (reading, errors)

@@ -384,6 +384,11 @@ def _from_scene_recording(
     timelines = split_timeline(speech.timeline, utterances, duration)
     for index, line in enumerate(script.lines):
         if line.overlaps and index:
+            others = [
+                i
+                for i, other in enumerate(script.lines)
+                if other.speaker == line.speaker and not other.overlaps and timelines[i].phones
+            ]
             timelines[index] = _overlapping(
                 speech.synthesis,
                 timelines[index - 1],
@@ -392,6 +397,7 @@ def _from_scene_recording(
                 line,
                 timing,
                 engine,
+                _pace([timelines[i] for i in others], [utterances[i] for i in others], timing, engine),
             )
     lines = tuple(
         SceneLine(index, line.speaker, addressees[index], timelines[index], utterances[index])
@@ -401,8 +407,19 @@ def _from_scene_recording(
     return SceneSpeech(script, cast, lines, (piece,), duration, speech.timeline.timing, speech.warnings)
 
 
+def _pace(timelines: list[Timeline], utterances: list[Utterance], timing, engine) -> float:
+    """How long a speaker takes over their lines as the take has them, against the engine's (1: none)."""
+    taken = sum(_span(timeline) for timeline in timelines)
+    own = sum(_span(synthesize_timeline(u, timing, engine=engine).timeline) for u in utterances)
+    return taken / own if taken > 0 and own > 0 else 1.0
+
+
+def _span(timeline: Timeline) -> float:
+    return max(p.end for p in timeline.phones) - min(p.start for p in timeline.phones)
+
+
 def _overlapping(
-    take: Synthesis, before: Timeline, aligned: Timeline, utterance, line, timing, engine
+    take: Synthesis, before: Timeline, aligned: Timeline, utterance, line, timing, engine, pace: float
 ) -> Timeline:
     """A line marked as overlapping, aligned again on its own: one take of the scene is aligned one voice
     after another, which puts it after the line it overlaps. Aligned to the stretch of the take from a little
@@ -412,6 +429,7 @@ def _overlapping(
     other_end = max(phone.end for phone in before.phones)
     own_end = max(phone.end for phone in aligned.phones)
     was = min(phone.start for phone in aligned.phones)
+    pinned = []
     with tempfile.TemporaryDirectory() as folder:
         for lead in (overlap + 0.15, overlap + 0.05, overlap, overlap + 0.3):
             start = max(other_end - lead, 0.0)
@@ -425,10 +443,54 @@ def _overlapping(
             refined = shifted_timeline(found.timeline, start, aligned.duration)
             begins = min(phone.start for phone in refined.phones)
             # The other voice in the stretch may be heard as words the line does not have: the line is kept
-            # where it begins in the stretch and no later than the whole take's alignment put it.
-            if not found.warnings or start + 0.02 <= begins <= was + 0.02:
+            # where it begins in the stretch and no later than the whole take's alignment put it. A line that
+            # begins with the stretch itself took the other voice for its first word (below).
+            if begins < start + 0.02:
+                pinned.append((refined, start))
+            elif not found.warnings or begins <= was + 0.02:
                 return refined
+    # The acoustic model may hear the other voice at the stretch's start as the line's first word, which
+    # then reaches back to the stretch's start; the words after it are heard alone and lie where they are
+    # said. The first word goes back before the second by the length the engine gives it at the speaker's
+    # pace over their other lines (the pace of the line's few other words is no guide: one short word said
+    # 1.5 times eSpeak's length put the line 210 ms early).
+    for refined, start in pinned:
+        placed = _first_word_as_spoken(refined, utterance, timing, engine, pace, start, was + 0.02)
+        if placed is not None:
+            return placed
     return aligned
+
+
+def _first_word_as_spoken(
+    timeline: Timeline, utterance, timing, engine, pace: float, earliest: float, latest: float
+) -> Timeline | None:
+    """The timeline with its first word (and the pause after it) as long as the engine says them, times the
+    speaker's pace; None where the line has one word, or the first word would begin outside
+    earliest..latest."""
+    words = timeline.words
+    if len(words) < 2:
+        return None
+    own = synthesize_timeline(utterance, timing, engine=engine).timeline.words
+    begins = words[1].start - (own[1].start - own[0].start) * pace
+    if not earliest <= begins <= latest:
+        return None
+    return remapped_timeline(timeline, (words[0].start, words[1].start), (begins, words[1].start))
+
+
+def remapped_timeline(timeline: Timeline, old: tuple[float, ...], new: tuple[float, ...]) -> Timeline:
+    """The timeline with times in old[0]..old[-1] moved linearly onto new (knots in order), the rest kept."""
+
+    def moved(time: float) -> float:
+        return float(np.interp(time, old, new)) if old[0] <= time <= old[-1] else time
+
+    return replace(
+        timeline,
+        phones=tuple(replace(p, start=moved(p.start), end=moved(p.end)) for p in timeline.phones),
+        words=tuple(replace(w, start=moved(w.start), end=moved(w.end)) for w in timeline.words),
+        emotions=tuple(replace(e, start=moved(e.start), end=moved(e.end)) for e in timeline.emotions),
+        emphases=tuple((moved(a), moved(b)) for a, b in timeline.emphases),
+        engine_onsets=tuple(moved(t) for t in timeline.engine_onsets),
+    )
 
 
 def _from_speaker_recordings(
