@@ -9,16 +9,16 @@
 Speech (each recording as it is, with white hiss at 20 dB SNR, and 30 dB quieter; the words and syllables
 also cut to their loudest 0.2 s with 0.25 s of silence each side, and that core with the hiss; the tuning
 lines too, standing in for the tuning sets' few words):
-- klettres syllables and Fish Fillets NG's Dutch lines: /work/data/voices, built by
-  ../shared/voices/dev_voices.py (apt-get download klettres-data fillets-ng-data fillets-ng-data-nl, then
-  dpkg-deb -x); its manifest.tsv lists them. Tuned on klettres-ru and klettres-tn and on the Dutch levels
+- klettres syllables and Fish Fillets NG's Dutch lines: scripts/people.py's folder (out/people;
+  `python scripts/people.py build` makes it), dev/ as ../shared/voices/dev_voices.py builds it; its
+  manifest.tsv lists them. Tuned on klettres-ru and klettres-tn and on the Dutch levels
   whose name's position in the sorted list of levels is not a multiple of 3; reported on klettres-uk,
   -fr, -cs and the levels at positions 0, 3, 6, ...
-- ktuberling's single words, every language (report only): `apt-get download ktuberling-data`, then
-  `dpkg-deb -x ktuberling-data_*.deb DIR`; the words are DIR/usr/share/ktuberling/sounds/<lang>/*
-  (.ogg, .wav, .opus; the Serbian scripts' folders hold the same recordings, heard once).
-- Fish Fillets NG's Czech voice acting (report only): `apt-get download fillets-ng-data-cs`, then
-  `dpkg-deb -x`; the lines are DIR/usr/share/games/fillets-ng/sound/<level>/cs/*.ogg.
+- ktuberling's single words, every language (report only): the same folder's packages/ (ktuberling-data
+  unpacked), usr/share/ktuberling/sounds/<lang>/* (.ogg, .wav, .opus; the Serbian scripts' folders hold
+  the same recordings, heard once).
+- Fish Fillets NG's Czech voice acting (report only): packages/usr/share/games/fillets-ng/sound/<level>/
+  cs/*.ogg there (fillets-ng-data-cs unpacked).
 
 Not speech (every one should be "no speech found"): digital silence; white, pink, brown and babble-like
 noise and synthetic music (scripts/train_recogniser.py's, other seeds for tuning than for the report) at
@@ -48,6 +48,7 @@ REPOSITORY = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPOSITORY))
 sys.path.insert(0, str(REPOSITORY / "scripts"))
 
+from people import FOLDER  # noqa: E402
 from train_recogniser import coloured_noise, music, speech_power  # noqa: E402
 
 from turkish_lipsync.core.base.errors import AudioError  # noqa: E402
@@ -55,10 +56,10 @@ from turkish_lipsync.core.speech import speech_detector  # noqa: E402
 from turkish_lipsync.core.speech.audio import read_audio, resample  # noqa: E402
 from turkish_lipsync.core.speech.features import ANALYSIS_RATE, HOP  # noqa: E402
 
-VOICES = Path("/work/data/voices")
-KTUBERLING = Path("/work/data/debs/x/kt/usr/share/ktuberling/sounds")
-FILLETS_CS = Path("/work/data/debs/x/cs/usr/share/games/fillets-ng/sound")
-FILLETS_GAME = Path("/work/data/voices/packages/usr/share/games/fillets-ng")
+VOICES = FOLDER / "dev"
+KTUBERLING = FOLDER / "packages/usr/share/ktuberling/sounds"
+FILLETS_CS = FOLDER / "packages/usr/share/games/fillets-ng/sound"
+FILLETS_GAME = VOICES / "packages/usr/share/games/fillets-ng"
 TUNING_KLETTRES = ("klettres-ru", "klettres-tn")
 CORE = 0.2  # seconds of a word kept by the "0.2 s core" condition (its loudest stretch)
 CORE_SILENCE = 0.25  # seconds of silence put around the core

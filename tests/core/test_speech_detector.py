@@ -1,17 +1,17 @@
 """Speech detection by Silero VAD in numpy: the reference's probabilities, short words, silence, noise, music.
 
 The reference is Silero's own ONNX model run by onnxruntime (a development dependency only). Spoken words
-come from eSpeak NG through the project's engine and, where ../shared's people's recordings have been built
-(/work/data, see scripts/measure_detection.py), from people.
+come from eSpeak NG through the project's engine and, where people's recordings have been built (`python
+scripts/people.py build`), from people.
 """
 
 import importlib.metadata
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from scripts.measure_recordings import write_wav
+from scripts.people import FOLDER as PEOPLE
 from scripts.train_recogniser import coloured_noise, music
 from turkish_lipsync.core.base.errors import AudioError, DataError
 from turkish_lipsync.core.speech import speech_detector, synthesize_timeline
@@ -21,9 +21,8 @@ from turkish_lipsync.core.speech.recognition import speech_from_audio
 from turkish_lipsync.core.text.utterance import build_utterance
 
 RATE = ANALYSIS_RATE
-PEOPLE = Path("/work/data")
-KTUBERLING = PEOPLE / "debs/x/kt/usr/share/ktuberling/sounds"
-KLETTRES = PEOPLE / "voices/wav"
+KTUBERLING = PEOPLE / "packages/usr/share/ktuberling/sounds"
+KLETTRES = PEOPLE / "dev/wav"
 # Words whose loudest 0.2 s is the whole word, said by people (ktuberling: one word a file).
 PEOPLES_WORDS = ("en/ball.ogg", "en/bow.ogg", "de/ball.ogg", "ru/ball.ogg", "uk/ball.ogg", "fr/chapeau.wav")
 
