@@ -6,24 +6,37 @@ speech level in that band (the mean over its loudest frames), which removes the 
 voice's colour and the recording's gain; the frame's loudness relative to the speech joins them, so
 silence and quiet consonants stay apart from vowels. Everything is floored far below the speech (eSpeak's
 digital silence and a quiet room then look alike) and scaled to units of about one.
+
+A take's own level stands for the voice's long-term spectrum only when the take holds speech enough for
+several vowels. In a syllable or a single word the loudest frames are one vowel, and levelling on them
+takes that vowel's colour away (people's syllables: an i heard as e in 26 of 35 before). A take with little
+speech is therefore levelled half on its own spectrum and half on the long-term spectrum of people's speech
+(LONG_TERM_SPECTRUM_FILE, scripts/train_recogniser.py --spectrum makes it), and wholly on its own from
+OWN_LEVEL_FRAMES frames of speech on.
 """
 
 from __future__ import annotations
 
+from functools import cache
+from pathlib import Path
+
 import numpy as np
 
+from ...base.errors import DataError
 from ..features import mel_energies
 
 BANDS = 40
 LOW_HERTZ = 60.0
 TOP_HERTZ = 7600.0
-LEVELLING = "share"
-LOUDEST_PERCENTILE = 99
-LOUD_WITHIN_DB = 15.0
 LOUD_SHARE = 0.3  # the loudest 30 % of the frames stand for the take's speech level
 FLOOR_DB = -60.0  # below the speech level; quieter is the same as this
 SCALE_DB = 10.0  # decibels per feature unit
 FEATURE_COUNT = BANDS + 1
+SPEECH_WITHIN_DB = 20.0  # a frame this close to the speech level counts as speech for OWN_LEVEL_FRAMES
+FEW_SPEECH_FRAMES = 50  # up to here (one or two syllables) the own spectrum counts half ...
+OWN_LEVEL_FRAMES = 150  # ... from here (several words) wholly; in between, linearly
+SHORT_OWN_WEIGHT = 0.5
+LONG_TERM_SPECTRUM_FILE = Path(__file__).with_name("speech_spectrum.npy")
 
 
 def log_bands(samples: np.ndarray) -> np.ndarray:
@@ -32,24 +45,54 @@ def log_bands(samples: np.ndarray) -> np.ndarray:
     return 10.0 * np.log10(energies + 1e-10, dtype=np.float32)
 
 
-def levelled(decibels: np.ndarray) -> np.ndarray:
+def speech_levels(decibels: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+    """Each frame's loudness, the take's spectral shape (band levels minus the speech level) and its speech
+    level (decibels), all from the loudest LOUD_SHARE of the frames."""
+    loudness = 10.0 * np.log10(np.sum(10.0 ** (decibels / 10.0), axis=1) + 1e-10)
+    loud = loudness >= np.percentile(loudness, 100 * (1 - LOUD_SHARE))
+    speech_level = float(loudness[loud].mean())
+    return loudness, decibels[loud].mean(axis=0) - speech_level, speech_level
+
+
+@cache
+def long_term_spectrum() -> np.ndarray:
+    """The long-term spectral shape of people's speech (BANDS decibels), as speech_levels measures it."""
+    try:
+        shape = np.load(LONG_TERM_SPECTRUM_FILE, allow_pickle=False)
+    except (OSError, ValueError) as error:
+        raise DataError(
+            f"the recogniser's long-term spectrum {LONG_TERM_SPECTRUM_FILE} cannot be read ({error}); "
+            "reinstall the extension"
+        ) from None
+    if shape.shape != (BANDS,):
+        raise DataError(f"the recogniser's long-term spectrum {LONG_TERM_SPECTRUM_FILE} has the wrong shape")
+    return shape.astype(np.float32)
+
+
+def own_level_weight(loudness: np.ndarray, speech_level: float) -> float:
+    """How much the take's own spectral shape counts in its levelling (SHORT_OWN_WEIGHT .. 1)."""
+    speech = np.count_nonzero(loudness >= speech_level - SPEECH_WITHIN_DB)
+    ramp = np.clip((speech - FEW_SPEECH_FRAMES) / (OWN_LEVEL_FRAMES - FEW_SPEECH_FRAMES), 0.0, 1.0)
+    return float(SHORT_OWN_WEIGHT + (1.0 - SHORT_OWN_WEIGHT) * ramp)
+
+
+def levelled(decibels: np.ndarray, whole_take_level: bool = False) -> np.ndarray:
     """The recogniser's features (frames x FEATURE_COUNT, float32) from log_bands' decibels.
 
-    The levels are the whole take's, so a long take is described alike from start to end.
+    The levels are the whole take's, so a long take is described alike from start to end. With
+    whole_take_level, a short take too is levelled on itself alone (as the shipped network's training
+    data was).
     """
-    loudness = 10.0 * np.log10(np.sum(10.0 ** (decibels / 10.0), axis=1) + 1e-10)
-    if LEVELLING == "peak":
-        loud = loudness >= np.percentile(loudness, LOUDEST_PERCENTILE) - LOUD_WITHIN_DB
-    else:
-        loud = loudness >= np.percentile(loudness, 100 * (1 - LOUD_SHARE))
-    band_level = decibels[loud].mean(axis=0)
-    speech_level = loudness[loud].mean()
+    loudness, shape, speech_level = speech_levels(decibels)
+    weight = 1.0 if whole_take_level else own_level_weight(loudness, speech_level)
+    if weight < 1.0:
+        shape = weight * shape + (1.0 - weight) * long_term_spectrum()
     features = np.empty((len(decibels), FEATURE_COUNT), np.float32)
-    features[:, :BANDS] = np.maximum(decibels - band_level, FLOOR_DB) / SCALE_DB
+    features[:, :BANDS] = np.maximum(decibels - (speech_level + shape), FLOOR_DB) / SCALE_DB
     features[:, BANDS] = np.maximum(loudness - speech_level, FLOOR_DB) / SCALE_DB
     return features
 
 
-def recogniser_features(samples: np.ndarray) -> np.ndarray:
-    """The features of 16 kHz float samples in [-1, 1]."""
-    return levelled(log_bands(samples))
+def recogniser_features(samples: np.ndarray, whole_take_level: bool = False) -> np.ndarray:
+    """The features of 16 kHz float samples in [-1, 1] (whole_take_level: see levelled)."""
+    return levelled(log_bands(samples), whole_take_level)
