@@ -1,10 +1,10 @@
-"""Train the audio-only recogniser's network on speech the project makes itself, and write its weights.
+"""Train the acoustic model's network on eSpeak NG's speech and people's, and write its weights.
 
     nice -n 10 /path/to/recogniser-venv/bin/python scripts/train_recogniser.py [--clips 5000] [--epochs 14]
         [--seed 7] [--cache DIR] [--out turkish_lipsync/core/speech/acoustic/phone_network.npz]
 
 Set-up (once, outside the repository; torch is never a dependency of the extension, which runs the
-network with numpy alone, recognition/network.py):
+network with numpy alone, acoustic/network.py):
 
     python3.11 -m venv ~/recogniser-venv
     ~/recogniser-venv/bin/pip install torch==2.13.0 -r requirements-dev.txt
@@ -17,16 +17,22 @@ weights; torch's CPU kernels may still differ in the last bits between machines)
 2. Voices: eSpeak NG's Turkish voice in every variant of its data but the held-out ones (HELD_OUT_VARIANTS,
    which scripts/measure_recogniser.py speaks), at random rates (-30 %..+45 %) and pitches (-45 %..+45 %);
    the labels are the engine's own phone events matched to the letters (speech/align.py), one per 10 ms
-   frame (recognition/labels.py).
+   frame (acoustic/labels.py).
 3. Degradations, drawn per clip: a speed change by resampling (formants and pitch up or down by up to
    12 %, as another vocal tract), a synthetic room (RT60 0.15-0.8 s), a telephone or a muffled band, room
    noise (white, pink, brown, babble-like) at 0-40 dB SNR or none, synthetic music underneath, noise or
    silence before and after the speech. Some clips are music or noise alone, labelled silence, so that a
    take without speech is recognised as such.
-4. The network (recognition/network.py's layout): a convolution over five frames, five residual blocks of
+4. The network (acoustic/network.py's layout): a convolution over five frames, five residual blocks of
    dilated convolutions (dilations 1, 2, 4, 8, 16: it hears 0.35 s each side) and a softmax over the
    letters and silence, trained with Adam on frame-wise cross-entropy.
-5. Written with it: each class's share of the frames (the decoder divides the posteriors by it), the
+5. Rounds on people's speech (scripts/people.py's tune part, each recording clean and degraded), whose
+   letters the previous round's network places by forced alignment to their Turkish spelling (--rounds).
+6. A last round, FINAL_EPOCHS on from those weights at FINAL_LEARNING_RATE: every clip levelled as the
+   extension levels it (acoustic/features.py: a take with little speech partly on people's long-term
+   spectrum; the earlier rounds level each clip on itself), SHORT_CLIP_SHARE of eSpeak NG's clips cut to
+   one or two words.
+7. Written with it: each class's share of the frames (the decoder divides the posteriors by it), the
    letter-to-letter transition counts of the training texts (the decoder's bigram), the shortest
    durations, the training voices and the held-out ones; and beside it the long-term spectrum of the
    people's lines (acoustic/features.py levels a short take partly on it; --spectrum writes it alone).

@@ -4,7 +4,12 @@ import numpy as np
 import pytest
 
 from turkish_lipsync.core.speech import synthesize_timeline
-from turkish_lipsync.core.speech.acoustic.features import recogniser_features
+from turkish_lipsync.core.speech.acoustic.features import (
+    BANDS,
+    SHORT_OWN_WEIGHT,
+    own_level_weight,
+    recogniser_features,
+)
 from turkish_lipsync.core.speech.acoustic.forced import force_align, letter_model, text_units
 from turkish_lipsync.core.speech.acoustic.labels import CLASS_INDEX, CLASSES
 from turkish_lipsync.core.speech.acoustic.network import load_network
@@ -78,3 +83,35 @@ def test_letters_of_speech_are_found_near_where_they_were_spoken():
     ]
     error = np.abs(np.array(onsets)[:, 0] - np.array(onsets)[:, 1])
     assert np.median(error) < 0.02 and np.percentile(error, 90) < 0.05
+
+
+def spoken_samples(text: str) -> np.ndarray:
+    synthesis = synthesize_timeline(build_utterance(text)).synthesis
+    return resample(synthesis.samples.astype(np.float32) / 32768, synthesis.sample_rate, ANALYSIS_RATE)
+
+
+def test_a_take_with_speech_enough_is_levelled_on_itself_alone():
+    samples = spoken_samples("Bugün hava çok güzel, parka gidip biraz yürüyelim.")
+    assert np.array_equal(recogniser_features(samples), recogniser_features(samples, whole_take_level=True))
+
+
+def test_a_syllable_alone_keeps_its_vowel_colour():
+    """Levelled on itself alone, a take of one syllable is levelled on its vowel, and "bi" and "ba" look
+    alike where their vowels are; levelled partly on people's long-term spectrum, they stay apart."""
+
+    def vowel_bands(text: str, whole_take_level: bool) -> np.ndarray:
+        features = recogniser_features(spoken_samples(text), whole_take_level)
+        loud = features[:, BANDS] > -0.5  # within 5 dB of the take's speech level
+        return features[loud, :BANDS].mean(axis=0)
+
+    apart = np.linalg.norm(vowel_bands("bi", False) - vowel_bands("ba", False))
+    alike = np.linalg.norm(vowel_bands("bi", True) - vowel_bands("ba", True))
+    assert apart > 2 * alike
+
+
+def test_the_own_spectrum_counts_more_the_more_speech_a_take_holds():
+    level = 0.0
+    weights = [
+        own_level_weight(np.r_[np.zeros(frames), np.full(400, -80.0)], level) for frames in (10, 100, 200)
+    ]
+    assert weights == [SHORT_OWN_WEIGHT, (1 + SHORT_OWN_WEIGHT) / 2, 1.0]
