@@ -93,7 +93,7 @@ NON_SPEECH_SHARE = 0.05
 LABEL_DURATION_SCALE = 0.5  # people's letters may be half as long as the shortest of eSpeak's
 WORST_FITTING_SHARE = 0.1  # people's recordings whose spelling fits worst, left out of training
 SHORT_CLIP_SHARE = 0.3  # of the last round's eSpeak NG clips: one or two words, as a take of a word
-FINAL_EPOCHS = 10  # the last round goes on from round `--rounds`' weights ...
+FINAL_EPOCHS = 5  # the last round goes on from round `--rounds`' weights ...
 FINAL_LEARNING_RATE = 5e-4  # ... at a quarter of the learning rate
 
 
