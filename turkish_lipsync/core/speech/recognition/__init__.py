@@ -42,8 +42,8 @@ def speech_from_audio(path: Path | str) -> tuple[Utterance, Speech]:
     peak = float(np.abs(samples).max(initial=0.0))
     if 20 * np.log10(peak + 1e-12) < SILENT_PEAK_DB:
         raise AudioError(f"no speech found in {path}: it is silent; give a recording of someone speaking")
-    # Whether anyone speaks is decided by a detector trained on people's speech (speech_detector.py),
-    # not by how much the recogniser, which has heard only eSpeak NG, makes of it.
+    # Whether anyone speaks is decided by a detector trained on many people's speech in many languages
+    # (speech_detector.py), not by how much the recogniser, which has heard few people, makes of it.
     if not detect_speech(samples).found:
         raise AudioError(
             f"no speech found in {path}: it sounds like silence, noise or music without a voice; "
