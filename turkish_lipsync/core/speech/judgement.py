@@ -60,8 +60,8 @@ UNMATCHED = 2.0  # ... and this badly, 0
 # A word is not in the recording when it fits worse than UNMATCHED_WORD and the recording gives it less
 # than SHORTENED of its pace, or fits LOST_WORD worse than the take as a whole does (a take's own fit
 # carries its voice, accent and room: the tune part's lists of foreign syllables that fit as a whole at
-# 1.0-2.6 have their worst item at 2.3-6.1; eSpeak's voices fit at 0.1-0.4). (A short word a person says in a breath gets a
-# fifth of eSpeak's pace and fits well: its shortness alone says nothing.)
+# 1.0-2.6 have their worst item at 2.3-6.1; eSpeak's voices fit at 0.1-0.4). (A short word a person says
+# in a breath gets a fifth of eSpeak's pace and fits well: its shortness alone says nothing.)
 UNMATCHED_WORD = 2.2
 SHORTENED = 0.7
 WORD_PRIOR_FRAMES = 10
