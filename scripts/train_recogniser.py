@@ -55,9 +55,8 @@ from turkish_lipsync.core.speech import espeak, synthesize_timeline  # noqa: E40
 from turkish_lipsync.core.speech.acoustic.features import (  # noqa: E402
     FEATURE_COUNT,
     LONG_TERM_SPECTRUM_FILE,
-    OWN_LEVEL_FRAMES,
-    SPEECH_WITHIN_DB,
     log_bands,
+    own_level_weight,
     recogniser_features,
     speech_levels,
 )
@@ -374,7 +373,7 @@ def write_long_term_spectrum(folder: Path, out: Path = LONG_TERM_SPECTRUM_FILE) 
     shapes = []
     for recording in people.recordings(folder, "tune", "line"):
         loudness, shape, level = speech_levels(log_bands(people.read(recording, ANALYSIS_RATE)))
-        if np.count_nonzero(loudness >= level - SPEECH_WITHIN_DB) >= OWN_LEVEL_FRAMES:
+        if own_level_weight(loudness, level) == 1.0:  # speech enough to be levelled on itself alone
             shapes.append(shape)
     np.save(out, np.median(shapes, axis=0).astype(np.float32))
     print(f"wrote {out} (the median of {len(shapes)} lines)")
