@@ -16,6 +16,7 @@ from tests.core.test_speech_recording import OTHER_TEXT, other_voice, write_pcm_
 from turkish_lipsync.core.base.errors import AudioError
 from turkish_lipsync.core.speech import synthesize_timeline
 from turkish_lipsync.core.speech.audio import resample
+from turkish_lipsync.core.speech.recording import fading
 from turkish_lipsync.core.text.utterance import build_utterance
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
@@ -105,6 +106,37 @@ def test_a_live_room_is_aligned_without_a_warning(tmp_path):
     )
     assert np.median(error) < 0.020 and np.percentile(error, 90) < 0.050 and error.max() < 0.150
     assert speech.warnings == ()
+
+
+COMMA_TEXT = "Bilgisayarım çok yavaşladı, sanırım yeni bir tane almam gerekecek."
+
+
+@pytest.mark.parametrize("seed", [0, 3])
+def test_the_word_after_a_comma_is_not_keyed_into_the_rooms_tail(tmp_path, seed):
+    """In a reverberant room the speech detector takes the tail of "yavaşladı" for speech: the first
+    letter of "sanırım" used to be drawn into it, 150-190 ms early."""
+    voice, timeline = other_voice(COMMA_TEXT, "tr+m5", -30, 15)
+    take = takes.Take(
+        voice.astype(np.float64),
+        words=np.array([word.start for word in timeline.words]),
+        letters=np.zeros(0),
+        commas=np.array([word.pause_before > 0 for word in build_utterance(COMMA_TEXT).words]),
+    )
+    rng = np.random.default_rng(seed)
+    room = takes.reverberate(takes.padded(take, 0.3), takes.plain_room_response(0.5, rng))
+    speech, error = aligned(takes.add_noise(room, 40, "white", rng), tmp_path, text=COMMA_TEXT)
+    assert error[3] < 0.050 and error.max() < 0.100
+    assert speech.warnings == ()
+
+
+def test_a_sound_dying_away_is_told_from_the_next_ones_onset():
+    """Levels under the speaker's loud frames (dB): a word, its tail falling past 30 dB (a wobble of half a
+    dB is still the tail), the next word's rise; a word, its fall to the floor, a quiet sound rising out
+    of it (not a fade, nor its own end); a last word fading out."""
+    word_and_tail, next_word = [0, 2, 8, 14, 16, 20, 25, 30, 31, 30.5], [27, 20, 10, 0]
+    to_the_floor, quiet_sound, last_word = [18, 26, 35, 35], [24, 22, 24, 30], [0, 12, 18, 24]
+    under = word_and_tail + next_word + to_the_floor + quiet_sound + last_word
+    assert np.flatnonzero(fading(np.array(under))).tolist() == [4, 5, 6, 7, 8, 9, 14, 15, 16, 17, 24, 25]
 
 
 def test_a_voice_in_the_background_is_not_followed(tmp_path):
