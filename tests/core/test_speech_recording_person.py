@@ -137,6 +137,8 @@ def test_a_sound_dying_away_is_told_from_the_next_ones_onset():
     to_the_floor, quiet_sound, last_word = [18, 26, 35, 35], [24, 22, 24, 30], [0, 12, 18, 24]
     under = word_and_tail + next_word + to_the_floor + quiet_sound + last_word
     assert np.flatnonzero(fading(np.array(under))).tolist() == [4, 5, 6, 7, 8, 9, 14, 15, 16, 17, 24, 25]
+    assert not fading(np.array([0, 3, 6, 9, 12, 9, 3, 0])).any()  # never 15 dB under: nothing dies away
+    assert not fading(np.array([20, 25, 30, 25])).any()  # under from the start: no fall past the mark
 
 
 def test_a_voice_in_the_background_is_not_followed(tmp_path):

@@ -281,7 +281,7 @@ def fading(under_speech_db: np.ndarray) -> np.ndarray:
     below = level <= -FADING_DB
     found = np.zeros(level.size, bool)
     starts = np.flatnonzero(below[1:] & ~below[:-1]) + 1  # the level falls past FADING_DB here
-    for start, end in zip(starts, [*starts[1:], level.size], strict=True):
+    for start, end in zip(starts, np.append(starts[1:], level.size), strict=False):
         after = level[start:end]  # a fade ends before the level can fall past FADING_DB again
         rising = (after >= np.minimum.accumulate(after) + RISING_DB) | ~below[start:end]
         found[start : start + (int(np.argmax(rising)) if rising.any() else after.size)] = True
