@@ -69,8 +69,8 @@ QUIET_SILENCE_BIAS = 2.0
 # falls past FADING_DB under the speaker's loud frames until it rises RISING_DB from the lowest it reached
 # (the next sound's onset). The speech detector calls a reverberant room's tail speech, and the bias then
 # drew the first letter of the word after a comma's pause into the tail (tuning takes, m5 voice in a 0.4 s
-# room: 150-190 ms early). Synthetic held-out takes: reverberant room max 215 -> 97 ms, misplaced 7 -> 6;
-# live room 195 -> 182, 5 -> 4; people's figures (scripts/measure_people.py) unchanged within a take.
+# room: 150-190 ms early). Synthetic held-out takes: reverberant room max 215 -> 97 ms, misplaced 7 -> 5;
+# live room 195 -> 182, 5 -> 4 (held-out voices: 209 -> 74, 6 -> 4); people's figures as before but a take.
 FADING_DB = 15.0
 RISING_DB = 3.0
 ORDER_FRAMES = 3_000  # the text's order is tested on the first 30 seconds of a long take
