@@ -170,3 +170,20 @@ def test_an_overlapping_line_in_one_recording_of_the_scene_starts_where_it_is_sa
         found = scene_speech(script, cast, LipSyncOptions(fps=25), SceneSources(scene_recording=take))
         errors = [abs(a.first_phone - b.first_phone) for a, b in zip(found.lines, truth.lines, strict=True)]
         assert max(errors) < 0.05, (reading, errors)
+
+
+def test_an_overlapping_line_that_moves_with_its_stretch_took_the_other_voice_for_its_first_word() -> None:
+    """A line heard where it is said begins there from any stretch; one that begins 0.1 s earlier when the
+    stretch does (the other voice heard as its first word) is not taken as it is."""
+    from types import SimpleNamespace
+
+    from turkish_lipsync.core.scene.speech import _moves_with
+
+    def heard_at(begins_of):
+        return lambda start: (SimpleNamespace(phones=[SimpleNamespace(start=begins_of(start))]), ())
+
+    latching = heard_at(lambda start: start + 0.037)  # always just after the stretch's start
+    said = heard_at(lambda start: 37.465)  # where the line is said, whatever the stretch
+    assert _moves_with(latching, 37.428, 37.465)
+    assert not _moves_with(said, 37.428, 37.465)
+    assert not _moves_with(latching, 0.0, 0.037)  # a stretch from the take's start cannot begin earlier

@@ -49,6 +49,7 @@ SILENCE_WEIGHT = 0.2  # how much a longer silence is preferred as the end of a s
 STRETCH_MARGIN = 0.3  # seconds of silence kept around a turn's stretch of a speaker's track
 TAIL = 0.5  # seconds of the scene after its last phone (the last listener still reacting)
 READY = 0.3  # an overlapping line starts at least this long after the line it overlaps began
+STRETCH_SHIFT = 0.1  # seconds an overlapping line's stretch is begun earlier to see whether the line moves
 
 
 @dataclass(frozen=True, eq=False)
@@ -431,23 +432,31 @@ def _overlapping(
     was = min(phone.start for phone in aligned.phones)
     pinned = []
     with tempfile.TemporaryDirectory() as folder:
-        for lead in (overlap + 0.15, overlap + 0.05, overlap, overlap + 0.3):
-            start = max(other_end - lead, 0.0)
+
+        def aligned_from(start: float) -> tuple[Timeline, tuple[str, ...]] | None:
             first, last = int(start * take.sample_rate), int((own_end + 0.3) * take.sample_rate)
             stretch = Synthesis(take.samples[first:last], take.sample_rate, (), (), "recording")
             path = write_wav(Path(folder) / "line.wav", stretch)
             try:
                 found = synthesize_timeline(utterance, timing, recording=path, engine=engine)
             except LipSyncError:
+                return None
+            return shifted_timeline(found.timeline, start, aligned.duration), found.warnings
+
+        for lead in (overlap + 0.15, overlap + 0.05, overlap, overlap + 0.3):
+            start = max(other_end - lead, 0.0)
+            result = aligned_from(start)
+            if result is None:
                 continue
-            refined = shifted_timeline(found.timeline, start, aligned.duration)
+            refined, warnings = result
             begins = min(phone.start for phone in refined.phones)
             # The other voice in the stretch may be heard as words the line does not have: the line is kept
             # where it begins in the stretch and no later than the whole take's alignment put it. A line that
-            # begins with the stretch itself took the other voice for its first word (below).
-            if begins < start + 0.02:
+            # begins with the stretch itself, or moves with it when the stretch begins earlier, took the
+            # other voice for its first word (below); a line heard where it is said stays where it is.
+            if begins < start + 0.02 or _moves_with(aligned_from, start, begins):
                 pinned.append((refined, start))
-            elif not found.warnings or begins <= was + 0.02:
+            elif not warnings or begins <= was + 0.02:
                 return refined
     # The acoustic model may hear the other voice at the stretch's start as the line's first word, which
     # then reaches back to the stretch's start; the words after it are heard alone and lie where they are
@@ -459,6 +468,15 @@ def _overlapping(
         if placed is not None:
             return placed
     return aligned
+
+
+def _moves_with(aligned_from, start: float, begins: float) -> bool:
+    """Whether a line that begins at `begins` in the stretch from `start` begins STRETCH_SHIFT earlier too
+    (at least half of it) when the stretch does."""
+    if start <= 0.0:
+        return False
+    earlier = aligned_from(max(start - STRETCH_SHIFT, 0.0))
+    return earlier is not None and begins - min(p.start for p in earlier[0].phones) > STRETCH_SHIFT / 2
 
 
 def _first_word_as_spoken(
