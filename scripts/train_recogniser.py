@@ -26,11 +26,17 @@ weights; torch's CPU kernels may still differ in the last bits between machines)
 4. The network (acoustic/network.py's layout): a convolution over five frames, five residual blocks of
    dilated convolutions (dilations 1, 2, 4, 8, 16: it hears 0.35 s each side) and a softmax over the
    letters and silence, trained with Adam on frame-wise cross-entropy.
-5. Written with it: each class's share of the frames (the decoder divides the posteriors by it), the
+5. Rounds on people's speech (scripts/people.py's tune part, each recording clean and degraded), whose
+   letters the previous round's network places by forced alignment to their Turkish spelling (--rounds).
+6. A last round, FINAL_EPOCHS on from those weights at FINAL_LEARNING_RATE: every clip levelled as the
+   extension levels it (acoustic/features.py: a take with little speech partly on people's long-term
+   spectrum; the earlier rounds level each clip on itself), SHORT_CLIP_SHARE of eSpeak NG's clips cut to
+   one or two words, half of every batch's clips heard through another vocal tract (FINAL_BAND_WARP).
+   Rounds whose weights are in the cache (--cache) are not trained again.
+7. Written with it: each class's share of the frames (the decoder divides the posteriors by it), the
    letter-to-letter transition counts of the training texts (the decoder's bigram), the shortest
    durations, the training voices and the held-out ones; and beside it the long-term spectrum of the
-   people's lines (acoustic/features.py levels a take with little speech partly on it; every training
-   clip is levelled on itself alone, as the shipped weights learnt; --spectrum writes the spectrum alone).
+   people's lines (acoustic/features.py levels a short take partly on it; --spectrum writes it alone).
 """
 
 from __future__ import annotations
@@ -86,6 +92,15 @@ CROP_FRAMES = 400
 NON_SPEECH_SHARE = 0.05
 LABEL_DURATION_SCALE = 0.5  # people's letters may be half as long as the shortest of eSpeak's
 WORST_FITTING_SHARE = 0.1  # people's recordings whose spelling fits worst, left out of training
+SHORT_CLIP_SHARE = 0.3  # of the last round's eSpeak NG clips: one or two words, as a take of a word
+FINAL_EPOCHS = 10  # the last round goes on from round `--rounds`' weights ...
+FINAL_LEARNING_RATE = 5e-4  # ... at a quarter of the learning rate
+# ... and half its clips heard through another vocal tract, drawn anew each time: the mel bands stretched or
+# squeezed by up to FINAL_BAND_WARP (formants up or down by a tenth, as a child's, a woman's or a man's),
+# which the recorded clips' own resampling (degrade) covers only once per clip. Without it the round heard
+# a one-letter "o" of a voice shifted up as "a", and put it 600 ms early (scripts/measure_recordings.py,
+# "a person").
+FINAL_BAND_WARP = 0.12
 
 
 def training_variants() -> list[str]:
@@ -244,34 +259,66 @@ def non_speech(rng: np.random.Generator) -> np.ndarray:
 # ---------------------------------------------------------------- the corpus
 
 
-def make_clip(job: tuple[str, str, int, int, int]) -> tuple[np.ndarray, np.ndarray]:
-    """Features and frame labels of one clip: a text in a voice, degraded (no text: music or noise)."""
-    text, variant, pitch, rate, seed = job
+def make_clip(job: tuple) -> tuple[np.ndarray, np.ndarray]:
+    """Features and frame labels of one clip: a text in a voice, degraded (no text: music or noise).
+
+    A short clip is one or two words of the spoken text, cut at the engine's word times with a little
+    of what is around them: a take that holds one word, as a person's recording of a word does.
+    """
+    text, variant, pitch, rate, seed, short, whole_take_level = job
     rng = np.random.default_rng(seed)
     if not text:
-        features = recogniser_features(non_speech(rng), whole_take_level=True)
+        features = recogniser_features(non_speech(rng), whole_take_level)
         return features.astype(np.float16), np.zeros(len(features), np.uint8)
     clean, timeline = speak(text, variant, pitch, rate)
-    samples, lead, stretch = degrade(clean, rng)
-    features = recogniser_features(samples, whole_take_level=True)
-    labels = frame_labels(timeline, len(features), stretch)
+    if not short:
+        samples, lead, stretch = degrade(clean, rng)
+        features = recogniser_features(samples, whole_take_level)
+        labels = frame_labels(timeline, len(features), stretch)
+        offset = int(round(lead / FRAME_SECONDS))
+        labels = np.concatenate((np.zeros(offset, np.uint8), labels))[: len(features)]
+        return features.astype(np.float16), np.pad(labels, (0, len(features) - len(labels)))
+    hop = int(round(FRAME_SECONDS * ANALYSIS_RATE))
+    labels = frame_labels(timeline, clean.size // hop + 1)
+    words = timeline.words
+    first = int(rng.integers(0, len(words)))
+    last = min(len(words) - 1, first + int(rng.integers(0, 2)))
+    begin = max(0, int((words[first].start - rng.uniform(0.03, 0.15)) / FRAME_SECONDS))
+    stop = min(labels.size, int(np.ceil((words[last].end + rng.uniform(0.03, 0.15)) / FRAME_SECONDS)))
+    samples, lead, stretch = degrade(clean[begin * hop : stop * hop], rng)
+    features = recogniser_features(samples, whole_take_level)
+    return features.astype(np.float16), moved_labels(labels[begin:stop], len(features), lead, stretch)
+
+
+def moved_labels(labels: np.ndarray, count: int, lead: float, stretch: float) -> np.ndarray:
+    """`count` frame labels of a degraded clip from its clean clip's labels (degrade's lead and stretch)."""
     offset = int(round(lead / FRAME_SECONDS))
-    labels = np.concatenate((np.zeros(offset, np.uint8), labels))[: len(features)]
-    return features.astype(np.float16), np.pad(labels, (0, len(features) - len(labels)))
+    source = np.round((np.arange(count) - offset) / stretch).astype(np.int64)
+    inside = (source >= 0) & (source < labels.size)
+    moved = np.zeros(count, np.uint8)
+    moved[inside] = labels[source[inside]]
+    return moved
 
 
-def make_corpus(count: int, seed: int, cache: Path) -> Path:
-    path = cache / f"corpus_{count}_{seed}.npz"
+def make_corpus(count: int, seed: int, cache: Path, whole_take_level: bool = True) -> Path:
+    """The eSpeak NG clips (the same texts and voices for a seed); without whole_take_level, levelled as
+    the extension levels them and SHORT_CLIP_SHARE of them cut to a word or two."""
+    path = cache / (f"corpus_{count}_{seed}.npz" if whole_take_level else f"corpus_{count}_{seed}_short.npz")
     if path.exists():
         return path
     rng = np.random.default_rng(seed)
+    cuts = np.random.default_rng(seed + 500_000)
     texts = training_texts(count, rng)
     variants = training_variants()
     jobs = []
     for number, text in enumerate(texts):
         voice = (str(rng.choice(variants)), int(rng.integers(-45, 46)), int(rng.integers(-30, 46)))
-        jobs.append((text, *voice, seed + number))
-    jobs += [("", "", 0, 0, seed + 100_000 + extra) for extra in range(int(NON_SPEECH_SHARE * count))]
+        short = not whole_take_level and bool(cuts.random() < SHORT_CLIP_SHARE)
+        jobs.append((text, *voice, seed + number, short, whole_take_level))
+    jobs += [
+        ("", "", 0, 0, seed + 100_000 + extra, False, whole_take_level)
+        for extra in range(int(NON_SPEECH_SHARE * count))
+    ]
     began = time.time()
     with multiprocessing.Pool(2) as pool:
         results = pool.map(make_clip, jobs, chunksize=16)
@@ -295,7 +342,7 @@ def people_labels(recording, network) -> tuple[np.ndarray, np.ndarray, float] | 
     frame of how much worse the forced path scores than the best class (0: the spelling fits every frame).
     """
     samples = people.read(recording, ANALYSIS_RATE)
-    features = recogniser_features(samples, whole_take_level=True)
+    features = recogniser_features(samples, whole_take_level=True)  # as the labelling rounds learnt
     log_posteriors = network.log_posteriors(features)
     try:
         units = text_units(build_utterance(recording.turkish))
@@ -318,26 +365,21 @@ def people_labels(recording, network) -> tuple[np.ndarray, np.ndarray, float] | 
 
 def make_people_clip(job) -> tuple[np.ndarray, np.ndarray]:
     """Features and labels of a person's recording, clean (seed None) or degraded."""
-    samples, labels, seed = job
+    samples, labels, seed, whole_take_level = job
     if seed is None:
-        features = recogniser_features(samples, whole_take_level=True)
+        features = recogniser_features(samples, whole_take_level)
         return features.astype(np.float16), labels[: len(features)]
     degraded, lead, stretch = degrade(samples, np.random.default_rng(seed))
-    features = recogniser_features(degraded, whole_take_level=True)
-    offset = int(round(lead / FRAME_SECONDS))
-    source = np.round((np.arange(len(features)) - offset) / stretch).astype(np.int64)
-    inside = (source >= 0) & (source < labels.size)
-    moved = np.zeros(len(features), np.uint8)
-    moved[inside] = labels[source[inside]]
-    return features.astype(np.float16), moved
+    features = recogniser_features(degraded, whole_take_level)
+    return features.astype(np.float16), moved_labels(labels, len(features), lead, stretch)
 
 
 def make_people_corpus(
-    folder: Path, network_path: Path, copies: int, seed: int, cache: Path, name: str
+    folder: Path, network_path: Path, copies: int, seed: int, cache: Path, name: str, whole_take_level: bool
 ) -> Path:
     """The tune part's recordings (scripts/people.py), labelled by the network at network_path, each
     clean and degraded `copies - 1` times; the worst-fitting tenth (a spelling far from what is said,
-    laughter, shouts over music) left out."""
+    laughter, shouts over music) left out. whole_take_level: how the features are levelled."""
     path = cache / f"people_{name}_{copies}_{seed}.npz"
     if path.exists():
         return path
@@ -348,7 +390,7 @@ def make_people_corpus(
     fits = np.array([fit for _, _, fit in labelled])
     kept = [item for item in labelled if item[2] >= np.percentile(fits, 100 * WORST_FITTING_SHARE)]
     jobs = [
-        (samples, labels, None if copy == 0 else seed + 1_000_000 * copy + number)
+        (samples, labels, None if copy == 0 else seed + 1_000_000 * copy + number, whole_take_level)
         for number, (samples, labels, _) in enumerate(kept)
         for copy in range(copies)
     ]
@@ -369,7 +411,8 @@ def make_people_corpus(
 
 def write_long_term_spectrum(folder: Path, out: Path = LONG_TERM_SPECTRUM_FILE) -> None:
     """Band by band, the median spectral shape of the tune part's lines of people (Dutch and Czech: studio
-    recordings with and without the high bands) that hold speech enough for their own level."""
+    recordings with and without the high bands) that hold speech enough for their own level
+    (features.py levels a short take partly on it)."""
     shapes = []
     for recording in people.recordings(folder, "tune", "line"):
         loudness, shape, level = speech_levels(log_bands(people.read(recording, ANALYSIS_RATE)))
@@ -377,6 +420,21 @@ def write_long_term_spectrum(folder: Path, out: Path = LONG_TERM_SPECTRUM_FILE) 
             shapes.append(shape)
     np.save(out, np.median(shapes, axis=0).astype(np.float32))
     print(f"wrote {out} (the median of {len(shapes)} lines)")
+
+
+def warped_bands(torch, bands, most: float, rng: np.random.Generator):
+    """A batch's log mel bands (clips x bands x frames), half of the clips' band axis stretched by a factor
+    drawn within 1 +- most (linear interpolation between neighbouring bands, the top band held)."""
+    count = bands.shape[1]
+    grid = torch.arange(count, dtype=torch.float32)
+    warped = bands.clone()
+    for clip in np.flatnonzero(rng.random(len(bands)) < 0.5):
+        position = torch.clamp(grid * float(rng.uniform(1 - most, 1 + most)), 0, count - 1)
+        low = position.floor().long()
+        high = torch.clamp(low + 1, max=count - 1)
+        share = (position - low)[:, None]
+        warped[clip] = bands[clip, low] * (1 - share) + bands[clip, high] * share
+    return warped
 
 
 # ---------------------------------------------------------------- statistics the decoder needs
@@ -452,9 +510,18 @@ def load_corpora(paths: list[Path]) -> dict[str, np.ndarray]:
     }
 
 
-def train(corpora: list[Path], epochs: int, seed: int, out: Path, description: str) -> None:
+def train(
+    corpora: list[Path],
+    epochs: int,
+    seed: int,
+    out: Path,
+    description: str,
+    start: Path | None = None,
+    learning_rate: float = 2e-3,
+    band_warp: float = 0.0,
+) -> None:
     """Train on the corpora's clips (the first is the project's own speech; its statistics feed the
-    decoder), and write the weights."""
+    decoder), from random weights or those at `start`, and write the weights."""
     import torch
 
     torch.manual_seed(seed)
@@ -467,10 +534,15 @@ def train(corpora: list[Path], epochs: int, seed: int, out: Path, description: s
     validation = clips[: len(clips) // 30]
     training = clips[len(clips) // 30 :]
     network = build_network(torch)
-    optimiser = torch.optim.Adam(network.parameters(), lr=2e-3)
+    if start is not None:
+        with np.load(start) as weights:
+            network.load_state_dict(
+                {name: torch.from_numpy(weights[f"weight/{name}"]) for name in network.state_dict()}
+            )
+    optimiser = torch.optim.Adam(network.parameters(), lr=learning_rate)
     steps_per_epoch = int(lengths[training].sum() / CROP_FRAMES / 32)
     schedule = torch.optim.lr_scheduler.OneCycleLR(
-        optimiser, max_lr=2e-3, total_steps=epochs * steps_per_epoch, pct_start=0.15
+        optimiser, max_lr=learning_rate, total_steps=epochs * steps_per_epoch, pct_start=0.15
     )
     feature_tensor = torch.from_numpy(features.astype(np.float32))
     label_tensor = torch.from_numpy(labels.astype(np.int64))
@@ -501,6 +573,8 @@ def train(corpora: list[Path], epochs: int, seed: int, out: Path, description: s
             # Channel and level changes the features' levelling does not undo entirely: a random tilt.
             tilt = torch.linspace(-1, 1, FEATURE_COUNT - 1)[None, :, None] * torch.randn(32, 1, 1)
             x[:, :-1] += 0.15 * tilt
+            if band_warp:
+                x[:, :-1] = warped_bands(torch, x[:, :-1], band_warp, rng)
             loss = loss_function(network(x), y)
             optimiser.zero_grad()
             loss.backward()
@@ -557,6 +631,29 @@ def export(network, data, out: Path, seed: int, epochs: int, description: str) -
     print(f"wrote {out} ({out.stat().st_size / 1e6:.2f} MB)")
 
 
+def labelling_rounds(args, own: str) -> Path:
+    """The weights of the last round that labels people's speech (round `--rounds`), trained with the
+    rounds before it where the cache does not hold them."""
+    last = args.cache / f"round_{args.rounds}_{args.seed}.npz"
+    if last.exists():
+        return last
+    network = args.cache / f"round_0_{args.seed}.npz"
+    if not network.exists():
+        train([make_corpus(args.clips, args.seed, args.cache)], args.epochs, args.seed, network, own)
+    for round_number in range(1, args.rounds + 1):
+        name = f"round_{round_number}"
+        previous, network = network, args.cache / f"{name}_{args.seed}.npz"
+        if not network.exists():
+            speech = make_people_corpus(args.people, previous, args.copies, args.seed, args.cache, name, True)
+            description = (
+                f"{own}; and people's speech (scripts/people.py's tune part, labelled by forced alignment "
+                f"with round {round_number - 1}'s network, clean and degraded)"
+            )
+            corpus = make_corpus(args.clips, args.seed, args.cache)
+            train([corpus, speech], args.epochs, args.seed, network, description)
+    return network
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--clips", type=int, default=5000, help="spoken texts (non-speech clips come on top)")
@@ -573,24 +670,35 @@ def main(argv: list[str] | None = None) -> int:
     if args.spectrum:
         write_long_term_spectrum(args.people)
         return 0
-    corpus = make_corpus(args.clips, args.seed, args.cache)
     if args.corpus_only:
+        make_corpus(args.clips, args.seed, args.cache)
+        make_corpus(args.clips, args.seed, args.cache, whole_take_level=False)
         return 0
     args.cache.mkdir(parents=True, exist_ok=True)
     own = "eSpeak NG's Turkish voice (variants, rates, pitches), degraded"
-    network = args.cache / f"round_0_{args.seed}.npz"
-    if not network.exists():
-        train([corpus], args.epochs, args.seed, network, own)
-    for round_number in range(1, args.rounds + 1):
-        name = f"round_{round_number}"
-        speech = make_people_corpus(args.people, network, args.copies, args.seed, args.cache, name)
-        network = args.out if round_number == args.rounds else args.cache / f"{name}_{args.seed}.npz"
-        description = (
-            f"{own}; and people's speech (scripts/people.py's tune part, labelled by forced alignment "
-            f"with round {round_number - 1}'s network, clean and degraded)"
-        )
-        train([corpus, speech], args.epochs, args.seed, network, description)
+    network = labelling_rounds(args, own)
+    # The last round: every clip levelled as the extension levels it (a short take partly on people's
+    # long-term spectrum), with short clips among eSpeak NG's; going on from the last round's weights.
     write_long_term_spectrum(args.people)
+    corpus = make_corpus(args.clips, args.seed, args.cache, whole_take_level=False)
+    name = f"round_{args.rounds + 1}"
+    speech = make_people_corpus(args.people, network, args.copies, args.seed, args.cache, name, False)
+    description = (
+        f"{own}, a third of it cut to a word or two; and people's speech (scripts/people.py's tune part, "
+        f"labelled by forced alignment with round {args.rounds}'s network, clean and degraded); "
+        f"{FINAL_EPOCHS} epochs on from round {args.rounds}'s weights, half the clips' mel bands warped by "
+        f"up to {FINAL_BAND_WARP:.0%}"
+    )
+    train(
+        [corpus, speech],
+        FINAL_EPOCHS,
+        args.seed,
+        args.out,
+        description,
+        network,
+        FINAL_LEARNING_RATE,
+        FINAL_BAND_WARP,
+    )
     return 0
 
 

@@ -1,0 +1,187 @@
+"""The judgement's constants (speech/judgement.py) tried on people's recordings: the **tune** part only.
+
+    python scripts/tune_judgement.py [--cache DIR] [--set NAME=VALUE ...] [--try NAME=V1,V2,...]
+
+Every take of the tune part that scripts/measure_people.py aligns with a text (words said alone, lists of
+eight read with pauses with their own text and another speaker's, the Czech and Dutch lines with their
+own spelling and with the next line's) is
+aligned once per weights file, and what the aligner hands the judgement (the text, the synthetic
+phones, the time warp and the frames' fit) is kept in a cache folder. Each setting then re-runs only
+judgement.judge, so a sweep over its constants takes seconds per setting. Printed per set: how many takes
+of their own text are refused and warned, how many takes of another text are refused or warned (caught),
+and the take's mismatch and order ratio at their median and extremes, which say where a bar can go.
+
+NAME is a module constant of speech/judgement.py (e.g. LOOSE, OTHER_TEXT); each --try varies one constant
+from the --set baseline.
+"""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+import pickle
+import sys
+import tempfile
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+
+REPOSITORY = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPOSITORY))
+
+from scripts import people  # noqa: E402
+from scripts.measure_people import RATE, SENTENCE_WORDS, words  # noqa: E402
+from scripts.measure_recogniser import TUNING_CACHE  # noqa: E402
+from scripts.measure_recordings import write_wav  # noqa: E402
+from turkish_lipsync.core.base.errors import AudioError, LipSyncError  # noqa: E402
+from turkish_lipsync.core.speech import judgement, recording, synthesize_timeline  # noqa: E402
+from turkish_lipsync.core.speech.acoustic.network import WEIGHTS_FILE  # noqa: E402
+from turkish_lipsync.core.text.utterance import build_utterance  # noqa: E402
+
+LIST_SEEDS = (8, 9, 10, 11, 12)  # measure_people draws the report part's lists with seed 8
+LINES_EVERY = {"fillets-cs": 3, "fillets-nl": 6}  # about 160 lines of each language
+
+
+def judged(text: str, path: Path):
+    """What the aligner hands judgement.judge for this take and text (None where it fails before)."""
+    captured = []
+
+    def capture(*arguments):
+        captured.append(arguments)
+        return judge(*arguments)
+
+    judge = recording.judge
+    recording.judge = capture
+    try:
+        synthesize_timeline(build_utterance(text), recording=path)
+    except LipSyncError:
+        pass
+    finally:
+        recording.judge = judge
+    return captured[0] if captured else None
+
+
+def tune_takes(scratch: Path) -> list[tuple[str, bool, Path, str]]:
+    """(set, own text, path, text) of every take judged."""
+    takes = [("words", True, r.path, r.turkish) for r in words("tune", people.FOLDER)]
+    items = people.recordings(people.FOLDER, "tune", "syllable") + people.recordings(
+        people.FOLDER, "tune", "word"
+    )
+    items = [item for item in items if len(item.turkish.split()) == 1]
+    lists = [
+        take
+        for seed in LIST_SEEDS
+        for take in people.lists_of_eight(items, np.random.default_rng(seed), RATE)
+    ]
+    for number, take in enumerate(lists):
+        path = write_wav(scratch / f"list{number}.wav", take.samples, RATE)
+        takes.append(("lists", True, path, take.text))
+        other = next(t for t in lists[number + 1 :] + lists if t.speaker != take.speaker)
+        takes.append(("lists", False, path, other.text))
+    lines = [
+        r
+        for r in people.recordings(people.FOLDER, "tune", "line")
+        if len(r.turkish.split()) >= SENTENCE_WORDS
+    ]
+    for source, every in LINES_EVERY.items():
+        chosen = [r for r in lines if r.source.startswith(source)][::every]
+        for index, line in enumerate(chosen):
+            takes.append((source, True, line.path, line.turkish))
+            takes.append((source, False, line.path, chosen[(index + 1) % len(chosen)].turkish))
+    return takes
+
+
+def cached_judgements(cache: Path) -> list:
+    """(set, own text, the judge's arguments) of every take, computed once per weights file."""
+    digest = hashlib.sha1(WEIGHTS_FILE.read_bytes()).hexdigest()[:12]
+    file = cache / f"judgement_tune_{digest}.pickle"
+    if file.exists():
+        return pickle.loads(file.read_bytes())
+    found = []
+    with tempfile.TemporaryDirectory() as scratch:
+        takes = tune_takes(Path(scratch))
+        for number, (name, own, path, text) in enumerate(takes):
+            arguments = judged(text, path)
+            if arguments is not None:
+                found.append((name, own, arguments))
+            print(f"  judged {number + 1} of {len(takes)}", end="\r", file=sys.stderr, flush=True)
+    cache.mkdir(parents=True, exist_ok=True)
+    file.write_bytes(pickle.dumps(found))
+    return found
+
+
+def verdict(arguments) -> str:
+    try:
+        _, warnings = judgement.judge(*arguments)
+    except AudioError:
+        return "refused"
+    return "warned" if warnings else "clean"
+
+
+def figures(takes: list) -> dict[str, str]:
+    """Per set: own text refused / warned, another text caught."""
+    results = {}
+    for name in dict.fromkeys(name for name, _, _ in takes):
+        own, other = Counter(), Counter()
+        for set_name, is_own, arguments in takes:
+            if set_name == name:
+                (own if is_own else other)[verdict(arguments)] += 1
+        text = f"refused {own['refused']}, warned {own['warned']} of {own.total()}"
+        if other.total():
+            caught = other["refused"] + other["warned"]
+            text += f"; other caught {100 * caught / other.total():.0f} % ({other['refused']} refused)"
+        results[name] = text
+    return results
+
+
+def spread(takes: list) -> None:
+    """The take mismatch and order ratio of own and other texts, per set."""
+    for name in dict.fromkeys(name for name, _, _ in takes):
+        for is_own in (True, False):
+            fits = [
+                (judgement.take_mismatch(arguments[3]), arguments[3].order_ratio)
+                for set_name, own, arguments in takes
+                if set_name == name and own == is_own
+            ]
+            if fits:
+                mismatch, order = (
+                    "/".join(f"{value:.2f}" for value in np.percentile(column, (5, 50, 95)))
+                    for column in np.array(fits).T
+                )
+                label = "own" if is_own else "other"
+                print(f"  {name} {label} ({len(fits)}): mismatch p5/50/95 {mismatch}, order ratio {order}")
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--cache", type=Path, default=TUNING_CACHE)
+    parser.add_argument("--set", action="append", default=[], help="NAME=VALUE: the baseline")
+    parser.add_argument("--try", dest="tries", action="append", default=[], help="NAME=V1,V2,...")
+    arguments = parser.parse_args(argv)
+    takes = cached_judgements(arguments.cache)
+    print(f"{len(takes)} takes judged (weights {WEIGHTS_FILE.name})")
+    spread(takes)
+    shipped = {name: getattr(judgement, name) for name in dir(judgement) if name.isupper()}
+    fixed = {name: float(value) for name, value in (text.split("=") for text in arguments.set)}
+    varied = [
+        (name, float(value))
+        for name, values in (t.split("=") for t in arguments.tries)
+        for value in values.split(",")
+    ]
+    for setting in [fixed] + [fixed | {name: value} for name, value in varied]:
+        unknown = set(setting) - set(shipped)
+        if unknown:
+            parser.error(f"speech/judgement.py has no constant {', '.join(sorted(unknown))}")
+        for name, value in setting.items():
+            setattr(judgement, name, type(shipped[name])(value))
+        print(", ".join(f"{name}={value:g}" for name, value in setting.items()) or "as shipped")
+        for name, text in figures(takes).items():
+            print(f"  {name}: {text}")
+        for name in setting:
+            setattr(judgement, name, shipped[name])
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
