@@ -14,9 +14,10 @@ LIST = "pi, tu, ba, ne, rje, ko, no, si"
 WORD_FRAMES, GAP_FRAMES = 30, 10  # each item 0.3 s, 0.1 s of pause after it (10 ms frames)
 
 
-def judged(word_mismatch: list[float], order_ratio: float):
-    """judge() on a take of LIST whose items fit their letters with these mismatches (one per item)."""
-    utterance = build_utterance(LIST)
+def judged(word_mismatch: list[float], order_ratio: float, text: str = LIST):
+    """judge() on a take of `text` (eight words) whose words fit their letters with these mismatches, each
+    word 0.3 s and a 0.1 s pause after it."""
+    utterance = build_utterance(text)
     step = WORD_FRAMES + GAP_FRAMES
     frames = step * len(utterance.words)
     frame_words = np.full(frames, -1)
@@ -63,3 +64,11 @@ def test_a_list_whose_best_items_fit_closely_is_warned_not_refused():
 
 def test_a_close_take_is_clean():
     assert judged([0.3] * 8, order_ratio=0.7)[1] == ()
+
+
+def test_a_list_is_allowed_a_looser_fit_than_a_sentence():
+    """Items read one by one are found between their pauses: the same fit warns a sentence, not a list."""
+    fit = [1.4] * 8
+    assert judged(fit, order_ratio=0.85)[1] == ()
+    sentence = judged(fit, order_ratio=0.85, text="pi tu ba ne rje ko no si")[1]
+    assert any("fits this text only loosely" in warning for warning in sentence)
