@@ -67,8 +67,9 @@ SPEAKER_SILENCE_BIAS = -8.0
 # Where a pause may hold quiet speech (a voice in the background, a room's tail), silence gains this much:
 # at 2.0 the network of the fourth round (scripts/train_recogniser.py), hearing a background talker's
 # vowel in a hesitation as the next word's, started that word 100 ms early in half of eSpeak NG's
-# renditions of the take (tests/core/test_speech_recording_person.py); at 3.0 in none of ten, the
-# tune part's lists of eight as before (onsets 11 / 56 / 129 ms).
+# renditions of the take (tests/core/test_speech_recording_person.py); at 3.0 in none of ten. The tune
+# part's lists of eight as before (onsets 10 / 56 / 129 ms); the report part's p90 69 -> 74 ms: a quiet s
+# that starts an item is taken for a pause the more (docs/developer/measured/people.md).
 QUIET_SILENCE_BIAS = 3.0
 # A sound dying away (a room's tail after a word, a vowel's end) keeps no silence bias: from where the level
 # falls past FADING_DB under the speaker's loud frames until it rises RISING_DB from the lowest it reached
