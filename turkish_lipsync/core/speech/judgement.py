@@ -78,7 +78,7 @@ PLAINLY_OTHER_TEXT = 2.5
 # ("tsya", "şçı") fits as a whole, and in its order, as badly as another list's text, but its best
 # words fit as another text's words do not (tune part, scripts/tune_judgement.py: the quarter-best word
 # of a list read with its text at most 0.89, median 0.25; of another list's text at least 0.84, of
-# another line's text p5 0.84-0.90). Such a take is warned as loose.
+# another line's text p5 0.84-0.90). Such a take is judged by how loosely it fits (LOOSE, LIST_LOOSE).
 WORDS_HEARD = 0.8
 # A take fits its text only loosely, and is warned, when its mismatch plus ORDER_WEIGHT times its order
 # ratio's excess over OWN_TEXT_ORDER_RATIO passes LOOSE: the order says as much as the fit. On the tune
