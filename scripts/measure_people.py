@@ -105,6 +105,18 @@ def words(part: str, folder: Path) -> list[people.Recording]:
     return said_alone
 
 
+def list_items(part: str, folder: Path) -> list[people.Recording]:
+    """The syllables and words of one word that lists of eight are read from (one word an item: the onsets
+    compare)."""
+    items = people.recordings(folder, part, "syllable") + people.recordings(folder, part, "word")
+    return [item for item in items if len(item.turkish.split()) == 1]
+
+
+def sentence_lines(part: str, folder: Path) -> list[people.Recording]:
+    """The voice-acted lines of SENTENCE_WORDS words or more."""
+    return [r for r in people.recordings(folder, part, "line") if len(r.turkish.split()) >= SENTENCE_WORDS]
+
+
 def measure_words(part: str, folder: Path) -> None:
     chosen = words(part, folder)
     with_text, without = Counter(), Counter()
@@ -162,9 +174,7 @@ def measure_syllables(part: str, folder: Path) -> None:
 
 
 def measure_lists(part: str, folder: Path, aeneas: bool, scratch: Path) -> None:
-    items = people.recordings(folder, part, "syllable") + people.recordings(folder, part, "word")
-    items = [item for item in items if len(item.turkish.split()) == 1]  # one word an item: onsets compare
-    takes = people.lists_of_eight(items, np.random.default_rng(8), RATE)
+    takes = people.lists_of_eight(list_items(part, folder), np.random.default_rng(8), RATE)
     counts, errors, theirs = Counter(), [], []
     for number, take in enumerate(takes):
         path = write_wav(scratch / f"list{number}.wav", take.samples, RATE)
@@ -189,7 +199,7 @@ def measure_lists(part: str, folder: Path, aeneas: bool, scratch: Path) -> None:
 
 
 def measure_sentences(part: str, folder: Path, every: int, scratch: Path) -> None:
-    lines = [r for r in people.recordings(folder, part, "line") if len(r.turkish.split()) >= SENTENCE_WORDS]
+    lines = sentence_lines(part, folder)
     for source in sorted({r.source.split("/")[0] for r in lines}):
         chosen = [r for r in lines if r.source.startswith(source)][::every]
         same, other, alone = Counter(), Counter(), Counter()

@@ -381,12 +381,13 @@ def tuning_module(name: str):
     raise SystemExit(f"no constant {name} in recognition/decoder.py or recognition/recogniser.py")
 
 
-def settings_tried(baseline: list[str], tries: list[str]) -> list[dict[str, float]]:
+def settings_tried(baseline: list[str], tries: list[str], untried: dict = TUNED) -> list[dict[str, float]]:
     """The settings a tuning run tries: the baseline (NAME=VALUE), then each NAME=V1,V2 one at a time
-    (the decoder's TUNED ranges when no --try is given)."""
+    (`untried`'s ranges when no --try is given: the decoder's TUNED)."""
     fixed = {name: float(value) for name, value in (text.split("=") for text in baseline)}
     varied = {name: tuple(map(float, values.split(","))) for name, values in (t.split("=") for t in tries)}
-    return [fixed] + [fixed | {name: value} for name, values in (varied or TUNED).items() for value in values]
+    ranges = varied or untried
+    return [fixed] + [fixed | {name: value} for name, values in ranges.items() for value in values]
 
 
 def applied(setting: dict[str, float]) -> dict[str, float]:

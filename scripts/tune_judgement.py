@@ -31,8 +31,8 @@ REPOSITORY = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPOSITORY))
 
 from scripts import people  # noqa: E402
-from scripts.measure_people import RATE, SENTENCE_WORDS, words  # noqa: E402
-from scripts.measure_recogniser import TUNING_CACHE  # noqa: E402
+from scripts.measure_people import RATE, list_items, sentence_lines, words  # noqa: E402
+from scripts.measure_recogniser import TUNING_CACHE, settings_tried  # noqa: E402
 from scripts.measure_recordings import write_wav  # noqa: E402
 from turkish_lipsync.core.base.errors import AudioError, LipSyncError  # noqa: E402
 from turkish_lipsync.core.speech import judgement, recording, synthesize_timeline  # noqa: E402
@@ -65,10 +65,7 @@ def judged(text: str, path: Path):
 def tune_takes(scratch: Path) -> list[tuple[str, bool, Path, str]]:
     """(set, own text, path, text) of every take judged."""
     takes = [("words", True, r.path, r.turkish) for r in words("tune", people.FOLDER)]
-    items = people.recordings(people.FOLDER, "tune", "syllable") + people.recordings(
-        people.FOLDER, "tune", "word"
-    )
-    items = [item for item in items if len(item.turkish.split()) == 1]
+    items = list_items("tune", people.FOLDER)
     lists = [
         take
         for seed in LIST_SEEDS
@@ -79,11 +76,7 @@ def tune_takes(scratch: Path) -> list[tuple[str, bool, Path, str]]:
         takes.append(("lists", True, path, take.text))
         other = next(t for t in lists[number + 1 :] + lists if t.speaker != take.speaker)
         takes.append(("lists", False, path, other.text))
-    lines = [
-        r
-        for r in people.recordings(people.FOLDER, "tune", "line")
-        if len(r.turkish.split()) >= SENTENCE_WORDS
-    ]
+    lines = sentence_lines("tune", people.FOLDER)
     for source, every in LINES_EVERY.items():
         chosen = [r for r in lines if r.source.startswith(source)][::every]
         for index, line in enumerate(chosen):
@@ -163,13 +156,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"{len(takes)} takes judged (weights {WEIGHTS_FILE.name})")
     spread(takes)
     shipped = {name: getattr(judgement, name) for name in dir(judgement) if name.isupper()}
-    fixed = {name: float(value) for name, value in (text.split("=") for text in arguments.set)}
-    varied = [
-        (name, float(value))
-        for name, values in (t.split("=") for t in arguments.tries)
-        for value in values.split(",")
-    ]
-    for setting in [fixed] + [fixed | {name: value} for name, value in varied]:
+    for setting in settings_tried(arguments.set, arguments.tries, untried={}):
         unknown = set(setting) - set(shipped)
         if unknown:
             parser.error(f"speech/judgement.py has no constant {', '.join(sorted(unknown))}")

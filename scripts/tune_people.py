@@ -29,7 +29,7 @@ REPOSITORY = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPOSITORY))
 
 from scripts import people  # noqa: E402
-from scripts.measure_people import BILABIALS, SENTENCE_WORDS, VOWEL_CLASSES  # noqa: E402
+from scripts.measure_people import BILABIALS, VOWEL_CLASSES, sentence_lines  # noqa: E402
 from scripts.measure_recogniser import (  # noqa: E402
     TUNING_CACHE,
     applied,
@@ -70,9 +70,7 @@ def cached_takes(part: str, sentences_every: int, cache: Path) -> tuple[list, li
     for recording in people.recordings(people.FOLDER, part, "syllable"):
         features, duration = heard_features(recording.path)
         syllables.append((recording, network.log_posteriors(features), duration))
-    lines = [
-        r for r in people.recordings(people.FOLDER, part, "line") if len(r.turkish.split()) >= SENTENCE_WORDS
-    ]
+    lines = sentence_lines(part, people.FOLDER)
     for source in ("fillets-cs", "fillets-nl"):
         for recording in [r for r in lines if r.source.startswith(source)][::sentences_every]:
             try:
