@@ -38,6 +38,7 @@ import numpy as np
 REPOSITORY = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPOSITORY))
 
+from scripts import diphone_voices  # noqa: E402
 from scripts.corpus import held_out_sentences, tuning_sentences  # noqa: E402
 from scripts.measure_recordings import CONDITIONS, takes, write_wav  # noqa: E402
 from scripts.train_recogniser import speak  # noqa: E402
@@ -62,6 +63,9 @@ TEST_VOICES = {
     "benjamin": ("benjamin", -25, 5),
     "steph2": ("steph2", 30, -10),
 }
+# MBROLA's Turkish diphone voices (recordings of two Turkish speakers cut and joined; never in training):
+# measured only when named with --voices.
+DIPHONE_VOICES = {"mbrola-tr1": ("mb-tr1", 0, 0), "mbrola-tr2": ("mb-tr2", 0, 0)}  # scripts/diphone_voices.py
 # Held out of training too, but never in the measure: the decoder's constants are tuned on these voices,
 # reading the tuning sentences (lines 1-30).
 TUNING_VOICES = {"iven2": ("iven2", 5, 15), "grandpa": ("grandpa", -10, -15)}
@@ -156,7 +160,10 @@ def bilabial_scores(truth: Timeline, found: Timeline, offset: float) -> tuple[in
 
 def make_take(text: str, voice: tuple[str, int, int], condition: str, folder: Path, rng) -> tuple:
     """A degraded take of the text in the voice: its path, the truth's timeline and the lead (seconds)."""
-    samples, truth = speak(text, *voice, sample_rate=RECORDED_RATE)
+    if voice[0].startswith("mb-"):
+        samples, truth = diphone_voices.speak(text, voice[0].removeprefix("mb-"), RECORDED_RATE)
+    else:
+        samples, truth = speak(text, *voice, sample_rate=RECORDED_RATE)
     # The reading's start stands in for its words: a condition pads the take, and moves them by its lead.
     reading = takes.Take(samples, words=np.zeros(1), letters=np.zeros(0), commas=np.zeros(1, bool))
     degraded = CONDITIONS[condition](reading, rng, {})
@@ -193,6 +200,8 @@ def check_held_out(voices: list[str]) -> None:
     held_out = set(load_network().metadata["held_out_variants"])
     trained = set(load_network().metadata["training_variants"])
     for name in voices:
+        if name in DIPHONE_VOICES:
+            continue
         variant = TEST_VOICES[name][0]
         if variant not in held_out or variant in trained:
             raise SystemExit(f"{variant} was used in training: it cannot measure held-out voices")
@@ -209,7 +218,9 @@ def measure(texts: list[str], voices: list[str], conditions: list[str], folder: 
     for condition in conditions:
         rng = np.random.default_rng(5)
         results = [
-            measure_take(text, TEST_VOICES[name], condition, folder, rng) for text in texts for name in voices
+            measure_take(text, (TEST_VOICES | DIPHONE_VOICES)[name], condition, folder, rng)
+            for text in texts
+            for name in voices
         ]
         everything += results
         print(_row(condition, results), flush=True)
@@ -429,7 +440,9 @@ def tune(folder: Path, baseline: list[str], tries: list[str]) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--voices", nargs="+", choices=sorted(TEST_VOICES), default=list(TEST_VOICES))
+    parser.add_argument(
+        "--voices", nargs="+", choices=sorted(TEST_VOICES | DIPHONE_VOICES), default=list(TEST_VOICES)
+    )
     parser.add_argument("--conditions", nargs="+", choices=TEST_CONDITIONS, default=list(TEST_CONDITIONS))
     parser.add_argument("--sentences", type=int, default=0, help="use only the first N sentences")
     parser.add_argument("--speed", type=float, metavar="MINUTES", help="time one take this long instead")

@@ -61,6 +61,7 @@ REPOSITORY = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPOSITORY))
 sys.path.insert(0, str(REPOSITORY / "scripts"))
 
+import diphone_voices  # noqa: E402
 import takes  # noqa: E402
 from corpus import held_out_sentences, tuning_sentences  # noqa: E402
 from takes import RATE, Take  # noqa: E402
@@ -91,6 +92,10 @@ VOICES = {
     "m3-slow": Voice("tr+m3", -15, -20),
     "m7-low": Voice("tr+m7", -20, 5),
     "f2-high-slow": Voice("tr+f2", 15, -15),
+    # MBROLA's Turkish diphone voices (scripts/diphone_voices.py): recordings of two Turkish speakers cut and
+    # joined, at eSpeak NG's durations and pitch: another kind of synthesiser, and real people's sounds.
+    "mbrola-tr1": Voice("mb-tr1", 0, 0),
+    "mbrola-tr2": Voice("mb-tr2", 0, 0),
 }
 DEFAULT_VOICES = ("f3-high", "m5-low-fast", "klatt-slow", "f5-fast")
 HELD_OUT_VOICES = ("croak", "m3-slow", "m7-low", "f2-high-slow")
@@ -99,6 +104,14 @@ TALKER = Voice("tr+m2", -5, 5)  # the voice in the background, reading a sentenc
 
 def speak(text: str, voice: Voice) -> Take:
     """The voice's reading of the text at RATE, with its word and letter onsets (the truth)."""
+    if voice.variant.startswith("mb-"):
+        samples, timeline = diphone_voices.speak(text, voice.variant.removeprefix("mb-"), RATE)
+        return Take(
+            samples,
+            words=np.array([word.start for word in timeline.words]),
+            letters=np.array([phone.start for phone in timeline.phones]),
+            commas=np.array([word.pause_before > 0 for word in build_utterance(text).words]),
+        )
     library = espeak._library()  # the measuring stand-ins need another variant of the engine's one voice
     utterance = build_utterance(f'<PROS PITCH="{voice.pitch:+d}%" RATE="{voice.rate:+d}%">{text}</PROS>')
     with library.lock:

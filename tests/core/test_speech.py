@@ -204,6 +204,30 @@ def test_breaks_and_punctuation_are_exact_silence_between_words():
     assert timeline.duration >= timeline.words[-1].end + utterance.final_pause - 1e-6
 
 
+def test_a_voiceless_stop_begins_where_its_closure_falls_silent_not_at_its_burst():
+    """eSpeak NG reports p, t, k and ç at the burst; the silence before belongs to the stop (the lips of
+    the p in "kapı" are shut through it), and a stop that begins the speech after a pause keeps its burst."""
+    speech = synthesize_timeline(build_utterance("Kapı açık, tepe."))
+    timeline, synthesis = speech.timeline, speech.synthesis
+    rate = synthesis.sample_rate
+    samples = synthesis.samples.astype(np.float64)
+    loud = np.sqrt(np.mean(samples**2))
+
+    def level(start: float, stop: float) -> float:
+        return float(np.sqrt(np.mean(samples[int(start * rate) : int(stop * rate)] ** 2)))
+
+    letters = {(phone.word_index, phone.letter): phone for phone in timeline.phones}
+    for word_index, letter in ((0, "p"), (1, "k"), (1, "ç")):
+        phone = letters[(word_index, letter)]
+        assert level(phone.start + 0.005, phone.start + 0.02) < loud / 100, letter  # its closure
+        assert level(phone.start - 0.01, phone.start) > loud / 30, letter  # the vowel before, sounding
+        assert timeline.phones[phone.letter_index - 1].end <= phone.start + 1e-9
+    # "tepe" follows a comma's pause: its t starts the sound, at the burst.
+    first = letters[(2, "t")]
+    assert level(first.start - 0.02, first.start - 0.001) == 0
+    assert level(first.start, first.start + 0.02) > loud / 100
+
+
 def test_an_emphasised_word_is_spoken_longer():
     plain = synthesize_timeline(build_utterance("Bu kitap gerçekten güzel.")).timeline
     emphasised = synthesize_timeline(build_utterance("Bu kitap <EMP>gerçekten</EMP> güzel.")).timeline

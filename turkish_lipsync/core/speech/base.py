@@ -27,6 +27,9 @@ class PhoneEvent:
     symbol: str  # the engine's own phone name, marks included (e.g. "'a", "tS")
     word_index: int  # index into Utterance.words
     letters: tuple[int, ...] = ()  # indices into Utterance.letters, filled by align.py
+    # Seconds of silence just before start that belong to this phone: a voiceless stop's closure, which
+    # the engine reports at the burst (with_closures moves the start back over it).
+    closure: float = 0.0
 
 
 @dataclass(frozen=True)

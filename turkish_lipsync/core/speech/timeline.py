@@ -10,6 +10,7 @@ from ..base.model import Timeline, Utterance
 from .align import phone_letter_spans, word_letter_spans
 from .base import Synthesis, get_engine
 from .recording import align_recording
+from .timewarp import with_closures
 from .timing import build_timeline, table_timeline
 
 TIMINGS = ("phone", "word", "table", "recording")
@@ -71,7 +72,7 @@ def synthesize_timeline(
     if timing == "word":
         starts, ends = word_letter_spans(utterance, synthesis)
     else:
-        starts, ends, synthesis = phone_letter_spans(utterance, synthesis, speech_engine)
+        starts, ends, synthesis = phone_letter_spans(utterance, with_closures(synthesis), speech_engine)
     onsets = tuple(event.start for event in synthesis.phone_events)
     timeline = build_timeline(utterance, starts, ends, synthesis.duration, label, onsets)
     return Speech(timeline, synthesis, warnings)

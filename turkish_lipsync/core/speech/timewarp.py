@@ -28,13 +28,25 @@ class TimeWarp:
         return np.clip(warped, 0.0, self.recording_duration)
 
 
+CLOSURE_STRETCH = 3.0  # a recorded closure lasts at most this many times the synthetic one ...
+LONGEST_CLOSURE = 0.15  # ... and at most this long (seconds)
 JUMP = 1e-6  # seconds between the two knots of a jump (ends of events are warped this much before them)
 
 
 def warp_synthesis(synthesis: Synthesis, warp: TimeWarp, samples: np.ndarray) -> Synthesis:
     """The synthesis's events moved onto the recording's time, holding the recording's samples."""
     phones = synthesis.phone_events
-    starts = warp(np.array([event.start for event in phones]))
+    synthetic_starts = np.array([event.start for event in phones])
+    starts = warp(synthetic_starts)
+    # A closure lasts as long as its part of the phone before it does in the recording (a pause between
+    # the two is a jump of the warp, which it does not take), but no longer than a person's closures go:
+    # the phone before may hold a hesitation the alignment did not see.
+    synthetic_closures = np.array([event.closure for event in phones])
+    closures = np.minimum(
+        warp(synthetic_starts - JUMP) - warp(synthetic_starts - synthetic_closures),
+        np.minimum(CLOSURE_STRETCH * synthetic_closures, LONGEST_CLOSURE),
+    )
+    closures = np.where(synthetic_closures > 0, np.maximum(closures, 0.0), 0.0)
     ends = warp(np.array([event.end for event in phones]) - JUMP)  # a pause after a phone follows its end
     words = synthesis.word_events
     word_starts = warp(np.array([event.start for event in words]))
@@ -42,11 +54,27 @@ def warp_synthesis(synthesis: Synthesis, warp: TimeWarp, samples: np.ndarray) ->
         samples=samples,
         sample_rate=synthesis.sample_rate,
         phone_events=tuple(
-            replace(event, start=float(start), end=float(end))
-            for event, start, end in zip(phones, starts, ends, strict=True)
+            replace(event, start=float(start), end=float(end), closure=float(closure))
+            for event, start, end, closure in zip(phones, starts, ends, closures, strict=True)
         ),
         word_events=tuple(
             replace(event, start=float(start)) for event, start in zip(words, word_starts, strict=True)
         ),
         engine="recording",
     )
+
+
+def with_closures(synthesis: Synthesis) -> Synthesis:
+    """The synthesis with each phone started at its closure (PhoneEvent.closure), which it takes from the
+    end of the phone before: the lips of a p are shut, and a t or k held, while its closure is silent."""
+    events = list(synthesis.phone_events)
+    for number, event in enumerate(events):
+        if event.closure <= 0:
+            continue
+        start = event.start - event.closure
+        if number:
+            before = events[number - 1]
+            start = max(start, before.start)
+            events[number - 1] = replace(before, end=min(before.end, start))
+        events[number] = replace(event, start=start, closure=0.0)
+    return replace(synthesis, phone_events=tuple(events))

@@ -27,7 +27,9 @@ SILENT_PEAK_DB = -70.0  # a recording never louder than this (dB full scale) hol
 # The confidence (recogniser.py) below which a take is reported as doubtful. Measured on the tuning voices
 # (scripts/measure_recogniser.py --bad): Turkish 0.94-1.0 in noise, after a breath, through MP3, 0.81-0.97
 # in a reverberant room; eSpeak NG's English, German, French and Japanese 0.80-0.91 (Spanish and
-# Azerbaijani, whose sounds are close to Turkish ones, 0.90-0.98).
+# Azerbaijani, whose sounds are close to Turkish ones, 0.90-0.98). People's voices lie lower whatever their
+# language (MBROLA's two Turkish speakers 0.55-0.76, people's Czech 0.40-0.62 and Dutch 0.53-0.76): no bar
+# tells a person's Turkish from another language, so every person's take is reported, saying so.
 DOUBTFUL_CONFIDENCE = 0.92
 
 
@@ -66,9 +68,10 @@ def _warnings(path: Path, recognition: Recognition) -> tuple[str, ...]:
     if recognition.confidence >= DOUBTFUL_CONFIDENCE:
         return ()
     return (
-        f"the speech in {path} was recognised with low confidence ({recognition.confidence:.0%}, Turkish "
-        f"gives {DOUBTFUL_CONFIDENCE:.0%} or more): it may not be Turkish, or be very noisy or reverberant; "
-        "the mouth follows what was heard, but give the text it says for exact lip sync",
+        f"the speech in {path} was recognised with low confidence ({recognition.confidence:.0%}; eSpeak "
+        f"NG's Turkish gives {DOUBTFUL_CONFIDENCE:.0%} or more, recordings of people less): it may not be "
+        "Turkish, be noisy or reverberant, or be a voice unlike those the recogniser learnt from; the mouth "
+        "follows what was heard, but give the text it says for exact lip sync",
     )
 
 
