@@ -383,13 +383,14 @@ def tuning_takes(folder: Path) -> list[tuple]:
 
 
 def tuning_module(name: str):
-    """The module of recognition/ that holds the constant `name` (decoder.py or recogniser.py)."""
-    from turkish_lipsync.core.speech.recognition import decoder, recogniser
+    """The module of recognition/ that holds the constant `name` (decoder.py, recogniser.py or
+    transcript.py)."""
+    from turkish_lipsync.core.speech.recognition import decoder, recogniser, transcript
 
-    for module in (decoder, recogniser):
+    for module in (decoder, recogniser, transcript):
         if hasattr(module, name):
             return module
-    raise SystemExit(f"no constant {name} in recognition/decoder.py or recognition/recogniser.py")
+    raise SystemExit(f"no constant {name} in recognition/decoder.py, recogniser.py or transcript.py")
 
 
 def settings_tried(baseline: list[str], tries: list[str], untried: dict = TUNED) -> list[dict[str, float]]:

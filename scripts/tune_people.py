@@ -11,7 +11,7 @@ tune part (klettres-ru and klettres-tn syllables, the Czech and Dutch lines of t
 report part stays for reporting. A syllable counts where the recogniser hears any letter (whether the
 take holds speech at all is the speech detector's decision, not measured here).
 
-NAME is a module constant of recognition/decoder.py or recognition/recogniser.py (e.g. PRIOR_WEIGHT,
+NAME is a module constant of recognition/decoder.py, recogniser.py or transcript.py (e.g. PRIOR_WEIGHT,
 BILABIAL_SURE); each --try varies one constant from the --set baseline.
 """
 
