@@ -131,7 +131,7 @@ LETTER_PHONES = {
 VOWEL_PHONES = {phone for letter in "aeıioöuü" for phone in LETTER_PHONES[letter].split()}
 UNLIKE = 1.0  # pairing a letter with a phone it is not spoken as
 SILENT = 1.0  # a letter with no phone of its own (it shares its neighbour's)
-QUIET_LETTER = 0.1  # ... a soft g, or a letter doubled ("tt" is one long t)
+QUIET_LETTER = 0.1  # ... a soft g, a letter doubled ("tt" is one long t), a vowel a soft g joins to its twin
 EXTRA = 1.0  # a phone with no letter
 
 
@@ -150,7 +150,9 @@ def paired(letters: list[str], names: list[str]) -> list[int]:
                 if option < cost[i, j]:
                     cost[i, j], step[i, j] = option, 0
             if i:
-                quiet = letters[i - 1] == "ğ" or (i > 1 and letters[i - 1] == letters[i - 2])
+                letter, before = letters[i - 1], letters[max(0, i - 3) : i - 1]
+                # a soft g, a doubled letter ("tt"), the vowel a soft g joins to its twin ("ağa")
+                quiet = letter == "ğ" or before[-1:] == [letter] or before == [letter, "ğ"]
                 option = cost[i - 1, j] + (QUIET_LETTER if quiet else SILENT)
                 if option < cost[i, j]:
                     cost[i, j], step[i, j] = option, 1
