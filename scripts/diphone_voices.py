@@ -17,25 +17,18 @@ examples/corpus_tr.txt's 50 sentences is).
 Needs Debian's mbrola, mbrola-tr1 and mbrola-tr2 (in contrib and non-free): with those sections in the apt
 sources, `apt-get install mbrola-tr1 mbrola-tr2`, and the system's espeak-ng (`apt-get install espeak-ng`).
 
-Sentences are measured by scripts/measure_recordings.py and scripts/measure_recogniser.py (`--voices
-mbrola-tr1 mbrola-tr2`); run alone, this script measures words said alone, as scripts/measure_people.py
-measures people's (every distinct word of the held-out sentences, 0.4 s of silence each side, 40 dB pink
-noise): with their text, refused / warned / "no speech" and the word's onset error; with no text, "no
-speech":
-
-    python scripts/diphone_voices.py
+Measured by scripts/measure_recordings.py and scripts/measure_recogniser.py (sentences: `--voices
+mbrola-tr1 mbrola-tr2`) and scripts/measure_people.py (words said alone: `--sets mbrola-words`).
 """
 
 from __future__ import annotations
 
 import dataclasses
-import re
 import shutil
 import subprocess
 import sys
 import tempfile
 import wave
-from collections import Counter
 from pathlib import Path
 
 import numpy as np
@@ -239,46 +232,3 @@ def speak(text: str, voice: str, sample_rate: int) -> tuple[np.ndarray, Timeline
         samples, rate = render(listed, voice, Path(folder))
     truth = retimed(synthesize_timeline(build_utterance(text)).timeline, listed)
     return resample(samples.astype(np.float32), rate, sample_rate).astype(np.float64), truth
-
-
-def measure_words(voice: str, folder: Path) -> None:
-    """Every distinct word of the held-out sentences said alone in the voice: with its text and without."""
-    from scripts.corpus import held_out_sentences
-    from scripts.measure_people import aligned, heard, shares
-    from scripts.measure_recordings import takes, write_wav
-
-    words = sorted(
-        {word for text in held_out_sentences() for word in re.findall(r"[^\W\d_]+(?:'\w+)?", text)}
-    )
-    rng = np.random.default_rng(4)
-    with_text, without, errors, named = Counter(), Counter(), [], []
-    for word in words:
-        samples, _ = speak(word, voice, takes.RATE)
-        take = takes.Take(samples, np.zeros(1), np.zeros(0), np.zeros(1, bool))
-        take = takes.add_noise(takes.padded(take, 0.4, 0.4), 40, "pink", rng)
-        path = write_wav(folder / "word.wav", take.samples, takes.RATE)
-        timeline, result = aligned(word, path)
-        with_text[result] += 1
-        if timeline is not None:
-            errors.append(abs(timeline.words[0].start - take.words[0]) * 1000)
-        _, alone = heard(path)
-        without[alone] += 1
-        named += [f"{word} ({result})"] if result != "clean" else []
-        named += [f"{word} (no text: {alone})"] if alone == "no speech" else []
-    print(f"MBROLA {voice}, {len(words)} words said alone")
-    print(f"  with their text: {shares(with_text, len(words))}")
-    spread = f"median {np.median(errors):.0f}, p90 {np.percentile(errors, 90):.0f}, max {max(errors):.0f}"
-    print(f"  onset (ms): {spread}")
-    print(f"  no text:         {shares(without, len(words))}")
-    print(f"  not clean: {', '.join(named) or 'none'}")
-
-
-def main() -> int:
-    with tempfile.TemporaryDirectory() as folder:
-        for voice in ("tr1", "tr2"):
-            measure_words(voice, Path(folder))
-    return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

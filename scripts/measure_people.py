@@ -23,7 +23,10 @@ own rate.
   spelling (refused / warned / clean), with the next line's spelling (another text: refused or warned),
   and without a text: "no speech found", the mouth's opening against the mouth aligned to the text
   (Pearson r on a 10 ms grid, smoothed over 60 ms, as scripts/measure_recogniser.py measures it), and the
-  text-aligned b, m, p that a recognised b, m or p overlaps.
+  text-aligned b, m, p that a recognised b, m or p overlaps;
+- mbrola-words (only when named, MBROLA installed: scripts/diphone_voices.py): two Turkish speakers'
+  diphones saying every distinct word of examples/corpus_tr.txt's held-out sentences alone, with their
+  text (refused / warned / clean, the onset's error) and without ("no speech found").
 
 Not a test: the figures go into docs/developer/measured/people.md.
 """
@@ -31,6 +34,7 @@ Not a test: the figures go into docs/developer/measured/people.md.
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 import tempfile
 from collections import Counter
@@ -41,9 +45,10 @@ import numpy as np
 REPOSITORY = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPOSITORY))
 
-from scripts import people  # noqa: E402
+from scripts import diphone_voices, people  # noqa: E402
+from scripts.corpus import held_out_sentences  # noqa: E402
 from scripts.measure_recogniser import bilabial_scores, correlation, opening_trajectory  # noqa: E402
-from scripts.measure_recordings import aeneas_onsets, write_wav  # noqa: E402
+from scripts.measure_recordings import aeneas_onsets, takes, write_wav  # noqa: E402
 from turkish_lipsync.core.base.errors import LipSyncError  # noqa: E402
 from turkish_lipsync.core.speech import synthesize_timeline  # noqa: E402
 from turkish_lipsync.core.speech.recognition import speech_from_audio  # noqa: E402
@@ -231,6 +236,35 @@ def measure_sentences(part: str, folder: Path, every: int, scratch: Path) -> Non
             )
 
 
+def measure_diphone_words(scratch: Path) -> None:
+    """MBROLA's two Turkish speakers (scripts/diphone_voices.py) saying every distinct word of the held-out
+    sentences alone, 0.4 s of silence each side, 40 dB pink noise: with the word's text, and with none."""
+    words = sorted(
+        {word for text in held_out_sentences() for word in re.findall(r"[^\W\d_]+(?:'\w+)?", text)}
+    )
+    rng = np.random.default_rng(4)
+    for voice in ("tr1", "tr2"):
+        with_text, without, errors, named = Counter(), Counter(), [], []
+        for word in words:
+            samples, _ = diphone_voices.speak(word, voice, takes.RATE)
+            take = takes.Take(samples, np.zeros(1), np.zeros(0), np.zeros(1, bool))
+            take = takes.add_noise(takes.padded(take, 0.4, 0.4), 40, "pink", rng)
+            path = write_wav(scratch / "word.wav", take.samples, takes.RATE)
+            timeline, result = aligned(word, path)
+            with_text[result] += 1
+            if timeline is not None:
+                errors.append(abs(timeline.words[0].start - take.words[0]) * 1000)
+            _, alone = heard(path)
+            without[alone] += 1
+            named += [f"{word} ({result})"] if result != "clean" else []
+            named += [f"{word} (no text: {alone})"] if alone == "no speech" else []
+        spread = f"median {np.median(errors):.0f}, p90 {np.percentile(errors, 90):.0f}, max {max(errors):.0f}"
+        print(f"MBROLA {voice}: {len(words)} words said alone")
+        print(f"  with their text: {shares(with_text, len(words))}; onsets (ms): {spread}")
+        print(f"  no text:         {shares(without, len(words))}")
+        print(f"  not clean: {', '.join(named) or 'none'}")
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--part", choices=("tune", "report"), default="report")
@@ -249,6 +283,8 @@ def main(argv: list[str] | None = None) -> int:
                 measure_lists(arguments.part, arguments.folder, arguments.aeneas, Path(scratch))
             elif name == "sentences":
                 measure_sentences(arguments.part, arguments.folder, arguments.sentences, Path(scratch))
+            elif name == "mbrola-words":
+                measure_diphone_words(Path(scratch))
             sys.stdout.flush()
     for title, counts in (("other errors", ERRORS), ("warnings", WARNINGS)):
         if counts:
