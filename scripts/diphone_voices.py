@@ -28,7 +28,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
-import wave
+from collections import Counter
 from pathlib import Path
 
 import numpy as np
@@ -38,7 +38,7 @@ sys.path.insert(0, str(REPOSITORY))
 
 from turkish_lipsync.core.base.model import Timeline, WordSpan  # noqa: E402
 from turkish_lipsync.core.speech import synthesize_timeline  # noqa: E402
-from turkish_lipsync.core.speech.audio import resample  # noqa: E402
+from turkish_lipsync.core.speech.audio import read_audio, resample  # noqa: E402
 from turkish_lipsync.core.text.utterance import build_utterance  # noqa: E402
 
 VOICES_FOLDER = Path("/usr/share/mbrola")
@@ -75,7 +75,7 @@ def phones(text: str, voice: str) -> list[tuple[str, float, str]]:
 
 
 def render(listed: list[tuple[str, float, str]], voice: str, folder: Path) -> tuple[np.ndarray, int]:
-    """The voice's 16-bit samples (float, -1..1) of the phone list and their rate."""
+    """The voice's samples (float32, -1..1) of the phone list and their rate."""
     pho, wav = folder / "take.pho", folder / "take.wav"
     pho.write_text("".join(f"{name} {ms:g} {pitch}\n" for name, ms, pitch in listed), encoding="ascii")
     subprocess.run(
@@ -83,10 +83,7 @@ def render(listed: list[tuple[str, float, str]], voice: str, folder: Path) -> tu
         capture_output=True,
         check=True,
     )
-    with wave.open(str(wav), "rb") as handle:
-        rate = handle.getframerate()
-        samples = np.frombuffer(handle.readframes(handle.getnframes()), "<i2").astype(np.float64) / 32768
-    return samples, rate
+    return read_audio(wav)
 
 
 # The phones each Turkish letter may be spoken as in the voices' phone list.
@@ -198,12 +195,13 @@ def retimed(timeline: Timeline, listed: list[tuple[str, float, str]]) -> Timelin
     starts = np.concatenate(([0.0], np.cumsum([ms for _, ms, _ in listed]))) / 1000
     spoken = [index for index, (name, _, _) in enumerate(listed) if name != PAUSE]
     owner = paired([phone.letter.lower() for phone in timeline.phones], [listed[i][0] for i in spoken])
+    sharing, placed = Counter(owner), Counter()  # letters per phone, and those given a part so far
     letters = []
-    for index, phone in enumerate(timeline.phones):
-        sharing = [other for other in range(len(owner)) if owner[other] == owner[index]]
-        begin, end = starts[spoken[owner[index]]], starts[spoken[owner[index]] + 1]
-        part = (end - begin) / len(sharing)
-        place = sharing.index(index)
+    for phone, own in zip(timeline.phones, owner, strict=True):
+        begin, end = starts[spoken[own]], starts[spoken[own] + 1]
+        part = (end - begin) / sharing[own]
+        place = placed[own]
+        placed[own] += 1
         letters.append(
             dataclasses.replace(
                 phone, start=float(begin + place * part), end=float(begin + (place + 1) * part)
@@ -231,4 +229,4 @@ def speak(text: str, voice: str, sample_rate: int) -> tuple[np.ndarray, Timeline
     with tempfile.TemporaryDirectory() as folder:
         samples, rate = render(listed, voice, Path(folder))
     truth = retimed(synthesize_timeline(build_utterance(text)).timeline, listed)
-    return resample(samples.astype(np.float32), rate, sample_rate).astype(np.float64), truth
+    return resample(samples, rate, sample_rate).astype(np.float64), truth
