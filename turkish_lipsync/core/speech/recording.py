@@ -304,7 +304,9 @@ def fading(under_speech_db: np.ndarray) -> np.ndarray:
     return found
 
 
-def _from_first_sound(speech: np.ndarray, log_posteriors: np.ndarray, under_speech_db: np.ndarray) -> np.ndarray:
+def _from_first_sound(
+    speech: np.ndarray, log_posteriors: np.ndarray, under_speech_db: np.ndarray
+) -> np.ndarray:
     """The speech frames with each run's leading frames of room dropped (see LEADING_SILENCE_SURE); a run
     that is room throughout is left whole: whether it is speech is the detector's call."""
     room = (log_posteriors[:, CLASS_INDEX[SILENCE]] >= np.log(LEADING_SILENCE_SURE)) & (
