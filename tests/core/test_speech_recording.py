@@ -20,6 +20,7 @@ from turkish_lipsync.core.speech import timeline as timeline_module
 from turkish_lipsync.core.speech.audio import resample
 from turkish_lipsync.core.speech.dtw import dtw_path
 from turkish_lipsync.core.speech.features import frame_count
+from turkish_lipsync.core.speech.recognition import speech_from_audio
 from turkish_lipsync.core.speech.voice_activity import speech_frames
 from turkish_lipsync.core.text.utterance import build_utterance
 
@@ -234,6 +235,21 @@ def test_a_gate_opening_on_the_room_is_not_the_word(tmp_path):
     error = np.array([word.start for word in speech.timeline.words]) - onsets
     assert np.abs(error).max() < 0.040, np.round(1000 * error)
     assert speech.warnings == ()
+
+
+def test_a_clipped_take_is_named_as_the_likelier_cause(tmp_path):
+    """A take recorded with far too much gain: its own text aligns, another is refused, and the refusal and
+    the recogniser's doubt both say the take is clipped, and what to do."""
+    voice, truth = other_voice(OTHER_TEXT)
+    path = write_pcm_wav(tmp_path / "hot.wav", 0.9 * np.clip(20 * voice / np.abs(voice).max(), -1, 1), 44100)
+    speech = synthesize_timeline(build_utterance(OTHER_TEXT), recording=path)
+    error = np.abs(np.array([w.start for w in speech.timeline.words]) - [w.start for w in truth.words])
+    assert np.median(error) < 0.020
+    with pytest.raises(AudioError, match=r"does not read this text.*clipped \(\d+% of its sound.*less gain"):
+        synthesize_timeline(build_utterance(TEXT), recording=path)
+    _, heard = speech_from_audio(path)
+    assert len(heard.warnings) == 1 and "low confidence" in heard.warnings[0]
+    assert "the recording is clipped" in heard.warnings[0]
 
 
 def test_a_recording_of_other_words_is_refused_naming_them(tmp_path):

@@ -164,9 +164,15 @@ def take_mismatch(fit: Fit) -> float:
 
 
 def judge(
-    utterance: Utterance, phone_events: tuple[PhoneEvent, ...], warp: TimeWarp, fit: Fit, path: Path
+    utterance: Utterance,
+    phone_events: tuple[PhoneEvent, ...],
+    warp: TimeWarp,
+    fit: Fit,
+    path: Path,
+    clipped: str = "",
 ) -> tuple[tuple[PhraseMatch, ...], tuple[str, ...]]:
-    """A confidence per phrase; warnings naming the words where recording and text part."""
+    """A confidence per phrase; warnings naming the words where recording and text part. `clipped` names
+    the take's clipping (audio.clipping), given as the likelier cause where the take fits loosely."""
     spans, mismatch, pace = word_scores(utterance, phone_events, warp, fit)
     take = take_mismatch(fit)
     unmatched = ((mismatch > UNMATCHED_WORD) & (pace < SHORTENED)) | (mismatch > take + LOST_WORD)
@@ -187,12 +193,17 @@ def judge(
         raise AudioError(
             f"recording {path} does not read this text: {_word_list(texts, unheard)} "
             f"({unheard.size} of its {len(texts)} words) are not heard in it; check that the recording "
-            "and the text belong together"
+            "and the text belong together" + (f" ({clipped})" if clipped else "")
         )
+    causes = (
+        f"{clipped}; or it may read another text"
+        if clipped
+        else "it may read another text, or be very noisy or reverberant"
+    )
     warnings = [
-        "the recording fits this text only loosely (it may read another text, or be very noisy or "
-        f"reverberant), worst at {_word_list(texts, np.sort(worst[:3]))}; check that it reads this text: "
-        "the face follows it as well as it can"
+        f"the recording fits this text only loosely ({causes}), worst at "
+        f"{_word_list(texts, np.sort(worst[:3]))}; check that it reads this text: the face follows it as "
+        "well as it can"
     ] * loosely_fitting(take, fit.order_ratio, evidence, _is_list(phrases))
     warnings += [
         f"the recording seems not to say {_word_list(texts, run)} (word {run[0] + 1} of the text); "

@@ -35,7 +35,7 @@ from .acoustic.features import recogniser_features
 from .acoustic.labels import CLASS_INDEX, SILENCE
 from .acoustic.network import load_network
 from .align import phone_letter_spans
-from .audio import MAX_OUTPUT_RATE, read_audio, resample, resampled_pcm
+from .audio import MAX_OUTPUT_RATE, clipping, read_audio, resample, resampled_pcm
 from .base import PhoneEvent, SpeechEngine, Synthesis, WordEvent
 from .dtw import Pauses, coarse_dtw_path, dtw_path
 from .features import ANALYSIS_RATE, HOP, frame_count
@@ -194,6 +194,7 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
         # The user's audio is kept at its own rate (up to 48 kHz) as 16-bit PCM, the float copy dropped.
         output_rate = min(native_rate, MAX_OUTPUT_RATE)
         output = resampled_pcm(native, native_rate, output_rate)
+        clipped = clipping(native)
         del native
         recorded = resample(output, output_rate, ANALYSIS_RATE, 1 / 32768)
         frames = frame_count(recorded.size)
@@ -261,7 +262,7 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
         lead,
         order_ratio,
     )
-    phrases, warnings = judge(utterance, reference.phone_events, letters.warp, fit, path)
+    phrases, warnings = judge(utterance, reference.phone_events, letters.warp, fit, path, clipped)
     return RecordingAlignment(letters.warp, synthesis, phrases, warnings)
 
 

@@ -15,7 +15,7 @@ import numpy as np
 
 from ...base.errors import AudioError
 from ...base.model import Utterance
-from ..audio import MAX_OUTPUT_RATE, read_audio, resample, resampled_pcm
+from ..audio import MAX_OUTPUT_RATE, clipping, read_audio, resample, resampled_pcm
 from ..base import Synthesis
 from ..features import ANALYSIS_RATE
 from ..speech_detector import detect_speech
@@ -39,6 +39,7 @@ def speech_from_audio(path: Path | str) -> tuple[Utterance, Speech]:
     native, native_rate = read_audio(path)
     output_rate = min(native_rate, MAX_OUTPUT_RATE)
     output = resampled_pcm(native, native_rate, output_rate)
+    clipped = clipping(native)
     del native
     samples = resample(output, output_rate, ANALYSIS_RATE, 1 / 32768)
     peak = float(np.abs(samples).max(initial=0.0))
@@ -61,17 +62,23 @@ def speech_from_audio(path: Path | str) -> tuple[Utterance, Speech]:
     utterance = heard_utterance(recognition)
     timeline = heard_timeline(utterance, recognition, output.size / output_rate)
     synthesis = Synthesis(output, output_rate, (), (), "recording")
-    return utterance, Speech(timeline, synthesis, _warnings(path, recognition))
+    return utterance, Speech(timeline, synthesis, _warnings(path, recognition, clipped))
 
 
-def _warnings(path: Path, recognition: Recognition) -> tuple[str, ...]:
+def _warnings(path: Path, recognition: Recognition, clipped: str) -> tuple[str, ...]:
+    """The low-confidence warning, with the take's clipping (audio.clipping) as the likelier cause."""
     if recognition.confidence >= DOUBTFUL_CONFIDENCE:
         return ()
+    causes = (
+        f"{clipped}; it may also not be Turkish"
+        if clipped
+        else "it may not be Turkish, be noisy or reverberant, or be a voice unlike those the recogniser "
+        "learnt from"
+    )
     return (
         f"the speech in {path} was recognised with low confidence ({recognition.confidence:.0%}; eSpeak "
-        f"NG's Turkish gives {DOUBTFUL_CONFIDENCE:.0%} or more, recordings of people less): it may not be "
-        "Turkish, be noisy or reverberant, or be a voice unlike those the recogniser learnt from; the mouth "
-        "follows what was heard, but give the text it says for exact lip sync",
+        f"NG's Turkish gives {DOUBTFUL_CONFIDENCE:.0%} or more, recordings of people less): {causes}; the "
+        "mouth follows what was heard, but give the text it says for exact lip sync",
     )
 
 
