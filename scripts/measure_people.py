@@ -24,6 +24,10 @@ own rate.
   and without a text: "no speech found", the mouth's opening against the mouth aligned to the text
   (Pearson r on a 10 ms grid, smoothed over 60 ms, as scripts/measure_recogniser.py measures it), and the
   text-aligned b, m, p that a recognised b, m or p overlaps;
+- padded (only when named): the sentences (every --sentences-th) aligned as they come and with 3 s of
+  digital silence before and after (a take exported from an editor's timeline): how many lines' word
+  onsets move by more than 50 ms, and how many are warned either way. The speech is the same: ideally
+  none moves;
 - mbrola-words (only when named, MBROLA installed: scripts/diphone_voices.py): two Turkish speakers'
   diphones saying every distinct word of examples/corpus_tr.txt's held-out sentences alone, with their
   text (refused / warned / clean, the onset's error) and without ("no speech found").
@@ -236,6 +240,36 @@ def measure_sentences(part: str, folder: Path, every: int, scratch: Path) -> Non
             )
 
 
+PADDING_SECONDS = 3.0
+MOVED = 0.05  # seconds a word onset may move before the line counts as moved
+
+
+def measure_padded(part: str, folder: Path, every: int, scratch: Path) -> None:
+    lines = sentence_lines(part, folder)
+    for source in sorted({r.source.split("/")[0] for r in lines}):
+        chosen = [r for r in lines if r.source.startswith(source)][::every]
+        largest, not_clean = [], Counter()
+        for recording in chosen:
+            samples = people.read(recording, RATE)
+            silence = np.zeros(int(PADDING_SECONDS * RATE), samples.dtype)
+            plain = write_wav(scratch / "plain.wav", samples, RATE)
+            padded = write_wav(scratch / "padded.wav", np.concatenate((silence, samples, silence)), RATE)
+            timeline, result = aligned(recording.turkish, plain)
+            again, again_result = aligned(recording.turkish, padded)
+            not_clean["as they come"] += result != "clean"
+            not_clean["padded"] += again_result != "clean"
+            if timeline is not None and again is not None:
+                starts = np.array([word.start for word in timeline.words])
+                largest.append(np.abs([word.start - PADDING_SECONDS for word in again.words] - starts).max())
+        moved = int(np.count_nonzero(np.array(largest) > MOVED))
+        print(f"padded, {source} ({len(chosen)} lines, {PADDING_SECONDS:.0f} s of silence each side)")
+        print(
+            f"  lines with a word moved over {1000 * MOVED:.0f} ms: {moved} of {len(chosen)};"
+            f" largest move median {1000 * np.median(largest):.0f} ms, max {1000 * max(largest):.0f} ms"
+        )
+        print(f"  not clean as they come: {not_clean['as they come']}, padded: {not_clean['padded']}")
+
+
 def measure_diphone_words(scratch: Path) -> None:
     """MBROLA's two Turkish speakers (scripts/diphone_voices.py) saying every distinct word of the held-out
     sentences alone, 0.4 s of silence each side, 40 dB pink noise: with the word's text, and with none."""
@@ -283,6 +317,8 @@ def main(argv: list[str] | None = None) -> int:
                 measure_lists(arguments.part, arguments.folder, arguments.aeneas, Path(scratch))
             elif name == "sentences":
                 measure_sentences(arguments.part, arguments.folder, arguments.sentences, Path(scratch))
+            elif name == "padded":
+                measure_padded(arguments.part, arguments.folder, arguments.sentences, Path(scratch))
             elif name == "mbrola-words":
                 measure_diphone_words(Path(scratch))
             sys.stdout.flush()

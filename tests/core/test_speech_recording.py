@@ -237,6 +237,31 @@ def test_a_gate_opening_on_the_room_is_not_the_word(tmp_path):
     assert speech.warnings == ()
 
 
+@pytest.mark.parametrize(("variant", "pitch", "rate"), [("tr+m5", -30, 20), ("tr+klatt", 0, 30)])
+def test_silence_around_a_short_take_changes_nothing(tmp_path, variant, pitch, rate):
+    """A short line exported with 3 s of digital silence each side is the same speech: it was heard on
+    levels the silence dragged down, and its words were keyed 190-510 ms off (before the take was heard
+    around its speech and the floor left digital silence out)."""
+    for text in ("Merhaba, nasılsın?", "Bu akşam sinemaya gidelim mi?"):
+        voice, truth = other_voice(text, variant, pitch, rate)
+        take = np.concatenate((voice, np.zeros(11025)))
+        take = 0.8 * (take + np.random.default_rng(2).normal(0, 0.003, take.size))
+        silence = np.zeros(3 * 44100)
+        plain = write_pcm_wav(tmp_path / "plain.wav", take, 44100)
+        padded = write_pcm_wav(tmp_path / "padded.wav", np.concatenate((silence, take, silence)), 44100)
+        starts = [
+            np.array(
+                [
+                    word.start
+                    for word in synthesize_timeline(build_utterance(text), recording=path).timeline.words
+                ]
+            )
+            for path in (plain, padded)
+        ]
+        assert np.abs(starts[1] - 3.0 - starts[0]).max() < 0.040, text
+        assert np.abs(starts[1] - 3.0 - [word.start for word in truth.words]).max() < 0.060, text
+
+
 def test_a_clipped_take_is_named_as_the_likelier_cause(tmp_path):
     """A take recorded with far too much gain: its own text aligns, another is refused, and the refusal and
     the recogniser's doubt both say the take is clipped, and what to do."""

@@ -87,6 +87,14 @@ RISING_DB = 3.0
 # the vowel), item onsets 16 / 74 / 271 -> 13 / 47 / 271 ms; the tune part's 10 / 56 / 129 either way
 # (at 0.8: max 157); LEADING_QUIET_DB of 20-30 dB gives p90 48-52.
 LEADING_SILENCE_SURE = 0.9
+# The recording is heard from this far before the detector's first speech to as far after its last: the
+# network's features are levelled on the take's loudest frames, and the detector's and the pauses' levels
+# are the take's own, so silence or room beyond would change how the same speech is heard (people's lines
+# with 3 s of digital silence each side: word onsets moved over 50 ms in 148 of 201 Czech and 59 of 89
+# Dutch lines before, 34 and 4 after, with voice_activity.room_floor; eSpeak NG's short sentences in
+# other voices 190-510 ms off before, within 45 ms after). 0.75 s is about the training clips' mean
+# silence around their speech; at 1.5 s, 68 and 17 lines moved.
+SPEECH_MARGIN_FRAMES = 75
 LEADING_QUIET_DB = 25.0
 ORDER_FRAMES = 3_000  # the text's order is tested on the first 30 seconds of a long take
 # Cost of a DTW step that stretches one signal (in units of the feature distance, 0-3.5 a frame): keeps
@@ -198,10 +206,9 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
         del native
         recorded = resample(output, output_rate, ANALYSIS_RATE, 1 / 32768)
         frames = frame_count(recorded.size)
-        recorded_speech = _checked_speech(path, recorded, speech_frames(recorded, frames))
-        recorded_loudness = above_floor(recorded, frames)
-        recorded_under_speech = under_speech(recorded, frames)
-        log_posteriors = heard_log_posteriors(recorded, frames)
+        recorded_speech, recorded_loudness, recorded_under_speech, log_posteriors = _heard_around_speech(
+            path, recorded, frames
+        )
         recorded_speech = _from_first_sound(recorded_speech, log_posteriors, recorded_under_speech)
         y = heard_features(_speech_not_silence(log_posteriors, recorded_speech))
         del recorded
@@ -264,6 +271,39 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
     )
     phrases, warnings = judge(utterance, reference.phone_events, letters.warp, fit, path, clipped)
     return RecordingAlignment(letters.warp, synthesis, phrases, warnings)
+
+
+def _heard_around_speech(
+    path: Path, recorded: np.ndarray, frames: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The recording's speech frames, dB above its floor, dB under its speech and log posteriors, each
+    measured on the stretch from SPEECH_MARGIN_FRAMES before its first speech to as far after its last
+    (see SPEECH_MARGIN_FRAMES); beyond it, silence at the floor."""
+    speech = _checked_speech(path, recorded, speech_frames(recorded, frames))
+    spoken = np.flatnonzero(speech)
+    first = max(0, int(spoken[0]) - SPEECH_MARGIN_FRAMES)
+    stop = min(frames, int(spoken[-1]) + 1 + SPEECH_MARGIN_FRAMES)
+    if first == 0 and stop == frames:
+        return (
+            speech,
+            above_floor(recorded, frames),
+            under_speech(recorded, frames),
+            heard_log_posteriors(recorded, frames),
+        )
+    inner = recorded[first * HOP : stop * HOP if stop < frames else recorded.size]
+    count = stop - first
+    inner_speech = _checked_speech(path, inner, speech_frames(inner, count))
+    inner_under = under_speech(inner, count)
+    speech = np.zeros(frames, bool)
+    speech[first:stop] = inner_speech
+    loudness = np.zeros(frames)
+    loudness[first:stop] = above_floor(inner, count)
+    under = np.full(frames, float(inner_under.max()))
+    under[first:stop] = inner_under
+    heard = np.full((frames, len(CLASS_INDEX)), -69.0, np.float32)
+    heard[:, CLASS_INDEX[SILENCE]] = 0.0
+    heard[first:stop] = heard_log_posteriors(inner, count)
+    return speech, loudness, under, heard
 
 
 def heard_log_posteriors(samples: np.ndarray, frames: int) -> np.ndarray:
