@@ -4,6 +4,7 @@ Other speakers are stood in for by eSpeak NG's other voice variants (another tim
 spoken in the test; the truth is that rendition's own phone events.
 """
 
+import difflib
 import subprocess
 import sys
 import tracemalloc
@@ -260,6 +261,23 @@ def test_silence_around_a_short_take_changes_nothing(tmp_path, variant, pitch, r
         ]
         assert np.abs(starts[1] - 3.0 - starts[0]).max() < 0.040, text
         assert np.abs(starts[1] - 3.0 - [word.start for word in truth.words]).max() < 0.060, text
+
+
+def test_silence_around_a_short_take_changes_nothing_heard_without_its_text(tmp_path):
+    """The same line recognised with no text: "merhaba nasılsın" was heard as "bulavajlasılşıüfü" with 3 s
+    of digital silence each side, before the take was heard around its speech."""
+    voice, _ = other_voice("Merhaba, nasılsın?", "tr+m5", -30, 20)
+    take = np.concatenate((voice, np.zeros(11025)))
+    take = 0.8 * (take + np.random.default_rng(2).normal(0, 0.003, take.size))
+    silence = np.zeros(3 * 44100)
+    heard = []
+    for name, samples in (("plain", take), ("padded", np.concatenate((silence, take, silence)))):
+        _, speech = speech_from_audio(write_pcm_wav(tmp_path / f"{name}.wav", samples, 44100))
+        heard.append(speech.timeline.phones)
+    said = "".join(phone.letter for phone in heard[0])
+    assert difflib.SequenceMatcher(None, said, "merhabanasılsın").ratio() > 0.85, said
+    assert [phone.letter for phone in heard[1]] == [phone.letter for phone in heard[0]]
+    assert np.abs(np.array([p.start for p in heard[1]]) - 3.0 - [p.start for p in heard[0]]).max() < 0.015
 
 
 def test_a_clipped_take_is_named_as_the_likelier_cause(tmp_path):

@@ -31,7 +31,7 @@ import numpy as np
 
 from ..base.errors import AudioError
 from ..base.model import Utterance
-from .acoustic.features import recogniser_features
+from .acoustic.features import recogniser_features, speech_stretch
 from .acoustic.labels import CLASS_INDEX, SILENCE
 from .acoustic.network import load_network
 from .align import phone_letter_spans
@@ -87,14 +87,6 @@ RISING_DB = 3.0
 # the vowel), item onsets 16 / 74 / 271 -> 13 / 47 / 271 ms; the tune part's 10 / 56 / 129 either way
 # (at 0.8: max 157); LEADING_QUIET_DB of 20-30 dB gives p90 48-52.
 LEADING_SILENCE_SURE = 0.9
-# The recording is heard from this far before the detector's first speech to as far after its last: the
-# network's features are levelled on the take's loudest frames, and the detector's and the pauses' levels
-# are the take's own, so silence or room beyond would change how the same speech is heard (people's lines
-# with 3 s of digital silence each side: word onsets moved over 50 ms in 148 of 201 Czech and 59 of 89
-# Dutch lines before, 34 and 4 after, with voice_activity.room_floor; eSpeak NG's short sentences in
-# other voices 190-510 ms off before, within 45 ms after). 0.75 s is about the training clips' mean
-# silence around their speech; at 1.5 s, 68 and 17 lines moved.
-SPEECH_MARGIN_FRAMES = 75
 LEADING_QUIET_DB = 25.0
 ORDER_FRAMES = 3_000  # the text's order is tested on the first 30 seconds of a long take
 # Cost of a DTW step that stretches one signal (in units of the feature distance, 0-3.5 a frame): keeps
@@ -277,12 +269,10 @@ def _heard_around_speech(
     path: Path, recorded: np.ndarray, frames: int
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The recording's speech frames, dB above its floor, dB under its speech and log posteriors, each
-    measured on the stretch from SPEECH_MARGIN_FRAMES before its first speech to as far after its last
-    (see SPEECH_MARGIN_FRAMES); beyond it, silence at the floor."""
+    measured on the stretch around its speech (acoustic.features.speech_stretch); beyond it, silence at
+    the floor."""
     speech = _checked_speech(path, recorded, speech_frames(recorded, frames))
-    spoken = np.flatnonzero(speech)
-    first = max(0, int(spoken[0]) - SPEECH_MARGIN_FRAMES)
-    stop = min(frames, int(spoken[-1]) + 1 + SPEECH_MARGIN_FRAMES)
+    first, stop = speech_stretch(speech)
     if first == 0 and stop == frames:
         return (
             speech,

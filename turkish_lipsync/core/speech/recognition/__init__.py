@@ -9,15 +9,17 @@ takes. `speech_from_audio(path)` does it all for a recording.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
 from ...base.errors import AudioError
 from ...base.model import Utterance
+from ..acoustic.features import speech_stretch
 from ..audio import MAX_OUTPUT_RATE, clipping, read_audio, resample, resampled_pcm
 from ..base import Synthesis
-from ..features import ANALYSIS_RATE
+from ..features import ANALYSIS_RATE, HOP
 from ..speech_detector import detect_speech
 from ..timeline import Speech
 from .recogniser import Recognition, recognise
@@ -47,12 +49,13 @@ def speech_from_audio(path: Path | str) -> tuple[Utterance, Speech]:
         raise AudioError(f"no speech found in {path}: it is silent; give a recording of someone speaking")
     # Whether anyone speaks is decided by a detector trained on many people's speech in many languages
     # (speech_detector.py), not by how much the recogniser, which has heard few people, makes of it.
-    if not detect_speech(samples).found:
+    detection = detect_speech(samples)
+    if not detection.found:
         raise AudioError(
             f"no speech found in {path}: it sounds like silence, noise or music without a voice; "
             "give a recording of someone speaking Turkish, or type the text it says"
         )
-    recognition = recognise(samples)
+    recognition = _recognised_around_speech(samples, detection.speech)
     del samples
     if not recognition.phrases:
         raise AudioError(
@@ -63,6 +66,21 @@ def speech_from_audio(path: Path | str) -> tuple[Utterance, Speech]:
     timeline = heard_timeline(utterance, recognition, output.size / output_rate)
     synthesis = Synthesis(output, output_rate, (), (), "recording")
     return utterance, Speech(timeline, synthesis, _warnings(path, recognition, clipped))
+
+
+def _recognised_around_speech(samples: np.ndarray, speech: np.ndarray) -> Recognition:
+    """What is heard in the stretch around the detector's speech (acoustic.features.speech_stretch), timed
+    in the whole take: silence beyond it would change how the same speech is heard."""
+    first, stop = speech_stretch(speech)
+    recognition = recognise(samples[first * HOP : stop * HOP])
+    offset = first * HOP / ANALYSIS_RATE
+    return Recognition(
+        tuple(
+            tuple(replace(letter, start=letter.start + offset, end=letter.end + offset) for letter in phrase)
+            for phrase in recognition.phrases
+        ),
+        recognition.confidence,
+    )
 
 
 def _warnings(path: Path, recognition: Recognition, clipped: str) -> tuple[str, ...]:
