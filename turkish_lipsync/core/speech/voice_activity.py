@@ -27,10 +27,6 @@ VOICING = 0.5  # normalised autocorrelation at the pitch period above which a ho
 VOICED_IN_SPEECH = 3  # hops: a run with fewer voiced ones (a breath, a chair, a click) is not speech
 VOICING_STRIDE = 4  # hops: the voicing of every fourth hop is tested first
 WEAK_RUN_DB = 20.0  # an isolated run whose peak stays this far below the loud frames is not speech
-# Hops quieter than this (dB full scale) are digital silence, not a room: 16-bit audio's own noise lies
-# above it. The floor is the room's where at least ROOM_SHARE of the hops are not digital silence.
-DIGITAL_SILENCE_DB = -100.0
-ROOM_SHARE = 0.1
 
 
 def frame_levels(samples: np.ndarray) -> np.ndarray:
@@ -45,7 +41,7 @@ def speech_frames(samples: np.ndarray, frames: int) -> np.ndarray:
     levels = frame_levels(samples)
     if levels.size == 0:
         return np.zeros(frames, bool)
-    floor = room_floor(levels)
+    floor = np.percentile(levels, 10)
     loud = np.percentile(levels, 95)
     # Frame i's analysis window is centred 120 samples after hop i's start: close enough for pauses.
     speech = (
@@ -59,19 +55,12 @@ def speech_frames(samples: np.ndarray, frames: int) -> np.ndarray:
     return np.pad(speech, (0, max(0, frames - speech.size)))[:frames]
 
 
-def room_floor(levels: np.ndarray) -> float:
-    """The recording's noise floor (dB): the quietest tenth of its hops, digital silence left out where
-    there is room enough (an editor's or a gate's zeros are no room; the microphone's noise is)."""
-    room = levels[levels > DIGITAL_SILENCE_DB]
-    return float(np.percentile(room if room.size >= ROOM_SHARE * levels.size else levels, 10))
-
-
 def above_floor(samples: np.ndarray, frames: int) -> np.ndarray:
-    """dB by which each hop rises above the recording's noise floor (room_floor)."""
+    """dB by which each hop rises above the recording's noise floor (its quietest tenth of hops)."""
     levels = np.convolve(frame_levels(samples), np.ones(3) / 3, "same")
     if levels.size == 0:
         return np.zeros(frames)
-    above = levels - room_floor(levels)
+    above = levels - np.percentile(levels, 10)
     return np.pad(above, (0, max(0, frames - above.size)), mode="edge")[:frames]
 
 
