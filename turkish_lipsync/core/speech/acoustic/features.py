@@ -41,13 +41,16 @@ LONG_TERM_SPECTRUM_FILE = Path(__file__).with_name("speech_spectrum.npy")
 # (speech_stretch): the features are levelled on the take's loudest frames, and the speech detector's and
 # the pauses' levels are the take's own, so silence or room beyond would change how the same speech is
 # heard. People's lines with 3 s of digital silence each side, aligned to their text: word onsets moved
-# over 50 ms in 148 of 201 Czech and 59 of 89 Dutch lines before, 58 and 4 after (at 150 frames, 68 and
+# over 50 ms in 148 of 201 Czech and 59 of 89 Dutch lines before, 57 and 5 after (at 150 frames, 68 and
 # 17 with a floor that left digital silence out; that floor moved a clean synthetic voice's lines in a
 # conversation by 5-7 ms, and a cloud voice is as clean: not taken). eSpeak NG's short lines in other
 # voices: aligned 190-510 ms off, and recognised as other letters altogether ("merhaba nasılsın" as
 # "bulavajlasılşıüfü"), before; within 50 ms and alike after. 75 frames is about the training clips' mean
 # silence around their speech.
 SPEECH_MARGIN_FRAMES = 75
+# A stretch that leaves out less than this share of the take changes its levels too little to hear the
+# take twice for (a long take with a second of room before it: 0.15 s more of its 4 minutes' alignment).
+LEAST_LEFT_OUT = 0.1
 
 
 def log_bands(samples: np.ndarray) -> np.ndarray:
@@ -106,13 +109,14 @@ def levelled(decibels: np.ndarray, whole_take_level: bool = False) -> np.ndarray
 
 def speech_stretch(speech: np.ndarray) -> tuple[int, int]:
     """The first frame and the frame after the last of the stretch a take is heard on: SPEECH_MARGIN_FRAMES
-    either side of its speech frames (all of it where it has none)."""
+    either side of its speech frames (all of it where it has none, or where that leaves out less than
+    LEAST_LEFT_OUT of it)."""
     spoken = np.flatnonzero(speech)
     if spoken.size == 0:
         return 0, len(speech)
-    return max(0, int(spoken[0]) - SPEECH_MARGIN_FRAMES), min(
-        len(speech), int(spoken[-1]) + 1 + SPEECH_MARGIN_FRAMES
-    )
+    first = max(0, int(spoken[0]) - SPEECH_MARGIN_FRAMES)
+    stop = min(len(speech), int(spoken[-1]) + 1 + SPEECH_MARGIN_FRAMES)
+    return (first, stop) if len(speech) - (stop - first) >= LEAST_LEFT_OUT * len(speech) else (0, len(speech))
 
 
 def recogniser_features(samples: np.ndarray, whole_take_level: bool = False) -> np.ndarray:
