@@ -273,27 +273,17 @@ def _heard_around_speech(
     the floor."""
     speech = _checked_speech(path, recorded, speech_frames(recorded, frames))
     first, stop = speech_stretch(speech)
-    if first == 0 and stop == frames:
-        return (
-            speech,
-            above_floor(recorded, frames),
-            under_speech(recorded, frames),
-            heard_log_posteriors(recorded, frames),
-        )
-    inner = recorded[first * HOP : stop * HOP if stop < frames else recorded.size]
-    count = stop - first
-    inner_speech = _checked_speech(path, inner, speech_frames(inner, count))
-    inner_under = under_speech(inner, count)
-    speech = np.zeros(frames, bool)
-    speech[first:stop] = inner_speech
-    loudness = np.zeros(frames)
-    loudness[first:stop] = above_floor(inner, count)
-    under = np.full(frames, float(inner_under.max()))
-    under[first:stop] = inner_under
-    heard = np.full((frames, len(CLASS_INDEX)), -69.0, np.float32)
-    heard[:, CLASS_INDEX[SILENCE]] = 0.0
-    heard[first:stop] = heard_log_posteriors(inner, count)
-    return speech, loudness, under, heard
+    if (first, stop) != (0, frames):
+        recorded = recorded[first * HOP : stop * HOP if stop < frames else recorded.size]
+        speech = _checked_speech(path, recorded, speech_frames(recorded, stop - first))
+    around = (first, frames - stop)
+    under = under_speech(recorded, stop - first)
+    return (
+        np.pad(speech, around),
+        np.pad(above_floor(recorded, stop - first), around),
+        np.pad(under, around, constant_values=under.max()),
+        _silence_around(heard_log_posteriors(recorded, stop - first), *around),
+    )
 
 
 def heard_log_posteriors(samples: np.ndarray, frames: int) -> np.ndarray:
@@ -302,11 +292,15 @@ def heard_log_posteriors(samples: np.ndarray, frames: int) -> np.ndarray:
     features: the Euclidean distance between two frames is then the Hellinger distance between what is
     heard in them."""
     heard = load_network().log_posteriors(recogniser_features(samples))
-    if len(heard) < frames:
-        silence = np.full((frames - len(heard), heard.shape[1]), -69.0, np.float32)
-        silence[:, CLASS_INDEX[SILENCE]] = 0.0
-        heard = np.concatenate((heard, silence))
-    return heard[:frames]
+    return _silence_around(heard[:frames], 0, max(0, frames - len(heard)))
+
+
+def _silence_around(log_posteriors: np.ndarray, before: int, after: int) -> np.ndarray:
+    """The log posteriors with `before` and `after` frames in which only silence is heard around them."""
+    heard = np.pad(log_posteriors, ((before, after), (0, 0)), constant_values=-69.0)
+    heard[:before, CLASS_INDEX[SILENCE]] = 0.0
+    heard[len(heard) - after :, CLASS_INDEX[SILENCE]] = 0.0
+    return heard
 
 
 def _silence_bias(
