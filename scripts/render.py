@@ -19,16 +19,31 @@ task joins the chunks with the speech, copying the video (the join needs PyAV, n
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import sys
 import time
 from pathlib import Path
 
-REPOSITORY = Path(__file__).resolve().parent.parent
-for folder in (REPOSITORY, REPOSITORY / "scripts"):
-    if str(folder) not in sys.path:
-        sys.path.insert(0, str(folder))
+HERE = Path(__file__).resolve().parent
 
-from render_arguments import DEFAULT_FPS, DEFAULT_RESOLUTION, check_paths, parse_arguments  # noqa: E402
+
+def import_beside(name: str, path: Path):
+    """The module (or package, given its __init__.py) at path, imported as name: this script runs from a
+    checkout or the extension's folder, inside Blender (-P) or with the bpy module, where neither is
+    installed; the import path is left as it is."""
+    if name not in sys.modules:
+        folder = [str(path.parent)] if path.name == "__init__.py" else None
+        spec = importlib.util.spec_from_file_location(name, path, submodule_search_locations=folder)
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[name] = module
+        spec.loader.exec_module(module)
+    return sys.modules[name]
+
+
+import_beside("turkish_lipsync", HERE.parent / "turkish_lipsync" / "__init__.py")
+render_arguments = import_beside("render_arguments", HERE / "render_arguments.py")
+DEFAULT_FPS, DEFAULT_RESOLUTION = render_arguments.DEFAULT_FPS, render_arguments.DEFAULT_RESOLUTION
+check_paths, parse_arguments = render_arguments.check_paths, render_arguments.parse_arguments
 
 from turkish_lipsync.core.base.errors import LipSyncError  # noqa: E402  (the core needs no bpy)
 from turkish_lipsync.core.cli import living_option_values  # noqa: E402

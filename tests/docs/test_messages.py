@@ -32,7 +32,7 @@ def test_every_raise_of_the_error_family_is_collected():
 
 def test_known_messages_of_every_kind_are_found():
     found = {(message.kind, message.template) for message in messages.collect_messages()}
-    assert ("error", "recording {path} is silent (no speech found); record the text again") in found
+    assert ("error", "recording {name} is silent (no speech found); record the text again") in found
     assert ("disabled", "Switch to Object Mode first") in found
     assert any(
         kind == "warning" and text.startswith("the recording seems not to say") for kind, text in found

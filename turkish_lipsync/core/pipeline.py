@@ -16,6 +16,8 @@ from .base.errors import LipSyncError
 from .base.model import Timeline, Utterance, WeightTracks
 from .motion import motion_choices, weight_tracks
 from .motion.living import GazeSetup, LivingOptions, living_tracks
+from .speech.aligner_settings import DEFAULT_ALIGNER, AlignerSettings
+from .speech.recognition.settings import DEFAULT_RECOGNISER, RecogniserSettings
 from .speech.sources import SpeechRequest, speak
 from .text.utterance import unspoken_warning
 
@@ -66,6 +68,8 @@ class LipSyncOptions:
     expression_amount: float = 1.0
     seed: int = 0
     gaze_setup: GazeSetup = dataclasses.field(default_factory=GazeSetup)
+    aligner: AlignerSettings = DEFAULT_ALIGNER  # how a recording is aligned to its text
+    recogniser: RecogniserSettings = DEFAULT_RECOGNISER  # how a recording alone is heard
 
     @classmethod
     def from_attributes(cls, source: object, **given) -> LipSyncOptions:
@@ -158,6 +162,8 @@ def lip_sync(source: str, options: LipSyncOptions | None = None) -> LipSyncResul
         cues=options.cues,
         engine=options.engine,
         fps=options.fps,
+        aligner=options.aligner,
+        recogniser=options.recogniser,
     )
     utterance, speech = speak(request)
     tracks = weight_tracks(

@@ -134,11 +134,11 @@ class SceneSpeech:
 
     def speaker_timeline(self, key: str) -> Timeline:
         """A speaker's own lines on the scene's timeline (the whole scene long)."""
-        return joined_timelines([line.timeline for line in self.lines if line.speaker == key], self.duration)
+        return Timeline.joined([line.timeline for line in self.lines if line.speaker == key], self.duration)
 
     def scene_timeline(self) -> Timeline:
         """Every line on the scene's timeline."""
-        return joined_timelines([line.timeline for line in self.lines], self.duration)
+        return Timeline.joined([line.timeline for line in self.lines], self.duration)
 
 
 @dataclass(frozen=True)
@@ -283,7 +283,7 @@ def _laid_out(script, cast, utterances, addressees, speeches, rng, timing: str) 
                 index,
                 line.speaker,
                 addressees[index],
-                shifted_timeline(speech.timeline, start, duration),
+                speech.timeline.shifted(start, duration),
                 utterance,
             )
         )
@@ -441,7 +441,7 @@ def _overlapping(
                 found = synthesize_timeline(utterance, timing, recording=path, engine=engine)
             except LipSyncError:
                 return None
-            return shifted_timeline(found.timeline, start, aligned.duration), found.warnings
+            return found.timeline.shifted(start, aligned.duration), found.warnings
 
         for lead in (overlap + 0.15, overlap + 0.05, overlap, overlap + 0.3):
             start = max(other_end - lead, 0.0)
@@ -492,23 +492,7 @@ def _first_word_as_spoken(
     begins = words[1].start - (own[1].start - own[0].start) * pace
     if not earliest <= begins <= latest:
         return None
-    return remapped_timeline(timeline, (words[0].start, words[1].start), (begins, words[1].start))
-
-
-def remapped_timeline(timeline: Timeline, old: tuple[float, ...], new: tuple[float, ...]) -> Timeline:
-    """The timeline with times in old[0]..old[-1] moved linearly onto new (knots in order), the rest kept."""
-
-    def moved(time: float) -> float:
-        return float(np.interp(time, old, new)) if old[0] <= time <= old[-1] else time
-
-    return replace(
-        timeline,
-        phones=tuple(replace(p, start=moved(p.start), end=moved(p.end)) for p in timeline.phones),
-        words=tuple(replace(w, start=moved(w.start), end=moved(w.end)) for w in timeline.words),
-        emotions=tuple(replace(e, start=moved(e.start), end=moved(e.end)) for e in timeline.emotions),
-        emphases=tuple((moved(a), moved(b)) for a, b in timeline.emphases),
-        engine_onsets=tuple(moved(t) for t in timeline.engine_onsets),
-    )
+    return timeline.remapped((words[0].start, words[1].start), (begins, words[1].start))
 
 
 def _from_speaker_recordings(
@@ -546,7 +530,7 @@ def _from_speaker_recordings(
                 warnings += [f"{role.name}'s recording near {start:.1f} s: {w}" for w in speech.warnings]
                 parts = split_timeline(speech.timeline, [utterances[i] for i in turn], duration)
                 for index, part in zip(turn, parts, strict=True):
-                    timelines[index] = shifted_timeline(part, start, duration)
+                    timelines[index] = part.shifted(start, duration)
             pieces.append(SoundPiece(role.name, role.key, 0.0, track))
     lines = tuple(
         SceneLine(
@@ -697,45 +681,6 @@ def _from_papagayo(script, cast, utterances, addressees, path: Path, rate) -> Sc
 
 
 # ---------------------------------------------------------------- timelines
-
-
-def shifted_timeline(timeline: Timeline, start: float, duration: float) -> Timeline:
-    """A line's timeline moved to start at `start` seconds of a scene `duration` long."""
-    return Timeline(
-        phones=tuple(replace(p, start=p.start + start, end=p.end + start) for p in timeline.phones),
-        words=tuple(replace(w, start=w.start + start, end=w.end + start) for w in timeline.words),
-        emotions=tuple(replace(e, start=e.start + start, end=e.end + start) for e in timeline.emotions),
-        emphases=tuple((a + start, b + start) for a, b in timeline.emphases),
-        duration=duration,
-        timing=timeline.timing,
-        engine_onsets=tuple(t + start for t in timeline.engine_onsets),
-    )
-
-
-def joined_timelines(timelines: list[Timeline], duration: float, timing: str = "") -> Timeline:
-    """Timelines on one timeline as one: words and letters numbered on from line to line."""
-    phones, words, emotions, emphases, onsets = [], [], [], [], []
-    word_base = letter_base = 0
-    for timeline in timelines:
-        phones += [
-            replace(p, word_index=p.word_index + word_base, letter_index=p.letter_index + letter_base)
-            for p in timeline.phones
-        ]
-        words += [replace(w, index=w.index + word_base) for w in timeline.words]
-        emotions += timeline.emotions
-        emphases += timeline.emphases
-        onsets += timeline.engine_onsets
-        word_base += len(timeline.words)
-        letter_base += len(timeline.phones)
-    return Timeline(
-        tuple(phones),
-        tuple(words),
-        tuple(emotions),
-        tuple(emphases),
-        duration,
-        timing or (timelines[0].timing if timelines else "phone"),
-        tuple(sorted(onsets)),
-    )
 
 
 def with_faint_emotions(timeline: Timeline, heard: list[Timeline], share: float) -> Timeline:

@@ -20,7 +20,7 @@ READ_BLOCK_FRAMES = 1 << 20  # frames read and mixed to mono at a time: a long t
 # Clipping: a sample within CLIPPED_TOLERANCE of the take's peak, in a run of at least CLIPPED_RUN such
 # samples, sits on a top the recorder or a gain stage cut flat (wherever the peak lies: a take normalised
 # after it was clipped has its flat tops below full scale). CLIPPED_SHARE of the sounding samples (those
-# within 40 dB of the peak) is clipping worth naming: of the people's recordings scripts/people.py
+# within 40 dB of the peak) is clipping worth naming: of the people's recordings lab/kit/people.py
 # fetches, 18 of about 3,500 pass it (KDE's Tswana syllables, 2-67 %), three more lie at 0.1-1 %.
 CLIPPED_TOLERANCE = 1e-4  # of the peak: a few steps of 16-bit audio
 CLIPPED_RUN = 3

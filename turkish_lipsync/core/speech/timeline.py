@@ -8,8 +8,9 @@ from pathlib import Path
 from ..base.errors import LipSyncError, TextError
 from ..base.model import Timeline, Utterance
 from .align import phone_letter_spans, word_letter_spans
+from .aligner_settings import DEFAULT_ALIGNER, AlignerSettings
 from .base import Synthesis, get_engine
-from .recording import align_recording
+from .recording import RecordedAudio, align_recording
 from .timewarp import with_closures
 from .timing import build_timeline, table_timeline
 
@@ -35,8 +36,9 @@ def synthesize_timeline(
     utterance: Utterance,
     timing: str = "phone",
     *,
-    recording: Path | str | None = None,
+    recording: Path | str | RecordedAudio | None = None,
     engine: str = "espeak",
+    aligner: AlignerSettings = DEFAULT_ALIGNER,
 ) -> Speech:
     """Speak the utterance and time every letter: the timeline, the audio it belongs to, warnings.
 
@@ -44,7 +46,7 @@ def synthesize_timeline(
     (word-start events, Table 5.4 durations inside words); "table" needs no engine and returns no audio.
     With a recording, the synthetic speech is aligned to it and the timeline follows the recording
     (timing "recording"; "word" then places the thesis's durations after the recording's word starts);
-    the returned Synthesis then holds the recording's samples.
+    the returned Synthesis then holds the recording's samples. `aligner`: the alignment's settings.
     """
     if timing not in TIMINGS:
         raise LipSyncError(f"unknown timing {timing!r}; choose one of: {', '.join(TIMINGS)}")
@@ -67,7 +69,7 @@ def synthesize_timeline(
     if recording is None:
         synthesis = speech_engine.synthesize(utterance)
     else:  # synthesised in chunks: a take of any length, its script past MAX_SPOKEN_LETTERS included
-        alignment = align_recording(utterance, Path(recording), speech_engine)
+        alignment = align_recording(utterance, recording, speech_engine, aligner)
         synthesis, warnings, label = alignment.synthesis, alignment.warnings, "recording"
     if timing == "word":
         starts, ends = word_letter_spans(utterance, synthesis)

@@ -1,5 +1,5 @@
 """Measures of a living face as a viewer sees it: rotations fitted to moving vertices, saccades and blinks
-found in what the scene shows, pauses in the speech's own audio. Used by scripts/measure_living.py and the
+found in what the scene shows, pauses in the speech's own audio. Used by lab/measure/living.py and the
 tests, on vertices sampled from the evaluated scene frame by frame; nothing here reads the keys."""
 
 from __future__ import annotations

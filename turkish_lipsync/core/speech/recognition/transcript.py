@@ -15,14 +15,13 @@ from ...base.model import Pause, SpokenWord, Style, Timeline, Utterance
 from ...text.utterance import assemble_utterance
 from ..timing import build_timeline
 from .recogniser import Recognition
+from .settings import DEFAULT_RECOGNISER, RecogniserSettings
 
 RECOGNISED_TIMING = "recognised"
 # The network learnt eSpeak NG's phones, which start a voiceless stop at its burst: the closure before it
-# is heard as the end of the letter before, and given back to the stop, as the aligned timelines do
-# (timewarp.with_closures). In eSpeak NG's speech a closure is a third of the phone before it, at any rate
-# (median 0.30-0.34 over the held-out sentences at -25, 0 and +25 % rate; 32-49 ms).
+# is heard as the end of the letter before, and given back to the stop (closure_share), as the
+# aligned timelines do (timewarp.with_closures).
 VOICELESS_STOPS = frozenset("çkpt")
-CLOSURE_SHARE = 0.33
 
 
 def heard_utterance(recognition: Recognition) -> Utterance:
@@ -42,7 +41,12 @@ def heard_utterance(recognition: Recognition) -> Utterance:
     return assemble_utterance(" ".join(texts), items)
 
 
-def heard_timeline(utterance: Utterance, recognition: Recognition, duration: float) -> Timeline:
+def heard_timeline(
+    utterance: Utterance,
+    recognition: Recognition,
+    duration: float,
+    settings: RecogniserSettings = DEFAULT_RECOGNISER,
+) -> Timeline:
     """Each letter of the heard utterance timed where it was heard, a voiceless stop from its closure."""
     starts, ends = [], []
     for phrase in recognition.phrases:
@@ -50,7 +54,7 @@ def heard_timeline(utterance: Utterance, recognition: Recognition, duration: flo
             start = letter.start
             if number and letter.letter in VOICELESS_STOPS:
                 before = phrase[number - 1]
-                start -= CLOSURE_SHARE * (before.end - before.start)
+                start -= settings.closure_share * (before.end - before.start)
                 ends[-1] = min(ends[-1], start)
             starts.append(start)
             ends.append(letter.end)
