@@ -126,19 +126,8 @@ def synthesize_reference(
     for part, first_word in _chunks(utterance, settings):
         spoken = engine.synthesize(part)
         pieces.append(resample(spoken.samples, spoken.sample_rate, ANALYSIS_RATE, 1 / 32768))
-        phones.extend(
-            replace(
-                event,
-                start=event.start + offset,
-                end=event.end + offset,
-                word_index=event.word_index + first_word,
-            )
-            for event in spoken.phone_events
-        )
-        words.extend(
-            replace(event, start=event.start + offset, word_index=event.word_index + first_word)
-            for event in spoken.word_events
-        )
+        phones.extend(event.moved(offset, first_word) for event in spoken.phone_events)
+        words.extend(event.moved(offset, first_word) for event in spoken.word_events)
         offset += spoken.duration
     analysis = np.concatenate(pieces) if pieces else np.zeros(0, np.float32)
     return _Reference(tuple(phones), tuple(words)), analysis
