@@ -276,7 +276,9 @@ def source_files(root: Path = ROOT) -> list[Path]:
 def collect_messages(root: Path = ROOT) -> tuple[Message, ...]:
     """Every message of the sources under root, in file and line order."""
     trees = {
-        path.relative_to(root).as_posix(): ast.parse(path.read_text(encoding="utf-8"))
+        path.relative_to(root).as_posix(): _with_constants_inlined(
+            ast.parse(path.read_text(encoding="utf-8"))
+        )
         for path in source_files(root)
     }
     errors = _error_classes(trees) - INTERNAL_ERRORS
@@ -286,6 +288,32 @@ def collect_messages(root: Path = ROOT) -> tuple[Message, ...]:
         collector.visit(tree)
         messages += sorted(set(collector.found), key=lambda message: message.line)
     return tuple(messages)
+
+
+class _ConstantInliner(ast.NodeTransformer):
+    """A module's string constants (NAME = "..." at its top level) read where they are used by name: a
+    message written once and raised or shown in several places is found at each."""
+
+    def __init__(self, constants: dict[str, ast.expr]) -> None:
+        self.constants = constants
+
+    def visit_Name(self, node: ast.Name) -> ast.expr:
+        if isinstance(node.ctx, ast.Load) and node.id in self.constants:
+            return ast.copy_location(ast.Constant(self.constants[node.id].value), node)
+        return node
+
+
+def _with_constants_inlined(tree: ast.Module) -> ast.Module:
+    constants = {
+        target.id: node.value
+        for node in tree.body
+        if isinstance(node, ast.Assign)
+        and isinstance(node.value, ast.Constant)
+        and isinstance(node.value.value, str)
+        for target in node.targets
+        if isinstance(target, ast.Name) and target.id.isupper()
+    }
+    return _ConstantInliner(constants).visit(tree) if constants else tree
 
 
 def group_of(path: str) -> str | None:

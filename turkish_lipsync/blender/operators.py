@@ -16,6 +16,7 @@ from ..core.faces.reference import load_reference_head
 from ..core.pipeline import LipSyncOptions
 from ..core.scene import RoleChoice
 from ..core.scene.speech import SceneSources, line_recordings_in
+from ..core.speech.timeline import TABLE_CANNOT_FOLLOW_RECORDING
 from ..core.text.script import Script, has_speakers, read_script, speaker_key
 from . import conversation, exports, gltf_export, landmarks, mesh, pipeline, shapekeys
 from .preferences import ADDON_PACKAGE, configure_speech_engine
@@ -176,7 +177,7 @@ def source_chosen(context) -> str | None:
 def timing_follows_recording(context) -> str | None:
     settings = settings_of(context)
     if settings.recording and settings.timing == "table" and not settings.cue_file:
-        return "Table timing cannot follow a recording: choose Phone or Word timing"
+        return TABLE_CANNOT_FOLLOW_RECORDING
     return None
 
 

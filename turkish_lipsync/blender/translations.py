@@ -59,8 +59,9 @@ TURKISH = {
     "Choose a head with its own ARKit shape keys (the reference head has none)": (
         "Kendi ARKit şekil anahtarları olan bir kafa seçin (referans kafada bunlar yok)"
     ),
-    "Table timing cannot follow a recording: choose Phone or Word timing": (
-        "Tablo zamanlaması bir kayda uyamaz: Ses ya da Sözcük zamanlamasını seçin"
+    "Table timing uses no speech, so it cannot follow a recording: choose Phone or Word timing": (
+        "Tablo zamanlaması konuşma kullanmaz, bu yüzden bir kayda uyamaz: Ses ya da Sözcük "
+        "zamanlamasını seçin"
     ),
     "The head has no landmark markers": "Kafada yüz işaretçisi yok",
     # properties

@@ -19,6 +19,7 @@ from .motion.living import GazeSetup, LivingOptions, living_tracks
 from .speech.aligner_settings import DEFAULT_ALIGNER, AlignerSettings
 from .speech.recognition.settings import DEFAULT_RECOGNISER, RecogniserSettings
 from .speech.sources import SpeechRequest, speak
+from .speech.timeline import check_timing_follows
 from .text.utterance import unspoken_warning
 
 TIMING_CHOICES = (
@@ -111,10 +112,7 @@ class LipSyncOptions:
         if self.recording is not None:
             object.__setattr__(self, "recording", Path(self.recording))
             # With a cue file the recording is only its sound, whatever the timing says.
-            if self.timing == "table" and self.cues is None:
-                raise LipSyncError(
-                    "Table timing uses no speech, so it cannot follow a recording; choose phone or word."
-                )
+            check_timing_follows(self.timing, self.cues is None)
 
     def living(self) -> LivingOptions:
         """The living layers' amounts for this motion model (0 where a layer is off)."""

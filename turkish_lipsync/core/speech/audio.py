@@ -131,15 +131,33 @@ def _read_with_soundfile(path: Path) -> tuple[np.ndarray, int]:
     return (np.concatenate(blocks) if blocks else np.zeros(0, np.float32)), int(rate)
 
 
+def to_pcm16(samples: np.ndarray) -> np.ndarray:
+    """Float samples in [-1, 1] as 16-bit PCM, rounded and clipped (1.0 is 32767, never wrapping): the
+    exact inverse of reading PCM as float (divided by 32768), so a 16-bit sound read and written again
+    is the same to the bit."""
+    return np.clip(np.round(samples * 32768), -32768, 32767).astype(np.int16)
+
+
 def resampled_pcm(samples: np.ndarray, source_rate: int, target_rate: int) -> np.ndarray:
     """16-bit PCM at the target rate, made block by block (a long take has no float copy to spare)."""
     return np.concatenate(
-        [
-            np.clip(np.round(block * 32767), -32768, 32767).astype(np.int16)
-            for block in _resampled_blocks(samples, source_rate, target_rate)
-        ]
+        [to_pcm16(block) for block in _resampled_blocks(samples, source_rate, target_rate)]
         or [np.zeros(0, np.int16)]
     )
+
+
+def decibels_under_loud(power: np.ndarray) -> np.ndarray:
+    """Each frame's power in dB under the loud frames' (the 95th percentile): 0 at loud speech, -35 and
+    lower in a pause."""
+    loud = float(np.percentile(power, 95)) if power.size else 1.0
+    return 10 * np.log10(np.maximum(power, 1e-12) / max(loud, 1e-12))
+
+
+def levels_under_loud(samples: np.ndarray, hop: int) -> np.ndarray:
+    """decibels_under_loud of each `hop` samples' mean power (samples as float or PCM alike)."""
+    count = samples.size // hop
+    power = (samples[: count * hop].astype(np.float64).reshape(count, hop) ** 2).mean(axis=1)
+    return decibels_under_loud(power)
 
 
 def resample(samples: np.ndarray, source_rate: int, target_rate: int, scale: float = 1.0) -> np.ndarray:

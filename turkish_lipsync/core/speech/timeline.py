@@ -30,6 +30,16 @@ class Speech:
 # several times that): longer texts are refused before the engine starts rather than exhausting memory.
 # A recording's script is exempt: its synthetic rendition is made and dropped chunk by chunk.
 MAX_SPOKEN_LETTERS = 60_000  # about 90 minutes of speech
+# Said wherever a recording is given with table timing (the panel disables Generate with it too).
+TABLE_CANNOT_FOLLOW_RECORDING = (
+    "Table timing uses no speech, so it cannot follow a recording: choose Phone or Word timing"
+)
+
+
+def check_timing_follows(timing: str, recording_given: bool) -> None:
+    """Refuse table timing for a recording: it uses no speech, so there is nothing to align."""
+    if timing == "table" and recording_given:
+        raise LipSyncError(TABLE_CANNOT_FOLLOW_RECORDING)
 
 
 def synthesize_timeline(
@@ -51,10 +61,7 @@ def synthesize_timeline(
     if timing not in TIMINGS:
         raise LipSyncError(f"unknown timing {timing!r}; choose one of: {', '.join(TIMINGS)}")
     if timing == "table":
-        if recording is not None:
-            raise LipSyncError(
-                "table timing uses no speech, so it cannot follow a recording; choose phone or word timing"
-            )
+        check_timing_follows(timing, recording is not None)
         return Speech(table_timeline(utterance), None)
     if timing == "recording" and recording is None:
         raise LipSyncError("recording timing needs a recording: give the audio file of the text read aloud")
