@@ -23,6 +23,7 @@ ENCODINGS = {
     "mov": ("aac", 44100, 2, "libx264"),
     "mkv": ("aac", 48000, 2, "libx264"),
     "webm": ("libopus", 48000, 2, "libvpx-vp9"),
+    "ogg": ("libopus", 24000, 1, None),
 }
 
 
@@ -31,7 +32,8 @@ def spoken_voice(text: str = TAKE_TEXT, rate: int = 48000) -> np.ndarray:
     utterance = build_utterance(f'<PROS RATE="-15%" PITCH="+20%">{text}</PROS>')
     synthesis = synthesize_timeline(utterance).synthesis
     voice = resample(synthesis.samples.astype(np.float32) / 32768, synthesis.sample_rate, rate)
-    voice = np.concatenate((np.zeros(int(LEAD_IN * rate), np.float32), voice, np.zeros(rate // 4, np.float32)))
+    lead, tail = np.zeros(int(LEAD_IN * rate), np.float32), np.zeros(rate // 4, np.float32)
+    voice = np.concatenate((lead, voice, tail))
     return voice + np.random.default_rng(4).normal(0, 0.001, voice.size).astype(np.float32)
 
 
@@ -47,26 +49,36 @@ def write_take(folder: Path, name: str, voice: np.ndarray, voice_rate: int) -> P
     return encode(folder / f"take.{name}", samples, rate, codec, video)
 
 
-def encode(path: Path, samples: np.ndarray, rate: int, codec: str, video: str | None = None) -> Path:
-    """Planar float samples [channels, frames] encoded with PyAV, beside a still picture where video."""
+def encode(
+    path: Path, samples: np.ndarray, rate: int, codec: str, video: str | None = None, sound: bool = True
+) -> Path:
+    """Planar float samples [channels, frames] encoded with PyAV, beside a changing picture where video
+    (without the sound where sound is False: a video with no sound track, one second long)."""
+    import av
+
+    with av.open(str(path), "w") as container:
+        picture = _video_stream(container, video) if video else None
+        if sound:
+            _mux_sound(container, samples, rate, codec)
+        if picture is not None:
+            _mux_pictures(container, picture, samples.shape[1] / rate if sound else 1.0)
+    return path
+
+
+def _mux_sound(container, samples: np.ndarray, rate: int, codec: str) -> None:
     import av
 
     layout = {1: "mono", 2: "stereo", 6: "5.1"}[samples.shape[0]]
-    with av.open(str(path), "w") as container:
-        picture = _video_stream(container, video) if video else None
-        sound = container.add_stream(codec, rate=rate, layout=layout)
-        sound.bit_rate = 96000 * samples.shape[0]
-        size = sound.codec_context.frame_size or 1024
-        for begin in range(0, samples.shape[1], size):
-            frame = av.AudioFrame.from_ndarray(
-                np.ascontiguousarray(samples[:, begin : begin + size]), format="fltp", layout=layout
-            )
-            frame.sample_rate, frame.pts, frame.time_base = rate, begin, Fraction(1, rate)
-            container.mux(sound.encode(frame))
-        container.mux(sound.encode(None))
-        if picture is not None:
-            _mux_pictures(container, picture, samples.shape[1] / rate)
-    return path
+    stream = container.add_stream(codec, rate=rate, layout=layout)
+    stream.bit_rate = 96000 * samples.shape[0]
+    size = stream.codec_context.frame_size or 1024
+    for begin in range(0, samples.shape[1], size):
+        frame = av.AudioFrame.from_ndarray(
+            np.ascontiguousarray(samples[:, begin : begin + size]), format="fltp", layout=layout
+        )
+        frame.sample_rate, frame.pts, frame.time_base = rate, begin, Fraction(1, rate)
+        container.mux(stream.encode(frame))
+    container.mux(stream.encode(None))
 
 
 def _video_stream(container, codec: str):

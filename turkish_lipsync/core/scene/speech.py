@@ -35,6 +35,7 @@ from ..speech.audio import read_audio, resampled_pcm
 from ..speech.cue_timing import timeline_from_cues
 from ..speech.cues import CueSource
 from ..speech.cues.papagayo_pgo import read_pgo_voices, rest_between, spoken_words
+from ..speech.decoders import RECORDING_KINDS, RECORDING_SUFFIXES
 from ..speech.timing import build_timeline, letter_durations
 from ..text.normalize import normalize
 from ..text.script import Script, ScriptLine, speaker_key
@@ -42,7 +43,6 @@ from ..text.utterance import assemble_utterance
 from .cast import Cast, spoken_by
 from .tables import Turns, conversation_table
 
-RECORDING_SUFFIXES = (".wav", ".flac", ".ogg")  # what a folder of line recordings holds
 HEARD_DB = -35.0  # a line's audio this far under its loud end is silence
 MIN_TURN_SILENCE = 0.3  # seconds of silence in a speaker's track that may part two of their turns
 SILENCE_WEIGHT = 0.2  # how much a longer silence is preferred as the end of a speaker's turn
@@ -217,7 +217,7 @@ def line_recordings_in(folder: Path) -> tuple[Path, ...]:
         raise LipSyncError(f"The line recordings folder {folder} does not exist; choose the folder again.")
     found = tuple(sorted(p for p in folder.iterdir() if p.suffix.lower() in RECORDING_SUFFIXES))
     if not found:
-        raise LipSyncError(f"{folder} holds no recordings ({', '.join(RECORDING_SUFFIXES)}): one per line.")
+        raise LipSyncError(f"{folder} holds no recordings ({RECORDING_KINDS}): give one per line.")
     return found
 
 

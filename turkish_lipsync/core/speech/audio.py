@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from ..base.errors import AudioError
-from .decoders import READ_BLOCK_FRAMES, DecodedAudio, decode_recording
+from .decoders import READ_BLOCK_FRAMES, RECORDING_KINDS, DecodedAudio, decode_recording
 
 MAX_OUTPUT_RATE = 48_000  # the recording's own rate is kept up to this
 # Clipping: a sample within CLIPPED_TOLERANCE of the take's peak, in a run of at least CLIPPED_RUN such
@@ -35,10 +35,7 @@ def decode_audio(path: str | Path) -> DecodedAudio:
     """The recording decoded, with the name of the decoder that read it; AudioError where none can."""
     path = Path(path)
     if not path.is_file():
-        raise AudioError(
-            f"recording {path} does not exist; give the path of a recording (WAV, FLAC, OGG, MP3, M4A) or "
-            "of a video with sound (MP4, MOV, MKV, WebM)"
-        )
+        raise AudioError(f"recording {path} does not exist; give the path of a recording: {RECORDING_KINDS}")
     decoded = decode_recording(path)
     if decoded.samples.size == 0 or decoded.rate <= 0:
         raise AudioError(f"recording {path} holds no audio; record the text again")

@@ -16,7 +16,7 @@ import numpy as np
 
 from ...base.errors import AudioError
 from .base import DECODERS, READ_BLOCK_FRAMES, AudioDecoder, DecodeFailed, MonoBuffer, mono
-from .formats import RECORDING_SUFFIXES, AudioFormat, sniff_format
+from .formats import RECORDING_KINDS, RECORDING_SUFFIXES, AudioFormat, sniff_format
 
 REASON_CHARACTERS = 160  # of one decoder's own words in a message: enough to say why, short enough to read
 
@@ -85,6 +85,7 @@ def _unreadable(path: Path, audio_format: AudioFormat, attempts: list[_Attempt])
 __all__ = [
     "DECODERS",
     "READ_BLOCK_FRAMES",
+    "RECORDING_KINDS",
     "RECORDING_SUFFIXES",
     "AudioDecoder",
     "AudioFormat",

@@ -9,7 +9,8 @@ import numpy as np
 from ...base.registry import Registry
 from .formats import AudioFormat
 
-READ_BLOCK_FRAMES = 1 << 20  # frames read and mixed to mono at a time: a long take is never held in stereo
+READ_BLOCK_FRAMES = 1 << 20  # frames resampled and searched for clipping at a time (speech/audio.py)
+DECODE_BLOCK_FRAMES = 1 << 18  # frames decoded and mixed to mono at a time: a long take never held in stereo
 GROWTH_MARGIN_SECONDS = 1.0  # room beyond a decoder's estimate of the length, before the buffer must grow
 ESTIMATE_LIMIT_SECONDS = 4 * 3600  # an estimate longer than this is not believed (a broken header's length)
 

@@ -43,6 +43,7 @@ FORMATS = {
     )
 }
 RECORDING_SUFFIXES = tuple(suffix for audio_format in FORMATS.values() for suffix in audio_format.suffixes)
+RECORDING_KINDS = "WAV, FLAC, OGG, MP3, M4A or a video with sound (MP4, MOV, MKV, WebM)"  # in messages
 
 
 def unknown_format(path: Path) -> AudioFormat:

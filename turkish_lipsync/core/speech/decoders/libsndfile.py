@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .base import DECODERS, READ_BLOCK_FRAMES, AudioDecoder, DecodeFailed, MonoBuffer, mono
+from .base import DECODE_BLOCK_FRAMES, DECODERS, AudioDecoder, DecodeFailed, MonoBuffer, mono
 from .formats import AudioFormat
 
 
@@ -34,7 +34,7 @@ class LibsndfileDecoder(AudioDecoder):
             with soundfile.SoundFile(str(path)) as handle:
                 rate = int(handle.samplerate)
                 gathered = MonoBuffer(handle.frames, rate)
-                for block in handle.blocks(READ_BLOCK_FRAMES, dtype="float32", always_2d=True):
+                for block in handle.blocks(DECODE_BLOCK_FRAMES, dtype="float32", always_2d=True):
                     gathered.append(mono(block))
         except Exception as error:  # soundfile raises its own error types, varying by version
             raise DecodeFailed(str(error).removeprefix(f"Error opening {str(path)!r}: ")) from None

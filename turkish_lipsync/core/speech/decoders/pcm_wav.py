@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .base import DECODERS, READ_BLOCK_FRAMES, AudioDecoder, DecodeFailed
+from .base import DECODE_BLOCK_FRAMES, DECODERS, AudioDecoder, DecodeFailed
 from .formats import AudioFormat
 
 
@@ -37,7 +37,7 @@ def _read_pcm_wav(path: Path) -> tuple[np.ndarray, int]:
         mono = np.empty(handle.getnframes(), np.float32)
         filled = 0
         while filled < mono.size:
-            data = handle.readframes(READ_BLOCK_FRAMES)
+            data = handle.readframes(DECODE_BLOCK_FRAMES)
             frames = len(data) // (width * channels)
             if frames == 0:
                 break
