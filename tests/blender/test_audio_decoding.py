@@ -16,9 +16,10 @@ import pytest
 bpy = pytest.importorskip("bpy")
 pytest.importorskip("av")  # the takes are encoded with PyAV
 
-from tests.core.test_speech_decoders import AAC_FRAME, ONSET_TOLERANCE, WAV_RATE, _lag_seconds  # noqa: E402
+from scripts.encoded_takes import ENCODINGS, TAKE_TEXT, channels_of, encode, spoken_voice, write_take  # noqa: E402
+from scripts.measure_decoders import lag_seconds  # noqa: E402
+from tests.core.test_speech_decoders import AAC_FRAME, ONSET_TOLERANCE, WAV_RATE, onset_differences  # noqa: E402
 from tests.core.test_speech_recording import write_pcm_wav  # noqa: E402
-from tests.encoded_takes import ENCODINGS, TAKE_TEXT, channels_of, encode, spoken_voice, write_take  # noqa: E402
 from tests.render_runs import RENDER_SCRIPT, run_render  # noqa: E402
 from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import compat, heads, pipeline, recording_browser, sequencer, shapekeys  # noqa: E402
@@ -77,7 +78,7 @@ def test_blenders_decoder_keeps_the_timing_and_length(takes, name):
     codec, encoded_rate, _, _ = ENCODINGS[name]
     assert rate == (48000 if codec == "libopus" else encoded_rate) and samples.dtype == np.float32
     # An AAC encoder's priming is not heard as sound, in MP4's edit list as in Matroska's codec delay.
-    assert abs(_lag_seconds(samples, rate, reference.samples)) <= 1 / WAV_RATE
+    assert abs(lag_seconds(samples, rate, reference.samples)) <= 1 / WAV_RATE
     extra = samples.size / rate - reference.samples.size / WAV_RATE
     assert abs(extra) <= (AAC_FRAME / rate if name == "mkv" else 0.001), extra
     assert 0.3 < np.abs(samples).max() <= 1.0  # the channels' mean, not Audaspace's sum
@@ -94,21 +95,22 @@ def test_the_panel_follows_an_mp4_and_an_mp3_as_it_follows_the_wav(takes, tmp_pa
     text.write(TAKE_TEXT)
     settings.source_kind, settings.text = "TEXT", text
     keyed, sounds, frame_ends = {}, {}, {}
-    for name in ("wav", "mp4", "mp3"):
-        settings.recording = str(takes[name])
+    for name in ("wav", "mp4", "mp3", "wav again"):
+        settings.recording = str(takes[name.removesuffix(" again")])
         assert bpy.ops.turkish_lipsync.generate() == {"FINISHED"}
         keyed[name] = pipeline.animation_record(head).timeline  # what the keys were made from
         sounds[name] = decode_audio(sequencer.speech_wav_of(bpy.context.scene))
         frame_ends[name] = bpy.context.scene.frame_end
+    # Within 10 ms of the WAV's onsets, beyond what the WAV moves aligned again (eSpeak NG's rendition
+    # shifts a little from one synthesis to the next: tests/core/test_speech_decoders.py).
     for name in ("mp4", "mp3"):
-        for items in ("phones", "words"):
-            starts = [item.start for item in getattr(keyed[name], items)]
-            wav_starts = [item.start for item in getattr(keyed["wav"], items)]
-            assert len(starts) == len(wav_starts), (name, items)
-            assert np.abs(np.subtract(starts, wav_starts)).max() <= ONSET_TOLERANCE + 1e-6, (name, items)
+        for kind in ("phones", "words"):
+            spread = onset_differences(keyed["wav again"], keyed["wav"], kind)
+            differences = onset_differences(keyed[name], keyed["wav"], kind)
+            assert np.all(differences <= ONSET_TOLERANCE + spread + 1e-6), (name, kind, differences.max())
     # The sound placed in the sequencer is the recording at its own rate, as long as the WAV's (to 1 ms).
     for name, sound in sounds.items():
-        assert sound.rate == (WAV_RATE if name == "wav" else ENCODINGS[name][1])
+        assert sound.rate == (WAV_RATE if name.startswith("wav") else ENCODINGS[name][1])
         assert abs(sound.samples.size / sound.rate - sounds["wav"].samples.size / WAV_RATE) <= 0.001
         assert frame_ends[name] == frame_ends["wav"]
     if compat.HAS_AUDIO:

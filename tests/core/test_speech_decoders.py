@@ -16,12 +16,13 @@ import soundfile
 
 pytest.importorskip("av")
 
+from scripts.encoded_takes import ENCODINGS, TAKE_TEXT, channels_of, encode, spoken_voice, write_take  # noqa: E402
+from scripts.measure_decoders import lag_seconds  # noqa: E402
 from tests.core.test_speech_recording import write_pcm_wav  # noqa: E402
-from tests.encoded_takes import ENCODINGS, TAKE_TEXT, channels_of, encode, spoken_voice, write_take  # noqa: E402
 from turkish_lipsync.core.base.errors import AudioError  # noqa: E402
 from turkish_lipsync.core.scene.speech import line_recordings_in  # noqa: E402
 from turkish_lipsync.core.speech import synthesize_timeline  # noqa: E402
-from turkish_lipsync.core.speech.audio import decode_audio, resample  # noqa: E402
+from turkish_lipsync.core.speech.audio import decode_audio  # noqa: E402
 from turkish_lipsync.core.speech.decoders import DECODERS, MonoBuffer, sniff_format  # noqa: E402
 from turkish_lipsync.core.speech.decoders.matroska import first_audio_track  # noqa: E402
 from turkish_lipsync.core.text.utterance import build_utterance  # noqa: E402
@@ -34,7 +35,7 @@ REPOSITORY = Path(__file__).resolve().parents[2]
 
 @pytest.fixture(scope="module")
 def takes(tmp_path_factory):
-    """The take as a 44.1 kHz stereo WAV and in every encoding of tests/encoded_takes.py."""
+    """The take as a 44.1 kHz stereo WAV and in every encoding of scripts/encoded_takes.py."""
     folder = tmp_path_factory.mktemp("takes")
     voice = spoken_voice(rate=WAV_RATE)
     paths = {"wav": write_pcm_wav(folder / "take.wav", channels_of(voice, 2).T, WAV_RATE, channels=2)}
@@ -44,25 +45,24 @@ def takes(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def aligned(takes):
-    """Each take's timeline, aligned to the text, by format (computed once, as each test needs them)."""
+    """Each take's timeline, aligned to the text, by format (computed once, as each test needs them);
+    "wav again" is the WAV aligned a second time."""
     utterance = build_utterance(TAKE_TEXT)
     cache = {}
 
     def timeline(name):
         if name not in cache:
-            cache[name] = synthesize_timeline(utterance, recording=takes[name]).timeline
+            recording = takes[name.removesuffix(" again")]
+            cache[name] = synthesize_timeline(utterance, recording=recording).timeline
         return cache[name]
 
     return timeline
 
 
-def _lag_seconds(samples: np.ndarray, rate: int, reference: np.ndarray) -> float:
-    """How much later the samples' sound lies than the reference's (at WAV_RATE), by cross-correlation."""
-    heard = resample(samples, rate, WAV_RATE) if rate != WAV_RATE else samples
-    size = 1 << int(np.ceil(np.log2(heard.size + reference.size)))
-    correlation = np.fft.irfft(np.fft.rfft(heard, size) * np.conj(np.fft.rfft(reference, size)), size)
-    lag = int(np.argmax(correlation))
-    return (lag - size if lag > size // 2 else lag) / WAV_RATE
+def onset_differences(encoded, wav, kind: str) -> np.ndarray:
+    return np.abs(
+        np.subtract([item.start for item in getattr(encoded, kind)], [i.start for i in getattr(wav, kind)])
+    )
 
 
 def _decoders_of(path):
@@ -83,7 +83,7 @@ def test_every_decoder_reads_the_format_at_its_rate_with_its_timing_and_length(t
         assert rate in {encoded_rate, 48000 if codec == "libopus" else encoded_rate}, decoder.name
         assert samples.dtype == np.float32
         # The encoder's delay (an AAC encoder's priming, an MP3's) does not move the sound.
-        assert abs(_lag_seconds(samples, rate, reference.samples)) <= 1 / WAV_RATE, decoder.name
+        assert abs(lag_seconds(samples, rate, reference.samples)) <= 1 / WAV_RATE, decoder.name
         # Nor is the length changed: the padding of the last frame is cut where the file says it ends.
         extra = samples.size / rate - reference.samples.size / WAV_RATE
         assert abs(extra) <= (AAC_FRAME / rate if name == "mkv" else 0.001), (decoder.name, extra)
@@ -92,24 +92,31 @@ def test_every_decoder_reads_the_format_at_its_rate_with_its_timing_and_length(t
 
 @pytest.mark.parametrize("name", ["mp3", "m4a", "mp4", "mov", "mkv", "webm"])
 def test_an_encoded_take_aligns_within_ten_milliseconds_of_its_wav(aligned, name):
-    wav, encoded = aligned("wav"), aligned(name)
+    """Every phone and word onset within 10 ms of the WAV's, beyond what the WAV itself moves when it is
+    aligned again: eSpeak NG's rendition, the aligner's reference, shifts its phones by a millisecond or
+    two from one synthesis to the next in a process (scripts/measure_decoders.py, "wav again")."""
+    wav, encoded, again = aligned("wav"), aligned(name), aligned("wav again")
     assert [p.letter for p in encoded.phones] == [p.letter for p in wav.phones]
-    phones = np.abs(np.array([p.start for p in encoded.phones]) - [p.start for p in wav.phones])
-    words = np.abs(np.array([w.start for w in encoded.words]) - [w.start for w in wav.words])
-    assert phones.max() <= ONSET_TOLERANCE + 1e-9 and words.max() <= ONSET_TOLERANCE + 1e-9
-    assert np.median(phones) <= 0.001
+    for kind in ("phones", "words"):
+        spread = onset_differences(again, wav, kind)
+        differences = onset_differences(encoded, wav, kind)
+        assert np.all(differences <= ONSET_TOLERANCE + spread + 1e-9), (kind, differences.max())
+        assert np.median(differences) <= 0.001
     assert encoded.duration == pytest.approx(wav.duration, abs=AAC_FRAME / 48000)
 
 
-def test_the_command_line_aligns_an_m4a(takes, aligned):
-    result = subprocess.run(
-        [sys.executable, "-m", "turkish_lipsync", "timeline", "--text", TAKE_TEXT, "--audio",
-         str(takes["m4a"]), "--format", "json"],
-        capture_output=True, text=True, timeout=300, cwd=REPOSITORY, check=False,
-    )  # fmt: skip
-    assert result.returncode == 0, result.stderr
-    starts = np.array([phone["start"] for phone in json.loads(result.stdout)["phones"]])
-    assert np.abs(starts - [p.start for p in aligned("wav").phones]).max() <= ONSET_TOLERANCE + 1e-6
+def test_the_command_line_aligns_an_m4a_as_its_wav(takes):
+    """Each in a fresh process: eSpeak NG's rendition is the same in both, so only the decoding differs."""
+    starts = {}
+    for name in ("wav", "m4a"):
+        result = subprocess.run(
+            [sys.executable, "-m", "turkish_lipsync", "timeline", "--text", TAKE_TEXT, "--audio",
+             str(takes[name]), "--format", "json"],
+            capture_output=True, text=True, timeout=300, cwd=REPOSITORY, check=False,
+        )  # fmt: skip
+        assert result.returncode == 0, result.stderr
+        starts[name] = np.array([phone["start"] for phone in json.loads(result.stdout)["phones"]])
+    assert np.abs(starts["m4a"] - starts["wav"]).max() <= ONSET_TOLERANCE + 1e-6
 
 
 def test_a_file_is_known_by_its_bytes_not_its_name(takes, tmp_path):

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import NoReturn
 
 import numpy as np
 
@@ -59,26 +60,27 @@ def decode_recording(path: Path) -> DecodedAudio:
             attempts.append(_Attempt(decoder, str(failed)[:REASON_CHARACTERS], ran=True))
             continue
         return DecodedAudio(samples, rate, decoder.name, audio_format)
-    raise AudioError(_unreadable(path, audio_format, attempts))
+    _refuse(path, audio_format, attempts)
 
 
-def _unreadable(path: Path, audio_format: AudioFormat, attempts: list[_Attempt]) -> str:
-    head = f"cannot read the recording {path} ({audio_format.label})"
+def _refuse(path: Path, audio_format: AudioFormat, attempts: list[_Attempt]) -> NoReturn:
+    """One error for a file no decoder read: what it is, what each decoder said, what to do."""
     ran = [attempt for attempt in attempts if attempt.ran]
     said = "; ".join(f"{attempt.decoder.label}: {attempt.reason}" for attempt in ran or attempts)
     if any(attempt.decoder.ffmpeg for attempt in ran):
-        return (
-            f"{head}: {said}; the file may be damaged or not a recording: check that it plays, then export "
-            "it again as WAV or FLAC"
+        raise AudioError(
+            f"cannot read the recording {path} ({audio_format.label}): {said}; the file may be damaged or "
+            "not a recording: check that it plays, then export it again as WAV or FLAC"
         )
     if not audio_format.libsndfile:
-        return (
-            f"{head}: reading it needs FFmpeg, which Blender has and this Python lacks; open it in Blender, "
-            "install PyAV here (`pip install av`), or export the recording as WAV or FLAC"
+        raise AudioError(
+            f"cannot read the recording {path} ({audio_format.label}): reading it needs FFmpeg, which "
+            "Blender has and this Python lacks; open it in Blender, install PyAV here (`pip install av`), "
+            "or export the recording as WAV or FLAC"
         )
-    return (
-        f"{head}: {said}; export it again as WAV or FLAC, or install PyAV (`pip install av`) to read it "
-        "through FFmpeg"
+    raise AudioError(
+        f"cannot read the recording {path} ({audio_format.label}): {said}; export it again as WAV or FLAC, "
+        "or install PyAV (`pip install av`) to read it through FFmpeg"
     )
 
 

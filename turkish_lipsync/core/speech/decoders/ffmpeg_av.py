@@ -41,16 +41,14 @@ class PyAVDecoder(AudioDecoder):
         try:
             with av.open(str(path)) as container:
                 if not container.streams.audio:
-                    raise AudioError(no_sound_track(path, audio_format))
+                    kind = "" if audio_format.name == "unknown" else f"{audio_format.label} "
+                    raise AudioError(
+                        f"the {kind}file {path} has no sound track; give the recording itself, or a video "
+                        "with its sound"
+                    )
                 return _decoded(container, container.streams.audio[0])
         except av.FFmpegError as error:
             raise DecodeFailed(getattr(error, "strerror", None) or str(error)) from None
-
-
-def no_sound_track(path: Path, audio_format: AudioFormat) -> str:
-    """The message for a file FFmpeg opens that holds no sound (a video without it)."""
-    kind = "" if audio_format.name == "unknown" else f"{audio_format.label} "
-    return f"the {kind}file {path} has no sound track; give the recording itself, or a video with its sound"
 
 
 def _decoded(container, stream) -> tuple[np.ndarray, int]:

@@ -63,11 +63,11 @@ def sniff_format(path: Path) -> AudioFormat:
     return FORMATS[name] if name else unknown_format(path)
 
 
-def _signature(head: bytes) -> str | None:
-    """The format whose signature the header carries, or None."""
+def _signature(head: bytes) -> str:
+    """The format whose signature the header carries, or "" where it carries none."""
     kind, brand = head[:4], head[8:12]
     if kind in (b"RIFF", b"RF64", b"BW64"):
-        return {b"WAVE": "wav", b"AVI ": "avi"}.get(brand)
+        return {b"WAVE": "wav", b"AVI ": "avi"}.get(brand, "")
     if kind == b"FORM" and brand in (b"AIFF", b"AIFC"):
         return "aiff"
     if head[4:8] == b"ftyp":
@@ -87,7 +87,7 @@ def _signature(head: bytes) -> str | None:
         return "aac"  # an ADTS frame: layer bits zero
     if len(head) >= 2 and head[0] == 0xFF and head[1] & 0xE0 == 0xE0 and head[1] & 0x06:
         return "mp3"  # an MPEG audio frame
-    return None
+    return ""
 
 
 def _mp4_brand(brand: bytes) -> str:
