@@ -112,9 +112,7 @@ def main() -> None:
         longest = max(np.abs(lengths[name, decoder])) * 1000
         print(f"| {kind} | {decoder} | {rate} Hz, {channels} | {shift:.2f} | {longest:.2f} |")
     print()
-    print(
-        "| format | decoder | phones | phone onsets vs WAV: median, max (ms) | over 10 ms | word onsets: max (ms) |"
-    )
+    print("| format | decoder | phones | phones vs WAV: median, max (ms) | over 10 ms | words: max (ms) |")
     print("|---|---|---|---|---|---|")
     for name, values in phones.items():
         median, largest = np.median(values) * 1000, max(values) * 1000
