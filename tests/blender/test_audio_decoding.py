@@ -16,8 +16,15 @@ import pytest
 bpy = pytest.importorskip("bpy")
 pytest.importorskip("av")  # the takes are encoded with PyAV
 
-from scripts.encoded_takes import ENCODINGS, TAKE_TEXT, channels_of, encode, spoken_voice, write_take  # noqa: E402
-from scripts.measure_decoders import lag_seconds  # noqa: E402
+from lab.kit.encoded_takes import (  # noqa: E402
+    ENCODINGS,
+    TAKE_TEXT,
+    channels_of,
+    encode,
+    lag_seconds,
+    spoken_voice,
+    write_take,
+)
 from tests.core.test_speech_decoders import AAC_FRAME, ONSET_TOLERANCE, WAV_RATE, onset_differences  # noqa: E402
 from tests.core.test_speech_recording import write_pcm_wav  # noqa: E402
 from tests.render_runs import RENDER_SCRIPT, run_render  # noqa: E402

@@ -16,8 +16,15 @@ import soundfile
 
 pytest.importorskip("av")
 
-from scripts.encoded_takes import ENCODINGS, TAKE_TEXT, channels_of, encode, spoken_voice, write_take  # noqa: E402
-from scripts.measure_decoders import lag_seconds  # noqa: E402
+from lab.kit.encoded_takes import (  # noqa: E402
+    ENCODINGS,
+    TAKE_TEXT,
+    channels_of,
+    encode,
+    lag_seconds,
+    spoken_voice,
+    write_take,
+)
 from tests.core.test_speech_recording import write_pcm_wav  # noqa: E402
 from turkish_lipsync.core.base.errors import AudioError  # noqa: E402
 from turkish_lipsync.core.scene.speech import line_recordings_in  # noqa: E402
@@ -35,7 +42,7 @@ REPOSITORY = Path(__file__).resolve().parents[2]
 
 @pytest.fixture(scope="module")
 def takes(tmp_path_factory):
-    """The take as a 44.1 kHz stereo WAV and in every encoding of scripts/encoded_takes.py."""
+    """The take as a 44.1 kHz stereo WAV and in every encoding of lab/kit/encoded_takes.py."""
     folder = tmp_path_factory.mktemp("takes")
     voice = spoken_voice(rate=WAV_RATE)
     paths = {"wav": write_pcm_wav(folder / "take.wav", channels_of(voice, 2).T, WAV_RATE, channels=2)}
@@ -94,7 +101,7 @@ def test_every_decoder_reads_the_format_at_its_rate_with_its_timing_and_length(t
 def test_an_encoded_take_aligns_within_ten_milliseconds_of_its_wav(aligned, name):
     """Every phone and word onset within 10 ms of the WAV's, beyond what the WAV itself moves when it is
     aligned again: eSpeak NG's rendition, the aligner's reference, shifts its phones by a millisecond or
-    two from one synthesis to the next in a process (scripts/measure_decoders.py, "wav again")."""
+    two from one synthesis to the next in a process (lab/measure/decoders.py, "wav again")."""
     wav, encoded, again = aligned("wav"), aligned(name), aligned("wav again")
     assert [p.letter for p in encoded.phones] == [p.letter for p in wav.phones]
     for kind in ("phones", "words"):

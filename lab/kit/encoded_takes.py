@@ -1,5 +1,6 @@
 """A take of the product's own voice in the forms recordings arrive in: WAV, MP3, M4A, the sound track of
-MP4, MOV, MKV and WebM videos, each at its own rate and channel count, encoded with PyAV (FFmpeg)."""
+MP4, MOV, MKV and WebM videos, OGG Opus, each at its own rate and channel count, encoded with PyAV (FFmpeg);
+and where a decoded sound lies against its WAV's. Used by lab/measure/decoders.py and the tests."""
 
 from __future__ import annotations
 
@@ -15,6 +16,7 @@ from turkish_lipsync.core.text.utterance import build_utterance
 TAKE_TEXT = "Merhaba, benim adım Erdem. Bu sabah vapura binip karşıya geçtim, deniz çok güzeldi."
 LEAD_IN = 0.4  # seconds of room noise before the voice
 VIDEO_SIZE = 32  # pixels: the picture only has to be there
+REFERENCE_RATE = 44100  # the WAV's rate, at which shifts are measured
 # name: (codec, sample rate, channels, video codec or None)
 ENCODINGS = {
     "mp3": ("libmp3lame", 44100, 2, None),
@@ -97,3 +99,13 @@ def _mux_pictures(container, stream, seconds: float) -> None:
         frame.pts = index
         container.mux(stream.encode(frame))
     container.mux(stream.encode(None))
+
+
+def lag_seconds(samples: np.ndarray, rate: int, reference: np.ndarray) -> float:
+    """How much later the samples' sound lies than the reference's (at REFERENCE_RATE), by
+    cross-correlation."""
+    heard = resample(samples, rate, REFERENCE_RATE) if rate != REFERENCE_RATE else samples
+    size = 1 << int(np.ceil(np.log2(heard.size + reference.size)))
+    correlation = np.fft.irfft(np.fft.rfft(heard, size) * np.conj(np.fft.rfft(reference, size)), size)
+    lag = int(np.argmax(correlation))
+    return (lag - size if lag > size // 2 else lag) / REFERENCE_RATE

@@ -1,10 +1,10 @@
 """Recordings as they arrive (MP3, M4A, the sound tracks of MP4, MOV, MKV and WebM videos, OGG Opus): how
 each decoder keeps a take's timing and length, and how far the alignment of each encoding lies from its WAV's.
 
-    python scripts/measure_decoders.py [--blender] [--sentences N]
+    python -m lab.measure.decoders [--blender] [--sentences N]
 
 Each held-out sentence of examples/corpus_tr.txt (lines 31-50) is read by eSpeak NG a little slower and
-higher after 0.4 s of faint noise (scripts/encoded_takes.py), written as a 44.1 kHz stereo WAV and encoded
+higher after 0.4 s of faint noise (lab/kit/encoded_takes.py), written as a 44.1 kHz stereo WAV and encoded
 as each of ENCODINGS with PyAV (FFmpeg's encoders: LAME, FFmpeg's AAC, libopus; each at its own rate and
 channel count). Per format and decoder it prints the largest shift of the sound against the WAV (by
 cross-correlation, ms) and the largest difference of length (ms); then, for the decoder the chain chooses,
@@ -24,29 +24,21 @@ from pathlib import Path
 
 import numpy as np
 
-REPOSITORY = Path(__file__).resolve().parents[1]
-for folder in (REPOSITORY, REPOSITORY / "scripts"):
-    if str(folder) not in sys.path:
-        sys.path.insert(0, str(folder))
+from lab.kit.corpus import held_out_sentences
+from lab.kit.encoded_takes import (
+    ENCODINGS,
+    REFERENCE_RATE,
+    channels_of,
+    lag_seconds,
+    spoken_voice,
+    write_take,
+)
+from turkish_lipsync.core.speech import synthesize_timeline
+from turkish_lipsync.core.speech.audio import decode_audio
+from turkish_lipsync.core.speech.decoders import DECODERS, sniff_format
+from turkish_lipsync.core.text.utterance import build_utterance
 
-from corpus import held_out_sentences  # noqa: E402
-from encoded_takes import ENCODINGS, channels_of, spoken_voice, write_take  # noqa: E402
-
-from turkish_lipsync.core.speech import synthesize_timeline  # noqa: E402
-from turkish_lipsync.core.speech.audio import decode_audio, resample  # noqa: E402
-from turkish_lipsync.core.speech.decoders import DECODERS, sniff_format  # noqa: E402
-from turkish_lipsync.core.text.utterance import build_utterance  # noqa: E402
-
-WAV_RATE = 44100
-
-
-def lag_seconds(samples: np.ndarray, rate: int, reference: np.ndarray) -> float:
-    """How much later the samples' sound lies than the reference's (at WAV_RATE), by cross-correlation."""
-    heard = resample(samples, rate, WAV_RATE) if rate != WAV_RATE else samples
-    size = 1 << int(np.ceil(np.log2(heard.size + reference.size)))
-    correlation = np.fft.irfft(np.fft.rfft(heard, size) * np.conj(np.fft.rfft(reference, size)), size)
-    lag = int(np.argmax(correlation))
-    return (lag - size if lag > size // 2 else lag) / WAV_RATE
+WAV_RATE = REFERENCE_RATE
 
 
 def takes_of(text: str, folder: Path) -> dict[str, Path]:
