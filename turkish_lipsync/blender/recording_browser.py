@@ -59,6 +59,8 @@ class TURKISH_LIPSYNC_OT_choose_recording(bpy.types.Operator):
         current = getattr(holder, name)
         if current:
             self.filepath = bpy.path.abspath(current)
+        if not self.properties.is_property_set("relative_path"):  # as the user's preferences default it
+            self.relative_path = context.preferences.filepaths.use_relative_paths
         context.window_manager.fileselect_add(self)
         return {"RUNNING_MODAL"}
 
