@@ -44,6 +44,16 @@ def channels_of(voice: np.ndarray, channels: int) -> np.ndarray:
     return np.stack([voice * (1 - 0.2 * channel) for channel in range(channels)]).astype(np.float32)
 
 
+def write_takes(folder: Path, text: str = TAKE_TEXT) -> dict[str, Path]:
+    """The text spoken (spoken_voice) as a 16-bit stereo WAV at REFERENCE_RATE and in every encoding."""
+    import soundfile
+
+    voice = spoken_voice(text, rate=REFERENCE_RATE)
+    wav = folder / "take.wav"
+    soundfile.write(str(wav), channels_of(voice, 2).T, REFERENCE_RATE, subtype="PCM_16")
+    return {"wav": wav} | {name: write_take(folder, name, voice, REFERENCE_RATE) for name in ENCODINGS}
+
+
 def write_take(folder: Path, name: str, voice: np.ndarray, voice_rate: int) -> Path:
     """The voice encoded as ENCODINGS[name] into folder/take.<name>."""
     codec, rate, channels, video = ENCODINGS[name]

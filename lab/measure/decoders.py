@@ -28,10 +28,8 @@ from lab.kit.corpus import held_out_sentences
 from lab.kit.encoded_takes import (
     ENCODINGS,
     REFERENCE_RATE,
-    channels_of,
     lag_seconds,
-    spoken_voice,
-    write_take,
+    write_takes,
 )
 from turkish_lipsync.core.speech import synthesize_timeline
 from turkish_lipsync.core.speech.audio import decode_audio
@@ -39,16 +37,6 @@ from turkish_lipsync.core.speech.decoders import DECODERS, sniff_format
 from turkish_lipsync.core.text.utterance import build_utterance
 
 WAV_RATE = REFERENCE_RATE
-
-
-def takes_of(text: str, folder: Path) -> dict[str, Path]:
-    """The sentence as a 16-bit stereo WAV and in every encoding."""
-    import soundfile
-
-    voice = spoken_voice(text, rate=WAV_RATE)
-    soundfile.write(str(folder / "take.wav"), channels_of(voice, 2).T, WAV_RATE, subtype="PCM_16")
-    encoded = {name: write_take(folder, name, voice, WAV_RATE) for name in ENCODINGS}
-    return {"wav": folder / "take.wav"} | encoded
 
 
 def decoder_shifts(paths: dict[str, Path], shifts: dict, lengths: dict) -> None:
@@ -90,7 +78,7 @@ def main() -> None:
     sentences = held_out_sentences()[: arguments.sentences]
     for number, text in enumerate(sentences, start=1):
         with tempfile.TemporaryDirectory() as folder:
-            paths = takes_of(text, Path(folder))
+            paths = write_takes(Path(folder), text)
             chosen |= {name: decode_audio(paths[name]).decoder for name in ["wav", *ENCODINGS]}
             decoder_shifts(paths, shifts, lengths)
             onset_differences(text, paths, phones, words)

@@ -19,11 +19,9 @@ pytest.importorskip("av")  # the takes are encoded with PyAV
 from lab.kit.encoded_takes import (  # noqa: E402
     ENCODINGS,
     TAKE_TEXT,
-    channels_of,
     encode,
     lag_seconds,
-    spoken_voice,
-    write_take,
+    write_takes,
 )
 from tests.core.test_speech_decoders import AAC_FRAME, ONSET_TOLERANCE, WAV_RATE, onset_differences  # noqa: E402
 from tests.core.test_speech_recording import write_pcm_wav  # noqa: E402
@@ -54,10 +52,7 @@ def registered():
 @pytest.fixture(scope="module")
 def takes(tmp_path_factory):
     """The take as a 44.1 kHz stereo WAV and in every encoding, in a folder with Turkish letters."""
-    folder = tmp_path_factory.mktemp("kayıtlar-çğış")
-    voice = spoken_voice(rate=WAV_RATE)
-    paths = {"wav": write_pcm_wav(folder / "take.wav", channels_of(voice, 2).T, WAV_RATE, channels=2)}
-    return paths | {name: write_take(folder, name, voice, WAV_RATE) for name in ENCODINGS}
+    return write_takes(tmp_path_factory.mktemp("kayıtlar-çğış"))
 
 
 def test_blenders_ffmpeg_reads_for_the_core_where_blender_has_it(takes):

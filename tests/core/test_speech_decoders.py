@@ -22,10 +22,8 @@ from lab.kit.encoded_takes import (  # noqa: E402
     channels_of,
     encode,
     lag_seconds,
-    spoken_voice,
-    write_take,
+    write_takes,
 )
-from tests.core.test_speech_recording import write_pcm_wav  # noqa: E402
 from turkish_lipsync.core.base.errors import AudioError  # noqa: E402
 from turkish_lipsync.core.scene.speech import line_recordings_in  # noqa: E402
 from turkish_lipsync.core.speech import synthesize_timeline  # noqa: E402
@@ -43,11 +41,7 @@ REPOSITORY = Path(__file__).resolve().parents[2]
 @pytest.fixture(scope="module")
 def takes(tmp_path_factory):
     """The take as a 44.1 kHz stereo WAV and in every encoding of lab/kit/encoded_takes.py."""
-    folder = tmp_path_factory.mktemp("takes")
-    voice = spoken_voice(rate=WAV_RATE)
-    paths = {"wav": write_pcm_wav(folder / "take.wav", channels_of(voice, 2).T, WAV_RATE, channels=2)}
-    paths |= {name: write_take(folder, name, voice, WAV_RATE) for name in ENCODINGS}
-    return paths
+    return write_takes(tmp_path_factory.mktemp("takes"))
 
 
 @pytest.fixture(scope="module")
