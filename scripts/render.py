@@ -293,12 +293,13 @@ def lip_sync_options(arguments: argparse.Namespace) -> LipSyncOptions:
 def run(arguments: argparse.Namespace) -> None:
     import bpy
 
-    from turkish_lipsync.blender import pipeline, sequencer
+    from turkish_lipsync.blender import audio_decoding, pipeline, sequencer
     from turkish_lipsync.core.base.errors import TextError
     from turkish_lipsync.core.base.files import read_user_text
     from turkish_lipsync.core.text.script import read_script
 
     started = time.perf_counter()
+    audio_decoding.register()  # Blender's FFmpeg reads the recordings, as in the panel
     new_scene = arguments.head is None or arguments.head.suffix.lower() != ".blend"
     if new_scene:
         bpy.ops.wm.read_factory_settings(use_empty=True)

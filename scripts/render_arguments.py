@@ -127,8 +127,8 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
     parser.add_argument(
         "--audio",
         type=Path,
-        help="a recording of the text (WAV, FLAC, OGG) to use instead of eSpeak; without --text or --jsml, "
-        "what it says is recognised from the audio",
+        help="a recording of the text (WAV, FLAC, OGG, MP3, M4A, or a video with sound: MP4, MOV, MKV, WebM) "
+        "to use instead of eSpeak; without --text or --jsml, what it says is recognised from the audio",
     )
     add_living_arguments(parser)
     parser.add_argument(

@@ -266,6 +266,17 @@ weights = detector.weights_path()
 assert weights.parent == detector.EXTENSION_ROOT / detector.BUNDLED_FOLDER, weights
 import numpy
 assert not detector.detect_speech(numpy.zeros(16000, numpy.float32)).found
+# AAC and the sound of videos are read by Blender's own FFmpeg (the zip carries no decoder for them).
+compat = import_module(module + ".turkish_lipsync.blender.compat")
+if compat.HAS_FFMPEG_AUDIO:
+    import os, tempfile, aud
+    take = os.path.join(tempfile.mkdtemp(), "take.mka")
+    aud.Sound.sine(440, 48000).limit(0, 0.5).write(
+        take, 48000, 1, aud.FORMAT_FLOAT32, aud.CONTAINER_MATROSKA, aud.CODEC_AAC, 128000, 1024
+    )
+    decoded = import_module(module + ".turkish_lipsync.core.speech.audio").decode_audio(take)
+    assert decoded.decoder == "blender", decoded.decoder
+    assert abs(decoded.samples.size / decoded.rate - 0.5) < 0.03, decoded.samples.size
 print("EXTENSION_OK", result, len(utterance.letters), len(head.units))
 """
 

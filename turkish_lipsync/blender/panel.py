@@ -58,7 +58,9 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
             column.prop(settings, "text")
         else:
             column.prop(settings, "file_path")
-        column.prop(settings, "recording")
+        row = column.row(align=True)
+        row.prop(settings, "recording")
+        row.operator("turkish_lipsync.choose_recording", text="", icon="FILEBROWSER").target = "SPEECH"
         column.prop(settings, "cue_file")
         column.prop(settings, "timing")
         column.prop(settings, "rate")
@@ -106,7 +108,9 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
             voiced.prop(member, "pitch")
             voiced.prop(member, "voice_rate")
             column.prop(member, "emotion_strength")
-            column.prop(member, "recording")
+            row = column.row(align=True)
+            row.prop(member, "recording")
+            row.operator("turkish_lipsync.choose_recording", text="", icon="FILEBROWSER").target = "SPEAKER"
         body.prop(settings, "line_recordings")
 
     @staticmethod

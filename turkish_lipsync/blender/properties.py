@@ -134,11 +134,11 @@ class TurkishLipSyncCastMember(bpy.types.PropertyGroup):
         subtype="FACTOR",
         description="How strongly this speaker's emotions show, times the Speech panel's Emotion Strength",
     )
-    recording: StringProperty(
+    recording: StringProperty(  # a path; its button (recording_browser.py) shows only what can be read
         name="Speaker Recording",
-        subtype="FILE_PATH",
-        description="This speaker's track of the scene (WAV, FLAC, OGG), starting where the scene starts and "
-        "silent while the others speak; give one to every speaker, or one Own Recording of the whole scene",
+        description="This speaker's track of the scene (WAV, FLAC, OGG, MP3, M4A, or a video's sound), "
+        "starting where the scene starts and silent while the others speak; give one to every speaker, or "
+        "one Own Recording of the whole scene",
     )
 
 
@@ -233,11 +233,11 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
         default=False,
         description="Also keep the 52 ARKit face-unit shape keys the mouth shapes are built from",
     )
-    recording: StringProperty(
+    recording: StringProperty(  # a path; its button (recording_browser.py) shows only what can be read
         name="Own Recording",
-        subtype="FILE_PATH",
-        description="Your own recording of the same text (WAV, FLAC, OGG): the mouth follows it and it "
-        "becomes the sound (empty: the synthetic voice). With no text, what it says is recognised",
+        description="Your own recording of the same text (WAV, FLAC, OGG, MP3, M4A, or the sound of a video: "
+        "MP4, MOV, MKV, WebM): the mouth follows it and it becomes the sound (empty: the synthetic voice). "
+        "With no text, what it says is recognised",
     )
     audio_folder: StringProperty(
         name="Audio Folder",

@@ -185,11 +185,24 @@ TURKISH = {
         "Güçlendirilmiş duyguların kaç kat daha güçlü olduğu (tezdeki ρ; tez 3 kullanır)"
     ),
     "Own Recording": "Kendi Kaydınız",
-    "Your own recording of the same text (WAV, FLAC, OGG): the mouth follows it and it "
-    "becomes the sound (empty: the synthetic voice). With no text, what it says is recognised": (
-        "Aynı metni okuduğunuz kendi kaydınız (WAV, FLAC, OGG): ağız ona uyar ve ses olarak o "
-        "kullanılır (boş: yapay ses). Metin yoksa kaydın söyledikleri sesten tanınır"
+    "Your own recording of the same text (WAV, FLAC, OGG, MP3, M4A, or the sound of a video: "
+    "MP4, MOV, MKV, WebM): the mouth follows it and it becomes the sound (empty: the synthetic voice). "
+    "With no text, what it says is recognised": (
+        "Aynı metni okuduğunuz kendi kaydınız (WAV, FLAC, OGG, MP3, M4A ya da bir videonun sesi: MP4, MOV, "
+        "MKV, WebM): ağız ona uyar ve ses olarak o kullanılır (boş: yapay ses). Metin yoksa kaydın "
+        "söyledikleri sesten tanınır"
     ),
+    "Choose Recording": "Kayıt Seç",
+    "Browse for a recording: WAV, FLAC, OGG, MP3, M4A or AAC, or a video with sound (MP4, MOV, MKV, "
+    "WebM); only these are shown": (
+        "Bir kayıt seçin: WAV, FLAC, OGG, MP3, M4A ya da AAC veya sesli bir video (MP4, MOV, MKV, WebM); "
+        "yalnızca bunlar gösterilir"
+    ),
+    "Relative Path": "Göreli Yol",
+    "Store the path relative to the saved .blend file, so the two can move together": (
+        "Yolu kayıtlı .blend dosyasına göre saklar; ikisi birlikte taşınabilir"
+    ),
+    "Choose a speaker in the cast first": "Önce oyunculardan bir konuşmacı seçin",
     "Audio Folder": "Ses Klasörü",
     "Where the speech WAV is saved (empty: a folder next to the saved .blend file)": (
         "Konuşma WAV dosyasının kaydedileceği yer (boş: kayıtlı .blend dosyasının yanındaki bir klasör)"
@@ -360,10 +373,12 @@ TURKISH = {
         "çarpılır"
     ),
     "Speaker Recording": "Konuşmacı Kaydı",
-    "This speaker's track of the scene (WAV, FLAC, OGG), starting where the scene starts and silent while "
-    "the others speak; give one to every speaker, or one Own Recording of the whole scene": (
-        "Bu konuşmacının sahnedeki kaydı (WAV, FLAC, OGG): sahneyle birlikte başlar, ötekiler konuşurken "
-        "sessizdir; her konuşmacıya bir tane verin ya da bütün sahnenin tek bir Kendi Kaydı'nı"
+    "This speaker's track of the scene (WAV, FLAC, OGG, MP3, M4A, or a video's sound), "
+    "starting where the scene starts and silent while the others speak; give one to every speaker, or "
+    "one Own Recording of the whole scene": (
+        "Bu konuşmacının sahnedeki kaydı (WAV, FLAC, OGG, MP3, M4A ya da bir videonun sesi): sahneyle "
+        "birlikte başlar, ötekiler konuşurken sessizdir; her konuşmacıya bir tane verin ya da bütün sahnenin "
+        "tek bir Kendi Kaydı'nı"
     ),
     "Line Recordings": "Satır Kayıtları",
     "A folder of recordings, one per line of the script, in the order of their file names (empty: the lines "

@@ -98,7 +98,8 @@ def _add_source_arguments(parser: argparse.ArgumentParser) -> None:
         "--audio",
         type=Path,
         metavar="RECORDING",
-        help="a recording of the text to align; without a text, what it says is recognised from the audio",
+        help="a recording of the text to align (WAV, FLAC, OGG, MP3; M4A and videos' sound with PyAV); "
+        "without a text, what it says is recognised from the audio",
     )
     add_living_arguments(parser)
     parser.add_argument(

@@ -20,6 +20,7 @@ from ..base.model import EmotionSpan, Pause, SpokenWord, Timeline, Utterance
 from ..speech import Synthesis
 from ..speech.aligner_settings import DEFAULT_ALIGNER, AlignerSettings
 from ..speech.audio import resampled_pcm
+from ..speech.decoders import RECORDING_KINDS, RECORDING_SUFFIXES
 from ..speech.timeline import check_timing_follows
 from ..speech.timing import build_timeline
 from ..text.normalize import normalize
@@ -28,7 +29,6 @@ from ..text.utterance import assemble_utterance
 from .cast import Cast, spoken_by
 from .tables import conversation_table
 
-RECORDING_SUFFIXES = (".wav", ".flac", ".ogg")  # what a folder of line recordings holds
 HEARD_DB = -35.0  # a line's audio this far under its loud end is silence
 TAIL = 0.5  # seconds of the scene after its last phone (the last listener still reacting)
 
@@ -180,7 +180,7 @@ def line_recordings_in(folder: Path) -> tuple[Path, ...]:
         raise LipSyncError(f"The line recordings folder {folder} does not exist; choose the folder again.")
     found = tuple(sorted(p for p in folder.iterdir() if p.suffix.lower() in RECORDING_SUFFIXES))
     if not found:
-        raise LipSyncError(f"{folder} holds no recordings ({', '.join(RECORDING_SUFFIXES)}): one per line.")
+        raise LipSyncError(f"{folder} holds no recordings ({RECORDING_KINDS}): give one per line.")
     return found
 
 
