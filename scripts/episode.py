@@ -103,8 +103,8 @@ def _openjd() -> str:
     return found
 
 
-def _run_openjd(command: list[str], step: str) -> str | None:
-    """One openjd session, its log passing through. Returns None when it finished, else the step that
+def _run_openjd(command: list[str], step: str) -> str:
+    """One openjd session, its log passing through. Returns "" when it finished, else the step that
     failed and the error it printed."""
     error = None
     with subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True) as process:
@@ -115,7 +115,7 @@ def _run_openjd(command: list[str], step: str) -> str | None:
             if found := ERROR_LINE.search(line):
                 error = found.group(1).strip()
     if process.returncode == 0:
-        return None
+        return ""
     return f"{step}: {error or 'failed (the log is above)'}"
 
 
@@ -159,6 +159,8 @@ def run_step(arguments: argparse.Namespace) -> None:
     import episode_tasks
 
     if arguments.command == "build":
+        if arguments.speech is None:
+            raise LipSyncError("the build needs --speech=PATH: where the scene's speech WAV goes")
         episode_tasks.build_scene(
             arguments.episode, arguments.scene, arguments.frames, arguments.blend, arguments.speech,
             arguments.blender,
@@ -202,21 +204,31 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
     run.add_argument("--step", choices=("build", "render", "join"), help="run only this step of the scenes")
     run.add_argument("--frames", type=_frames, help="with --step render: only the chunk of these frames")
 
-    def step(name: str, what: str, flags: str, optional: str = "") -> None:
-        command = commands.add_parser(name, help=what)
-        for flag in (*flags.split(), *optional.split()):
-            kind = {"--frames": _frames, "--samples": int, "--speech": _optional_path}.get(flag, Path)
-            kind = str if flag in ("--scene", "--engine", "--blender") else kind
-            command.add_argument(flag, type=kind, required=flag in flags.split())
-        command.set_defaults(blender="", speech=None)
-
-    step("build", "a farm task: build the scene, save its .blend and speech",
-         "--episode --scene --frames --blend --speech", "--blender")  # fmt: skip
-    step("render", "a farm task: render one chunk of frames",
-         "--blend --frames --chunks --engine --samples", "--blender")  # fmt: skip
-    step("join", "a farm task: join the chunks with the speech",
-         "--blend --frames --chunks --engine --samples --out", "--speech")  # fmt: skip
+    _add_steps(commands)
     return parser.parse_args(argv)
+
+
+# A step's flag -> what it reads; the rest are paths. A speech or a Blender may be empty.
+FLAG_TYPES = {"frames": _frames, "samples": int, "speech": _optional_path, "scene": str, "engine": str}
+MAY_BE_EMPTY = {"speech", "blender"}
+STEP_FLAG = re.compile(r"^--([a-z_]+)=\{([a-z_]+)\}$")
+
+
+def _add_steps(commands) -> None:
+    """The farm's steps as commands: their flags are farm/steps.toml's arguments, their help its values'."""
+    from farm_jobs import load_steps
+
+    farm = load_steps()
+    for step in farm.steps:
+        command = commands.add_parser(step.name, help=f"a farm task: {step.title[0].lower()}{step.title[1:]}")
+        command.description = f"{step.title}; writes {step.writes}."
+        for argument in step.arguments:
+            flag, value = STEP_FLAG.match(argument).groups()
+            kind = str if flag == "blender" else FLAG_TYPES.get(flag, Path)
+            command.add_argument(
+                f"--{flag}", type=kind, required=flag not in MAY_BE_EMPTY, help=farm.values[value]
+            )
+        command.set_defaults(blender="", speech=None)
 
 
 def _stop(signal_number, _frame) -> None:

@@ -36,6 +36,9 @@ MAX_CHUNK = 150  # Deadline Cloud's largest chunk of frames
 SCENE_NAME = re.compile(r"^[\w][\w .-]{0,47}$")  # a step's name is the scene's and the step's, 64 at most
 
 
+Problem = str | None  # what is wrong with a value (the troubleshooting page lists these), or None
+
+
 class EpisodeError(LipSyncError):
     """An episode that cannot become a job: every problem found, each as FILE:LINE: what is wrong."""
 
@@ -140,7 +143,12 @@ class _Manifest:
         return f"{self.path}:1"
 
     def problem(self, key: tuple[str, ...], message: str) -> None:
+        """A problem of the manifest's key (its line, or its table's)."""
         self.problems.append(f"{self.where(*key)}: {message}")
+
+    def problem_at(self, place: Path | str, message: str) -> None:
+        """A problem of another file (a scene's script, the folder)."""
+        self.problems.append(f"{place}: {message}")
 
 
 def _read_manifest(path: Path | None) -> _Manifest:
@@ -165,11 +173,15 @@ def _read_manifest(path: Path | None) -> _Manifest:
 
 def _choice(choices):
     names = identifiers(choices)
-    return lambda value: None if value in names else f"must be one of {', '.join(names)}"
+
+    def check(value) -> Problem:
+        return None if value in names else f"must be one of {', '.join(names)}"
+
+    return check
 
 
 def _number(low: float, high: float):
-    def check(value) -> str | None:
+    def check(value) -> Problem:
         if isinstance(value, bool) or not isinstance(value, int | float) or not low <= value <= high:
             return f"must be a number from {low:g} to {high:g}"
         return None
@@ -177,16 +189,16 @@ def _number(low: float, high: float):
     return check
 
 
-def _flag(value) -> str | None:
+def _flag(value) -> Problem:
     return None if isinstance(value, bool) else "must be true or false"
 
 
-def _seed(value) -> str | None:
+def _seed(value) -> Problem:
     good = isinstance(value, int) and not isinstance(value, bool) and value >= 0
     return None if good else "must be a whole number of at least 0"
 
 
-def _voice(value) -> str | None:
+def _voice(value) -> Problem:
     variant, *numbers = str(value).split(":")
     try:
         [float(number) for number in numbers]
@@ -228,7 +240,7 @@ SPEAKERS_ONLY = set(SPEAKER_SETTINGS) | {"line_audio"}
 KNOWN = sorted(set(PATH_SETTINGS) | set(SPEAKER_SETTINGS) | set(VALUE_SETTINGS))
 
 
-def _path_problem(folder: Path, value, kind: str) -> str | None:
+def _path_problem(folder: Path, value, kind: str) -> Problem:
     if not isinstance(value, str) or not value.strip():
         return "must be a path (in quotes), relative to episode.toml's folder"
     path = folder / value
@@ -238,6 +250,8 @@ def _path_problem(folder: Path, value, kind: str) -> str | None:
         return f"{value}: no such file beside episode.toml"
     if kind == "head" and path.suffix.lower() not in HEAD_SUFFIXES:
         return f"{value}: a head is a {', '.join(HEAD_SUFFIXES)} file (a scene is built in a new file)"
+    if kind == "cast" and path.suffix.lower() not in (*HEAD_SUFFIXES, ".blend"):
+        return f"{value}: a speaker's head is a {', '.join(HEAD_SUFFIXES)} or .blend file"
     return None
 
 
@@ -253,7 +267,7 @@ def _check_setting(manifest: _Manifest, folder: Path, key: tuple[str, ...], valu
         for speaker, chosen in value.items() if isinstance(value, dict) else ():
             check = SPEAKER_SETTINGS[name][1]
             if check is None and not (name == "cast" and chosen == "default"):
-                kind = "head" if name == "cast" else "file"
+                kind = "cast" if name == "cast" else "file"
                 speaker_problem = _path_problem(folder, chosen, kind)
             else:
                 speaker_problem = check(chosen) if check is not None else None
@@ -274,12 +288,16 @@ def _check_setting(manifest: _Manifest, folder: Path, key: tuple[str, ...], valu
 def _render_settings(manifest: _Manifest) -> RenderSettings:
     from render_arguments import _resolution
 
-    def engine(value) -> str | None:
+    def engine(value) -> Problem:
         return None if str(value).upper() in ENGINES else f"must be one of {', '.join(ENGINES)}"
 
     def whole(low: int, high: int):
-        check = _number(low, high)
-        return lambda value: check(value) or (None if isinstance(value, int) else "must be a whole number")
+        in_range = _number(low, high)
+
+        def check(value) -> Problem:
+            return in_range(value) or (None if isinstance(value, int) else "must be a whole number")
+
+        return check
 
     section = manifest.data.get("episode", {})
     found = {}
@@ -341,13 +359,14 @@ def _scene_files(manifest: _Manifest, folder: Path, given: list[Path]) -> list[P
             )
         names[path.stem] = path
     if not files and not manifest.problems:
-        manifest.problems.append(f"{folder}: no scenes (.txt or .jsml files) in the episode")
+        manifest.problem_at(folder, "no scenes (.txt or .jsml files) in the episode")
     return [path for path in files if path.is_file()]
 
 
-def read_episode(paths: list[Path]) -> Episode:
+def read_episode(paths: list[Path], only: str | None = None) -> Episode:
     """The episode a folder, its episode.toml, or a list of its scene files makes; EpisodeError lists every
-    problem (a manifest line, a script's line and column)."""
+    problem (a manifest line, a script's line and column). With `only`, that scene alone is read (a farm's
+    build of one scene is not stopped by another scene's file)."""
     folder, manifest_path, given = _locate(paths)
     manifest = _read_manifest(manifest_path)
     render = _render_settings(manifest)
@@ -363,8 +382,11 @@ def read_episode(paths: list[Path]) -> Episode:
                 f'[scene."{name}"] names no scene of the episode; its scenes are '
                 f"{', '.join(path.stem for path in files)}",
             )
+    names = [path.stem for path in files]
+    if only is not None and only not in names:
+        manifest.problem_at(folder, f"no scene {only!r}; its scenes are {', '.join(names)}")
     scenes = []
-    for path in files:
+    for path in files if only is None else [path for path in files if path.stem == only]:
         scene = _scene(manifest, folder, path, render, defaults, tables.get(path.stem, {}))
         if scene is not None:
             scenes.append(scene)
@@ -411,13 +433,13 @@ def _scene(manifest, folder, path, render, defaults: dict, own: dict) -> Scene |
         if script is None and source.strip():
             build_utterance(source)  # a plain text's markup checked now, not on the farm
     except MarkupError as error:
-        manifest.problems.append(f"{path}:{error.line}:{error.column}: {error.message}")
+        manifest.problem_at(f"{path}:{error.line}:{error.column}", error.message)
         return None
     except LipSyncError as error:
-        manifest.problems.append(f"{path}: {error}")
+        manifest.problem_at(path, str(error))
         return None
     if not source.strip():
-        manifest.problems.append(f"{path}: the scene's file is empty")
+        manifest.problem_at(path, "the scene's file is empty")
         return None
     good = all(_check_setting(manifest, folder, (*key, name), value) for name, value in own.items())
     wrong = ONE_HEAD_ONLY if script is not None else SPEAKERS_ONLY

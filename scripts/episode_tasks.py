@@ -148,7 +148,7 @@ def build_scene(
     folder: Path, name: str, frames: tuple[int, int], blend: Path, speech: Path, blender: str
 ) -> None:
     """The scene built from the episode's files and saved to `blend`, its speech copied to `speech`."""
-    episode = read_episode([folder])
+    episode = read_episode([folder], only=name)
     scene = episode.scene(name)
     inputs = build_inputs(episode, scene, frames)
     record_path = blend.parent / BUILD_RECORD

@@ -201,6 +201,17 @@ def test_scenes_are_chosen_by_the_manifest_or_the_files_given(tmp_path):
     ]
 
 
+def test_one_scene_is_read_alone_whatever_another_scenes_file_holds(tmp_path):
+    """A farm builds each scene from the episode's folder: another scene's broken file stops only its own."""
+    _episode(tmp_path, {"01-kafe.txt": CONVERSATION, "02-yol.jsml": "<SENT>Ama baba."})
+    (scene,) = read_episode([tmp_path], only="01-kafe").scenes
+    assert scene.name == "01-kafe"
+    with pytest.raises(EpisodeError, match="02-yol.jsml:1:1"):
+        read_episode([tmp_path], only="02-yol")
+    with pytest.raises(EpisodeError, match="no scene '03-yok'; its scenes are 01-kafe"):
+        read_episode([tmp_path], only="03-yok")
+
+
 def test_two_files_of_one_name_or_a_name_a_step_cannot_carry_are_refused(tmp_path):
     _episode(tmp_path, {"a.txt": CONVERSATION, "a.jsml": "Baba.", "b{1}.jsml": "Baba."})
     problems = _problems(tmp_path)
