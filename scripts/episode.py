@@ -50,6 +50,22 @@ def _write_json(path: Path, data) -> None:
     path.write_text(json.dumps(data, ensure_ascii=False, indent=1) + "\n", encoding="utf-8")
 
 
+def _write_flamenco_jobs(folder: Path, jobs: dict[str, dict]) -> None:
+    """One submission a scene; those of scenes the episode no longer has are taken away."""
+    from farm_jobs import FLAMENCO_TYPE_NAME
+
+    folder.mkdir(exist_ok=True)
+    for old in folder.glob("*.json"):
+        try:
+            ours = json.loads(old.read_text(encoding="utf-8")).get("type") == FLAMENCO_TYPE_NAME
+        except (OSError, ValueError, AttributeError):
+            ours = False
+        if ours and old.stem not in jobs:
+            old.unlink()
+    for scene, body in jobs.items():
+        _write_json(folder / f"{scene}.json", body)
+
+
 def make_job(arguments: argparse.Namespace) -> None:
     """The episode read and checked, each scene's frames timed, the job written."""
     from episode_manifest import read_episode
@@ -81,9 +97,7 @@ def make_job(arguments: argparse.Namespace) -> None:
         job / "parameter_values.json",
         {"parameterValues": [{"name": k, "value": v} for k, v in values.items()]},
     )
-    (job / "flamenco").mkdir(exist_ok=True)
-    for scene, body in flamenco_jobs(episode.title, frames, values).items():
-        _write_json(job / "flamenco" / f"{scene}.json", body)
+    _write_flamenco_jobs(job / "flamenco", flamenco_jobs(episode.title, frames, values))
     print(f"Episode {episode.title!r}: {len(frames)} scenes at {render.fps:g} fps, {render.engine}, "
           f"{render.samples} samples, {render.chunk_size} frames a chunk")  # fmt: skip
     for scene, (first, last) in frames.items():
@@ -107,15 +121,27 @@ def _run_openjd(command: list[str], step: str) -> str:
     """One openjd session, its log passing through. Returns "" when it finished, else the step that
     failed and the error it printed."""
     error = None
-    with subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True) as process:
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    try:
         for line in process.stdout:
             sys.stdout.write(line)
             if found := STEP_LINE.search(line):
                 step = found.group(1)
             if found := ERROR_LINE.search(line):
                 error = found.group(1).strip()
+        process.wait()
+    finally:
+        if process.poll() is None:  # this run was stopped: openjd cancels its session's task
+            process.terminate()
+            try:
+                process.wait(timeout=60)
+            except subprocess.TimeoutExpired:
+                process.kill()
+                process.wait()
     if process.returncode == 0:
         return ""
+    if process.returncode < 0:  # openjd itself was stopped: the whole run stops with it
+        raise LipSyncError(f"openjd was stopped ({signal.Signals(-process.returncode).name}) in {step}")
     return f"{step}: {error or 'failed (the log is above)'}"
 
 
@@ -146,7 +172,11 @@ def run_job(arguments: argparse.Namespace) -> int:
             command += ["--task-param", f"Frames={arguments.frames[0]}-{arguments.frames[1]}"]
         if failure := _run_openjd(command, f"{scene} {arguments.step or 'build'}"):
             failures[scene] = failure
+    output = Path(json.loads(parameters.read_text(encoding="utf-8"))["OutputFolder"])
     print(f"\nEpisode: {len(chosen) - len(failures)} of {len(chosen)} scenes done", flush=True)
+    for scene in chosen:
+        if scene not in failures and arguments.step in (None, "join"):
+            print(f"  {scene}: {output / scene}.mp4", flush=True)
     for scene, failure in failures.items():
         print(f"episode.py: error: scene {scene} failed in {failure}", file=sys.stderr, flush=True)
     return 1 if failures else 0
@@ -232,7 +262,9 @@ def _add_steps(commands) -> None:
 
 
 def _stop(signal_number, _frame) -> None:
-    raise SystemExit(128 + signal_number)  # so a stopped task cleans up as it unwinds
+    """Stopped by the farm or the user: what was half made is taken away as the stack unwinds."""
+    print(f"episode.py: stopped ({signal.Signals(signal_number).name})", file=sys.stderr, flush=True)
+    raise SystemExit(128 + signal_number)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -245,6 +277,9 @@ def main(argv: list[str] | None = None) -> int:
             return run_job(arguments)
         else:
             run_step(arguments)
+    except KeyboardInterrupt:
+        print("episode.py: stopped", file=sys.stderr)
+        return 130
     except EpisodeError as error:
         for problem in error.problems:
             print(f"episode.py: error: {problem}", file=sys.stderr)

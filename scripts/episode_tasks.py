@@ -116,6 +116,16 @@ def video_frames(path: Path) -> int:
         return stream.frames or sum(1 for packet in container.demux(stream) if packet.dts is not None)
 
 
+def _holds_frames(chunk: Path, count: int) -> bool:
+    """The chunk is there and readable with all its frames (not cut short by a full disk, say)."""
+    import av
+
+    try:
+        return chunk.is_file() and video_frames(chunk) == count
+    except (OSError, IndexError, av.error.FFmpegError):
+        return False
+
+
 # ---------------------------------------------------------------- build
 
 
@@ -157,7 +167,8 @@ def build_scene(
         return
     started = time.perf_counter()
     blend.parent.mkdir(parents=True, exist_ok=True)
-    record_path.unlink(missing_ok=True)
+    for stale in (record_path, blend, speech):  # a build of other files: what the last one made is stale
+        stale.unlink(missing_ok=True)
     building = blend.with_name(f"{blend.stem}.building.blend")
     result_path = blend.with_name(f".{blend.stem}.building.json")
     try:
@@ -166,6 +177,8 @@ def build_scene(
         run_blender(blender_command(blender, BUILD_SCRIPT, [str(result_path), *arguments]), name)
         result = read_json(result_path) or {}
         built = tuple(result.get("frames", ()))
+        if len(built) != 2:
+            raise TaskError(f"{name}: the build saved no scene (Blender's output is above); build it again")
         if built != frames:
             raise TaskError(
                 f"{name}: the scene was built with frames {built[0]}-{built[1]} but the job was made for "
@@ -177,8 +190,6 @@ def build_scene(
             shutil.copyfile(result["speech"], partial)
             os.replace(partial, speech)
             speech_digest = file_digest(speech)
-        else:
-            speech.unlink(missing_ok=True)
         os.replace(building, blend)
     finally:
         building.unlink(missing_ok=True)
@@ -223,7 +234,7 @@ def render_chunk(
     chunk = chunks / chunk_name(first, last)
     stamp_path = chunk.with_suffix(".json")
     wanted = ChunkStamp(file_digest(blend), engine.upper(), samples, frames)
-    if chunk.is_file() and ChunkStamp.read(stamp_path) == wanted:
+    if ChunkStamp.read(stamp_path) == wanted and _holds_frames(chunk, last - first + 1):
         print(f"{what}: rendered already from this .blend ({chunk}); skipped", flush=True)
         return
     chunks.mkdir(parents=True, exist_ok=True)

@@ -33,6 +33,8 @@ BEGIN = (
 END = "// END STEPS"
 PLACEHOLDER = re.compile(r"\{([a-z_]+)\}")
 CHUNK_PARAMETER = "Frames"
+# A cancelled task is told first (SIGTERM), so that it stops its Blender and takes away what it half made.
+CANCEL = {"mode": "NOTIFY_THEN_TERMINATE", "notifyPeriodInSeconds": 30}
 
 
 @dataclass(frozen=True)
@@ -158,7 +160,7 @@ def _openjd_step(farm: FarmSteps, step: Step, scene: str, frames: tuple[int, int
     entry: dict = {
         "name": f"{scene} {step.name}",
         "description": f"{step.title}: {step.writes}",
-        "script": {"actions": {"onRun": {"command": command[0], "args": command[1:]}}},
+        "script": {"actions": {"onRun": {"command": command[0], "args": command[1:], "cancelation": CANCEL}}},
     }
     if step.chunked:
         entry["parameterSpace"] = {

@@ -209,3 +209,15 @@ def test_a_chunk_killed_midway_is_rendered_again_alone_and_the_join_is_still_one
     join = _openjd(job, "--step", "01-kafe join")
     assert join.returncode == 0, join.stdout[-3000:]
     _assert_same_media(output / "01-kafe.mp4", _single_render(output, "01-kafe", last), last)
+
+
+def test_a_scene_changed_after_the_job_was_made_fails_its_build_and_asks_for_the_job_again(tmp_path):
+    (tmp_path / "a.jsml").write_text("Ama.\n", encoding="utf-8")
+    (tmp_path / "episode.toml").write_text('[episode]\nfps = 8\nresolution = "32x32"\n', encoding="utf-8")
+    assert _episode("job", tmp_path, "--out", tmp_path / "job").returncode == 0
+    (tmp_path / "a.jsml").write_text("Ama baba geldi mi?\n", encoding="utf-8")  # a longer line since
+    run = _episode("run", tmp_path / "job", "--step", "build")
+    assert run.returncode == 1
+    (error,) = [line for line in run.stdout.splitlines() if "episode.py: error:" in line]
+    assert "a: the scene was built with frames 1-" in error and "make the job again" in error
+    assert not (tmp_path / "job" / "output" / "a" / "a.blend").exists()

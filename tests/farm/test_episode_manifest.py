@@ -229,3 +229,11 @@ def test_key_lines_point_at_headers_assignments_and_inline_tables():
     assert lines[("scene", "01 kafe")] == 4
     assert lines[("scene", "01 kafe", "cast", "Ayşe")] == lines[("scene", "01 kafe", "cast", "Ali")] == 5
     assert lines[("scene", "01 kafe", "voice", "Ali")] == 6
+
+
+def test_the_example_episode_reads_as_two_scenes():
+    episode = read_episode([Path(__file__).resolve().parents[2] / "examples" / "episode"])
+    assert episode.title == "Kafede" and [scene.name for scene in episode.scenes] == ["01-kafe", "02-mektup"]
+    kafe, mektup = episode.scenes
+    assert "--voice" in kafe.arguments and "--voice" not in mektup.arguments  # only where Ali speaks
+    assert mektup.arguments[-4:] == ("--rate", "0.9", "--expression-amount", "1.3")
