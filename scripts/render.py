@@ -240,22 +240,27 @@ def speaker_choices(arguments: argparse.Namespace) -> dict:
     return {names[key]: choice for key, choice in choices.items()}
 
 
-def run_conversation(arguments: argparse.Namespace, context, script, audio_folder: str) -> list[str]:
-    """Every speaker of the script played by its head: generated, exported; returns the heads' names."""
-    from turkish_lipsync.blender import conversation, exports
+def scene_sources(arguments: argparse.Namespace):
+    """Where a script's speech comes from: --audio (the whole scene), --line-audio, --cues, or the engine."""
     from turkish_lipsync.core.scene.speech import SceneSources, line_recordings_in
 
-    sources = SceneSources(
+    return SceneSources(
         scene_recording=arguments.audio,
         line_recordings=line_recordings_in(arguments.line_audio) if arguments.line_audio else (),
         cues=arguments.cues,
     )
+
+
+def run_conversation(arguments: argparse.Namespace, context, script, audio_folder: str) -> list[str]:
+    """Every speaker of the script played by its head: generated, exported; returns the heads' names."""
+    from turkish_lipsync.blender import conversation, exports
+
     result = conversation.generate_conversation(
         context,
         script,
         speaker_choices(arguments),
         lip_sync_options(arguments),
-        sources=sources,
+        sources=scene_sources(arguments),
         audio_folder=audio_folder,
         progress=_print_progress,
     )

@@ -3,8 +3,10 @@
 Read with ast from turkish_lipsync/ and the batch script (scripts/render.py, scripts/render_arguments.py):
 
 - errors: `raise SomeError(...)` of the add-on's error family (LipSyncError and every subclass, found by
-  name), `raise self.error(...)`/`raise error(...)` helpers that build one, argparse's `ArgumentTypeError`
-  and `parser.error(...)` of the command lines;
+  name; a list of messages too), `raise self.error(...)`/`raise error(...)` helpers that build one,
+  argparse's `ArgumentTypeError` and `parser.error(...)` of the command lines, the problems an episode's
+  manifest gathers (`.problem(key, message)`, `.problem_at(place, message)`) and what its checks return
+  (a function returning `Problem`: what is wrong with a value, or None);
 - warnings: strings appended to, or assigned as, a `warning`/`warnings` value, returned by a function whose
   name holds "warning", given as `warnings=`, and what `report({'WARNING'|'ERROR'}, ...)` shows.
 
@@ -29,7 +31,17 @@ from sphinx.util.docutils import SphinxDirective
 
 logger = logging.getLogger(__name__)
 ROOT = Path(__file__).resolve().parents[2]
-SOURCES = ("turkish_lipsync", "scripts/render.py", "scripts/render_arguments.py")
+SOURCES = (
+    "turkish_lipsync",
+    "scripts/render.py",
+    "scripts/render_arguments.py",
+    "scripts/episode.py",
+    "scripts/episode_manifest.py",
+    "scripts/episode_plan.py",
+    "scripts/episode_tasks.py",
+    "scripts/episode_blender.py",
+    "scripts/farm_jobs.py",
+)
 # Errors raised for the developer (a bug), never shown to a user as a message of ours.
 INTERNAL_ERRORS = {
     "ValueError",
@@ -118,6 +130,7 @@ GROUPS: dict[str, tuple[str, ...]] = {
         "scripts/render_arguments.py",
     ),
     "data": ("turkish_lipsync/core/base/",),
+    "episodes": ("scripts/episode", "scripts/farm_jobs.py"),
 }
 
 
@@ -210,11 +223,14 @@ class _Collector(ast.NodeVisitor):
 
     def visit_FunctionDef(self, node: ast.FunctionDef) -> None:
         outer, self.function = self.function, node.name
-        if node.returns is not None and ast.unparse(node.returns) in ("str | None", '"str | None"'):
-            # an operator's requirement: None where it is met, else why its button is greyed out
+        returns = ast.unparse(node.returns) if node.returns is not None else ""
+        # an operator's requirement: None where it is met, else why its button is greyed out; or a check
+        # of a value: None where it is good, else what is wrong with it
+        kind = {"str | None": "disabled", '"str | None"': "disabled", "Problem": "error"}.get(returns)
+        if kind is not None:
             for returned in (child for child in ast.walk(node) if isinstance(child, ast.Return)):
                 for value in _strings(returned.value) if returned.value is not None else ():
-                    self.add("disabled", value)
+                    self.add(kind, value)
         self.generic_visit(node)
         self.function = outer
 
@@ -223,7 +239,8 @@ class _Collector(ast.NodeVisitor):
         if isinstance(call, ast.Call) and call.args:
             name = _name(call.func)
             if name in self.errors or name in USER_ERRORS or name in ("error", "_error"):
-                self.add("error", call.args[0])
+                for value in _strings(call.args[0]):
+                    self.add("error", value)
         self.generic_visit(node)
 
     def visit_Call(self, node: ast.Call) -> None:
@@ -231,6 +248,9 @@ class _Collector(ast.NodeVisitor):
         name = _name(function)
         if name == "error" and _name(getattr(function, "value", function)) == "parser" and node.args:
             self.add("error", node.args[0])
+        elif name in ("problem", "problem_at") and len(node.args) == 2:
+            for value in _strings(node.args[1]):
+                self.add("error", value)
         elif name in ("append", "extend") and _is_warning_name(function.value) and node.args:
             for value in _strings(node.args[0]):
                 self.add("warning", value)
