@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-from . import operators, panel, preferences, properties, translations
+from . import operators, panel, preferences, properties, rig_operators, translations
 
 # Registration order: data types first, then what uses them; unregistered in reverse.
-MODULES = (translations, properties, preferences, operators, panel)
+MODULES = (translations, properties, preferences, operators, rig_operators, panel)
 
 
 def register() -> None:

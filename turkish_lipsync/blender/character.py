@@ -41,30 +41,40 @@ def has_face_rig(head: bpy.types.Object) -> bool:
     ) or rig_drivers.has_driven_keys(head)
 
 
-def speech_problem(head: bpy.types.Object | None) -> str | None:
-    """Why the head cannot speak yet (None: it can), in words that say what to do and where."""
-    if head is None:
-        return "Choose the head object in the Lip Sync panel"
+# Why a head cannot speak yet, as a button's tooltip says it (translated: blender/translations.py).
+LINKED_WITHOUT_KEYS = (
+    "The head is linked and its library has no lip-sync keys or face rig yet: build them in the character's "
+    "own file"
+)
+LINKED_KEYS_NOT_LINKABLE = (
+    "The head is linked and its keys are not linkable: press Make Keys Linkable in the character's own file"
+)
+NOTHING_TO_SPEAK_THROUGH = "The head has no lip-sync shape keys or face rig yet: build the keys first"
+
+
+def speech_problem(head: bpy.types.Object) -> tuple[str, str] | None:
+    """Why the head cannot speak yet (None: it can): the button's short reason and the full message, which
+    says what to do and in which file."""
     rigged = has_face_rig(head)
     keys = has_own_keys(head)
     linked = face_rig.is_linked(head)
     library = face_rig.library_path(head)
     if linked and not rigged and not keys:
-        return (
+        return LINKED_WITHOUT_KEYS, (
             f"The head {head.name!r} is linked from {library}, which holds no lip-sync shape keys or "
             f"face-rig set-up for it yet: open {library}, press Build Shape Keys there (then Make Keys "
-            "Linkable) or set up its face rig, save it, and reload the library here"
+            "Linkable) or set up its face rig, save it, and reload the library here."
         )
     if linked and not rigged and not linking.is_linkable(head):
-        return (
+        return LINKED_KEYS_NOT_LINKABLE, (
             f"The head {head.name!r} is linked from {library} and its keys are not linkable, so this file "
             f"cannot animate them: open {library}, press Make Keys Linkable, save it, and reload the library "
-            "here"
+            "here."
         )
     if not rigged and not keys:
-        return (
+        return NOTHING_TO_SPEAK_THROUGH, (
             f"The head {head.name!r} has no {VISEME_KEY_PREFIX}* shape keys and no face rig yet: press Build "
-            "Shape Keys first, or set up its face rig (Face Rig section)"
+            "Shape Keys first, or set up its face rig (Face Rig section)."
         )
     return None
 
@@ -73,7 +83,7 @@ def check_can_speak(head: bpy.types.Object, objects) -> None:
     """A HeadError saying what is missing, before anything is changed."""
     problem = speech_problem(head)
     if problem:
-        raise HeadError(problem + ".")
+        raise HeadError(problem[1])
     armature = face_rig.face_armature(head)
     for owner in [*objects, *(o.data.shape_keys for o in objects if o.type == "MESH"), armature]:
         action = owner.animation_data.action if owner is not None and owner.animation_data else None

@@ -143,6 +143,13 @@ def find_face_rig(head: bpy.types.Object, frame: np.ndarray) -> FaceRig | None:
     return FaceRig(armature.name, mapping, tuple(warnings))
 
 
+def check_setup(armature: bpy.types.Object, own: OwnRig) -> tuple[str, ...]:
+    """A HeadError where the set-up's mapping needs bones the armature lacks (before it is kept)."""
+    if own.mapping:
+        _role_bones(rig_template(own.mapping), armature, own.roles)
+    return ()
+
+
 def _role_bones(template, armature: bpy.types.Object, chosen) -> dict[str, str]:
     """Every role and bone name the template uses -> the armature's bone (the user's choice, else the first
     of the role's names the armature has, compared exactly and then ignoring case)."""
@@ -153,12 +160,13 @@ def _role_bones(template, armature: bpy.types.Object, chosen) -> dict[str, str]:
         bone = next((c for c in candidates if c in armature.data.bones), None)
         bone = bone or next((names[c.lower()] for c in candidates if c.lower() in names), None)
         if bone is None:
-            missing.append(used if used not in template.roles else f"{used} ({', '.join(candidates)})")
+            named = " or ".join(repr(c) for c in candidates)
+            missing.append(f"{used} bone ({named})" if used in template.roles else f"bone {used!r}")
         found[used] = bone
     if missing:
         raise HeadError(
-            f"The armature {armature.name!r} has no {', '.join(missing)} bone for the {template.title} "
-            "mapping: choose the bone in the panel's Face Rig section, or another mapping."
+            f"The armature {armature.name!r} has no {', '.join(missing)} for the {template.title} mapping: "
+            "choose the bone in the panel's Face Rig section, or another mapping."
         )
     return found
 
@@ -263,12 +271,18 @@ def _rotation_channel(pose_bone: bpy.types.PoseBone, quaternions: np.ndarray) ->
     return _bone_path(pose_bone.name, "rotation_euler"), np.array(eulers)
 
 
-def _property_rest(pose_bone: bpy.types.PoseBone, name: str) -> float | None:
-    """A custom property's rest value: its default where the rig gave one, else its value now."""
-    if name not in pose_bone.keys():
-        return None
+def property_default(pose_bone: bpy.types.PoseBone, name: str) -> float | None:
+    """A bone's numeric custom property's default, where the rig gave one (None otherwise)."""
     try:
         default = pose_bone.id_properties_ui(name).as_dict().get("default")
     except TypeError:  # not a number
         return None
-    return float(default) if isinstance(default, int | float) else float(pose_bone[name])
+    return float(default) if isinstance(default, int | float) and not isinstance(default, bool) else None
+
+
+def _property_rest(pose_bone: bpy.types.PoseBone, name: str) -> float | None:
+    """A custom property's rest value: its default where the rig gave one, else its value now."""
+    if name not in pose_bone.keys() or not isinstance(pose_bone[name], int | float):
+        return None
+    default = property_default(pose_bone, name)
+    return float(pose_bone[name]) if default is None else default

@@ -191,10 +191,10 @@ def own_rig_to_json(own: OwnRig) -> str:
             "source": pose.source,
             "bones": {
                 bone: {
-                    "location": list(move.location),
-                    "rotation": list(move.rotation),
-                    "scale": list(move.scale),
-                    "properties": dict(move.properties),
+                    "location": [float(v) for v in move.location],
+                    "rotation": [float(v) for v in move.rotation],
+                    "scale": [float(v) for v in move.scale],
+                    "properties": {name: float(value) for name, value in move.properties.items()},
                 }
                 for bone, move in pose.bones.items()
             },
