@@ -106,9 +106,7 @@ def find_face_rig(head: bpy.types.Object, frame: np.ndarray) -> FaceRig | None:
 
     frame: the character's left, up, forward as columns in world axes (living_rig.find_rig's)."""
     armature = face_armature(head)
-    if armature is None:
-        return None
-    own = stored_setup(armature)
+    own = stored_setup(armature) if armature is not None else OwnRig()
     if own.is_empty():
         return rig_drivers.driven_face_rig(head, armature)
     warnings: list[str] = []

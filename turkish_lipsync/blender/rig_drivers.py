@@ -208,6 +208,8 @@ class _Probe:
     def __enter__(self) -> _Probe:
         for fcurve in self.muted:
             fcurve.mute = True
+        for control in self.controls:  # poses are from the rest pose: every control starts there
+            self.set(control, 0.0)
         return self
 
     def __exit__(self, *_exception) -> None:
