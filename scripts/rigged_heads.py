@@ -5,6 +5,7 @@ pictures (the heads are read where they are, never copied).
   armature (neck, head, jaw): the jaw's vertex weights and hinge are fitted to the artist's own mouth-open
   key before it is removed, so the jaw opens as that artist's mouth does; the lower teeth and tongue
   follow the jaw, the upper teeth the head, and the eyes are bone children of the head.
+  default_jaw_bone_character: the same armature on the default head (fitted to its own jawOpen unit).
 - rigify_face_character: the default head on Rigify's face rig, generated from Rigify's human meta-rig after
   its face bones are fitted to the head's landmarks (a similarity, then a smooth warp); the skin's weights
   come from nearness to the deform bones, with the jaw's and the lids' shares of every vertex read from
@@ -25,8 +26,11 @@ import bpy
 import numpy as np
 
 REPOSITORY = Path(__file__).resolve().parent.parent
-if str(REPOSITORY) not in sys.path:
-    sys.path.insert(0, str(REPOSITORY))
+for folder in (REPOSITORY, REPOSITORY / "scripts"):
+    if str(folder) not in sys.path:
+        sys.path.insert(0, str(folder))
+
+from rig_mapping_figures import jaw_hinge  # noqa: E402
 
 from turkish_lipsync.blender import heads, mesh  # noqa: E402
 from turkish_lipsync.core.faces.closest import nearest_vertices  # noqa: E402
@@ -46,14 +50,45 @@ def jaw_bone_character(context, path: Path = MAKEHUMAN_UNITS_HEAD) -> dict[str, 
     """{"head", "armature", "teeth_upper", "teeth_lower", "tongue", "eye_L", "eye_R"} of the imported head on
     its armature, with no shape keys left on any of them."""
     objects = {obj.name: obj for obj in heads.import_head(path)}
-    head = objects["head"]
-    opened = _key_deltas(head, "mouth-open")
-    rest = mesh.world_rest_coordinates(head).astype(np.float64)
-    hinge, angle = _hinge_of(rest, opened)
-    jaw_share = _rotation_share(rest, opened, hinge, angle)
+    opened = _key_deltas(objects["head"], "mouth-open")
     for obj in objects.values():
         if obj.type == "MESH" and obj.data.shape_keys is not None:
             obj.shape_key_clear()
+    armature = _on_game_armature(
+        context,
+        objects["head"],
+        opened,
+        {"jaw": [objects["teeth_lower"], objects["tongue"]], "head": [objects["teeth_upper"]]},
+        [objects["eye_L"], objects["eye_R"]],
+    )
+    return {**objects, "armature": armature}
+
+
+def default_jaw_bone_character(context) -> dict[str, bpy.types.Object]:
+    """The default head (its skin, eyes, teeth and lashes; no shape keys) on the same game armature, its jaw
+    fitted to the default head's own jawOpen unit: for pictures, as it has skin and eyes to show."""
+    parts = heads.create_reference_head(context)
+    reference = load_reference_head()
+    opened = reference.units["jawOpen"][reference.parts["skin"]].astype(np.float64)
+    armature = _on_game_armature(
+        context,
+        parts["head"],
+        opened,
+        {"jaw": [parts["lower_teeth"], parts["tongue"]], "head": [parts["upper_teeth"]]},
+        [parts["left_eye"], parts["right_eye"]],
+    )
+    for lashes in ("left_eyelashes", "right_eyelashes"):
+        _weigh(parts[lashes], armature, {"head": np.ones(len(parts[lashes].data.vertices))})
+    return {**parts, "armature": armature}
+
+
+def _on_game_armature(context, head, opened: np.ndarray, followers: dict, eyes: list) -> bpy.types.Object:
+    """A neck, head and jaw armature under the head: the jaw's hinge and the skin's jaw weights fitted to the
+    mouth opening given (world displacements of the head's vertices); followers weighted wholly to a bone,
+    eyes bone children of the head."""
+    rest = mesh.world_rest_coordinates(head).astype(np.float64)
+    hinge, angle = jaw_hinge(rest, opened)
+    jaw_share = _rotation_share(rest, opened, hinge, angle)
     low, high = rest.min(axis=0), rest.max(axis=0)
     chin = rest[np.argmax(np.linalg.norm(opened, axis=1))]
     pivot = np.array([0.0, hinge[1] + 0.3 * (high[1] - hinge[1]), hinge[2] - 0.01])
@@ -69,13 +104,13 @@ def jaw_bone_character(context, path: Path = MAKEHUMAN_UNITS_HEAD) -> dict[str, 
     neck_share = np.clip((chin[2] - 0.03 - rest[:, 2]) / max(chin[2] - 0.03 - low[2], 1e-6), 0.0, 1.0)
     neck_share *= 1.0 - jaw_share
     _weigh(head, armature, {"jaw": jaw_share, "neck": neck_share, "head": 1.0 - jaw_share - neck_share})
-    for name in ("teeth_lower", "tongue"):
-        _weigh(objects[name], armature, {"jaw": np.ones(len(objects[name].data.vertices))})
-    _weigh(objects["teeth_upper"], armature, {"head": np.ones(len(objects["teeth_upper"].data.vertices))})
-    for name in ("eye_L", "eye_R"):
-        _bone_child(objects[name], armature, "head")
+    for bone, objects in followers.items():
+        for obj in objects:
+            _weigh(obj, armature, {bone: np.ones(len(obj.data.vertices))})
+    for eye in eyes:
+        _bone_child(eye, armature, "head")
     context.view_layer.update()
-    return {**objects, "armature": armature}
+    return armature
 
 
 def _key_deltas(obj: bpy.types.Object, name: str) -> np.ndarray:
@@ -86,19 +121,6 @@ def _key_deltas(obj: bpy.types.Object, name: str) -> np.ndarray:
     return (moved - mesh.read_coordinates(keys.reference_key.points, count)).astype(
         np.float64
     ) @ mesh.world_matrix(obj)[:3, :3].T
-
-
-def _hinge_of(rest: np.ndarray, deltas: np.ndarray) -> tuple[np.ndarray, float]:
-    """The hinge (on the middle plane) and angle of the turn about the left-right axis that best gives the
-    vertices the key moves most their motion: d_y = -a z + b, d_z = a y - c, a the angle."""
-    size = np.linalg.norm(deltas, axis=1)
-    moving = size > 0.5 * size.max()
-    y, z = rest[moving, 1], rest[moving, 2]
-    ones, zeros = np.ones_like(y), np.zeros_like(y)
-    system = np.vstack([np.column_stack([-z, ones, zeros]), np.column_stack([y, zeros, -ones])])
-    solution, *_ = np.linalg.lstsq(system, np.concatenate([deltas[moving, 1], deltas[moving, 2]]), rcond=None)
-    angle, b, c = solution
-    return np.array([0.0, c / angle, b / angle]), float(angle)
 
 
 def _rotation_share(rest: np.ndarray, deltas: np.ndarray, hinge: np.ndarray, angle: float) -> np.ndarray:
@@ -148,7 +170,7 @@ def rigify_face_character(context) -> dict[str, bpy.types.Object]:
     reference = load_reference_head()
     skin = reference.parts["skin"]
     landmarks = {name: reference.vertices[index] for name, index in reference.landmark_vertices.items()}
-    hinge, _angle = _hinge_of(reference.vertices[skin].astype(np.float64), reference.units["jawOpen"][skin])
+    hinge, _angle = jaw_hinge(reference.vertices[skin].astype(np.float64), reference.units["jawOpen"][skin])
     bpy.ops.object.armature_human_metarig_add()
     metarig = context.active_object
     _fit_metarig(metarig, landmarks, hinge)

@@ -7,13 +7,12 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from scripts import rigged_heads  # noqa: E402
-from tests.blender.evaluated import evaluated_world  # noqa: E402
+from scripts.measure_face_rigs import lip_gaps, phone_frames  # noqa: E402
 from tests.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync import blender  # noqa: E402
-from turkish_lipsync.blender import compat, face_rig, heads, mesh, pipeline, shapekeys  # noqa: E402
+from turkish_lipsync.blender import compat, face_rig, heads, pipeline, shapekeys  # noqa: E402
 from turkish_lipsync.blender.marked_curves import FACE_RIG, LIVING  # noqa: E402
 from turkish_lipsync.core.base.errors import HeadError  # noqa: E402
-from turkish_lipsync.core.faces.measure import FaceMeasure  # noqa: E402
 from turkish_lipsync.core.faces.rig_mappings import OwnRig, rig_template  # noqa: E402
 
 TEXT = "Merhaba, benim adım Erdem. Bu sabah vapura binip geçtim, ama bir de babamı gördüm."
@@ -38,28 +37,6 @@ def _empty_scene():
     bpy.context.scene.render.fps = FPS
 
 
-def _lip_gaps(head, frames) -> np.ndarray:
-    """The lips' opening at the middle of the mouth on the evaluated mesh, at each scene frame (metres)."""
-    rest = mesh.world_rest_coordinates(head).astype(np.float64)
-    measure = FaceMeasure(
-        rest, [list(p.vertices) for p in head.data.polygons], shapekeys.head_landmarks(head)
-    )
-    gaps = []
-    for frame in frames:
-        bpy.context.scene.frame_set(int(frame))
-        gaps.append(measure.lip_aperture(evaluated_world(head) - rest))
-    return np.array(gaps)
-
-
-def _phone_frames(timeline, letters) -> list[tuple[str, np.ndarray]]:
-    """(letter, the scene frames it covers) of every phone of those letters (the scene starts at frame 1)."""
-    return [
-        (phone.letter, np.arange(int(np.floor(phone.start * FPS)), int(np.ceil(phone.end * FPS)) + 1) + 1)
-        for phone in timeline.phones
-        if phone.letter in letters
-    ]
-
-
 @pytest.fixture(scope="module")
 def shape_key_path():
     """The same MakeHuman head speaking through shape keys built on it (its own keys taken off first)."""
@@ -72,7 +49,7 @@ def shape_key_path():
     shapekeys.build_shape_keys(head)
     result = pipeline.generate(bpy.context, head, TEXT)
     frames = np.arange(1, result.frame_end + 1)
-    return result.timeline, frames, _lip_gaps(head, frames)
+    return result.timeline, frames, lip_gaps(head, frames)
 
 
 def _jaw_character():
@@ -89,16 +66,16 @@ def test_the_jaw_bone_opens_on_open_vowels_and_closes_on_b_m_p_as_the_shape_keys
     assert head.data.shape_keys is None  # a head with no shape keys: its jaw is a bone
     result = pipeline.generate(bpy.context, head, TEXT)
     assert [p.letter for p in result.timeline.phones] == [p.letter for p in timeline.phones]
-    gaps = dict(zip(frames, _lip_gaps(head, frames), strict=True))
+    gaps = dict(zip(frames, lip_gaps(head, frames), strict=True))
     keyed = dict(zip(frames, keyed_gaps, strict=True))
-    closures = _phone_frames(timeline, BILABIALS)
+    closures = phone_frames(timeline, BILABIALS)
     assert len(closures) >= 10
     for letter, span in closures:
         closed = min(span, key=lambda frame: keyed[frame])  # where the shape-key path closes the lips
         assert keyed[closed] < 0.5e-3, (letter, span)
         # Closed as the keys close them (their lips press on past contact; a jaw's stop there)
         assert gaps[closed] <= max(keyed[closed], 0.0) + 0.5e-3, (letter, closed, gaps[closed])
-    for letter, span in _phone_frames(timeline, OPEN_VOWELS):
+    for letter, span in phone_frames(timeline, OPEN_VOWELS):
         widest = max(span, key=lambda frame: keyed[frame])
         if keyed[widest] > 6e-3:
             assert gaps[widest] > 0.75 * keyed[widest], (letter, widest, gaps[widest], keyed[widest])
@@ -245,7 +222,7 @@ def reference_gaps():
     shapekeys.build_shape_keys(head)
     result = pipeline.generate(bpy.context, head, TEXT)
     frames = np.arange(1, result.frame_end + 1)
-    return frames, _lip_gaps(head, frames)
+    return frames, lip_gaps(head, frames)
 
 
 def test_the_rigify_mapping_moves_controls_the_generated_rig_has(rigify_file):
@@ -274,7 +251,7 @@ def test_the_rigify_face_opens_and_closes_the_mouth_as_the_shape_keys_do(rigify_
     ours = set(rig.animation_data.action[FACE_RIG.curves_property])
     for control in ("jaw_master", "lips.L", "lips.R", "lip.T", "lip.B", "lid.T.L.002", "eye.L"):
         assert any(f'"{control}"' in path for path in ours), control
-    gaps = _lip_gaps(head, frames)
+    gaps = lip_gaps(head, frames)
     assert np.corrcoef(gaps, keyed)[0, 1] >= 0.9
     assert gaps.max() > 0.6 * keyed.max()
     # The eyes look through Rigify's eye targets, not as objects of their own.

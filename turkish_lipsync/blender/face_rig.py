@@ -28,7 +28,7 @@ from .marked_curves import FACE_RIG, remove_marked_channels, users_paths, write_
 
 RIG_PROPERTY = "tr_face_rig"  # on the armature object: the character's set-up (OwnRig as JSON)
 # Keys are dropped where linear interpolation between their neighbours keeps every pose's weight this
-# close: a thousandth of a full viseme, under 0.03 degrees of a jaw that opens 24 degrees at weight 1.
+# close: a thousandth of a full viseme, under 0.03 degrees of a jaw that opens 22 degrees at weight 1.
 WEIGHT_TOLERANCE = 1e-3
 # Targets that turn the eyes: with poses for them the rig turns the eyes, not the living layer.
 EYE_TARGETS = frozenset(LOOK_KEYS) | {
