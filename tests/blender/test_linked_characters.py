@@ -137,6 +137,13 @@ def test_a_linked_character_with_linkable_keys_speaks_in_the_shot_and_keeps_it(t
     eye = _override("TR_Head_EyeLeft")
     assert LIVING.curves_property in eye.animation_data.action
     assert _digest(character) == before  # the library file is never written
+    # The character's file changes (a prop added to the character): the shot, resynced, keeps its speech.
+    bpy.ops.wm.open_mainfile(filepath=str(character))
+    bpy.data.collections[COLLECTION].objects.link(bpy.data.objects.new("Hat", None))
+    bpy.ops.wm.save_mainfile()
+    bpy.ops.wm.open_mainfile(filepath=str(shot))
+    assert "Hat" in bpy.context.scene.objects
+    np.testing.assert_allclose(_key_values(_override("TR_Head"), names, frames), saved, atol=1e-6)
 
 
 def test_a_linked_character_with_a_face_rig_speaks_through_its_bones_in_the_shot(tmp_path):

@@ -145,11 +145,10 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
         if body is None:
             return
         body.prop(settings, "face_rig")
-        if settings.face_rig == "jaw_bone":
-            if armature is not None:
-                body.prop_search(settings, "jaw_bone", armature.data, "bones")
-            else:
-                body.prop(settings, "jaw_bone")
+        if settings.face_rig == "jaw_bone":  # the armature's bones to choose from, where it has one
+            body.prop_search(settings, "jaw_bone", armature.data, "bones") if armature else body.prop(
+                settings, "jaw_bone"
+            )
         row = body.row(align=True)
         row.operator("turkish_lipsync.use_face_rig", icon="ARMATURE_DATA")
         row.operator("turkish_lipsync.stop_face_rig", icon="X", text="")

@@ -71,14 +71,11 @@ FACE_RIG_ITEMS = (
     *((template.name, template.title, template.description) for template in rig_templates()),
     (OWN_POSES, "Own Poses", "Only the poses recorded for this character below"),
 )
+POSE_TARGET_DESCRIPTION = "A viseme, emotion, blink or look key, or an ARKit unit"
 # What a pose may be recorded for (a dynamic enum's items must stay referenced while Blender shows them).
 POSE_TARGET_ITEMS = tuple(
-    (
-        target,
-        target.removeprefix("TR_").replace("_", " "),
-        "A viseme, emotion, blink or look key, or an ARKit unit",
-    )
-    for target in pose_targets()
+    (target, target.removeprefix("TR_").replace("_", " "), POSE_TARGET_DESCRIPTION, "NONE", number)
+    for number, target in enumerate(pose_targets())
 )
 
 
@@ -277,6 +274,8 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
     pose_frame: IntProperty(
         name="Pose Frame",
         default=1,
+        min=-1048574,
+        max=1048574,  # Blender's own frame limits
         description="The frame of the Pose Action that holds the pose",
     )
     arkit_keys: BoolProperty(
