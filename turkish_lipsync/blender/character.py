@@ -52,38 +52,37 @@ LINKED_KEYS_NOT_LINKABLE = (
 NOTHING_TO_SPEAK_THROUGH = "The head has no lip-sync shape keys or face rig yet: build the keys first"
 
 
-def speech_problem(head: bpy.types.Object) -> tuple[str, str] | None:
-    """Why the head cannot speak yet (None: it can): the button's short reason and the full message, which
-    says what to do and in which file."""
+def speech_problem(head: bpy.types.Object) -> str | None:
+    """Why the head cannot speak yet, as its button says it (None: it can)."""
     rigged = has_face_rig(head)
-    keys = has_own_keys(head)
-    linked = face_rig.is_linked(head)
+    if rigged or (has_own_keys(head) and (not face_rig.is_linked(head) or linking.is_linkable(head))):
+        return None
+    if face_rig.is_linked(head):
+        return LINKED_KEYS_NOT_LINKABLE if has_own_keys(head) else LINKED_WITHOUT_KEYS
+    return NOTHING_TO_SPEAK_THROUGH
+
+
+def check_can_speak(head: bpy.types.Object, objects) -> None:
+    """A HeadError saying what is missing and in which file, before anything is changed."""
+    problem = speech_problem(head)
     library = face_rig.library_path(head)
-    if linked and not rigged and not keys:
-        return LINKED_WITHOUT_KEYS, (
+    if problem == LINKED_WITHOUT_KEYS:
+        raise HeadError(
             f"The head {head.name!r} is linked from {library}, which holds no lip-sync shape keys or "
             f"face-rig set-up for it yet: open {library}, press Build Shape Keys there (then Make Keys "
             "Linkable) or set up its face rig, save it, and reload the library here."
         )
-    if linked and not rigged and not linking.is_linkable(head):
-        return LINKED_KEYS_NOT_LINKABLE, (
+    if problem == LINKED_KEYS_NOT_LINKABLE:
+        raise HeadError(
             f"The head {head.name!r} is linked from {library} and its keys are not linkable, so this file "
             f"cannot animate them: open {library}, press Make Keys Linkable, save it, and reload the library "
             "here."
         )
-    if not rigged and not keys:
-        return NOTHING_TO_SPEAK_THROUGH, (
+    if problem == NOTHING_TO_SPEAK_THROUGH:
+        raise HeadError(
             f"The head {head.name!r} has no {VISEME_KEY_PREFIX}* shape keys and no face rig yet: press Build "
             "Shape Keys first, or set up its face rig (Face Rig section)."
         )
-    return None
-
-
-def check_can_speak(head: bpy.types.Object, objects) -> None:
-    """A HeadError saying what is missing, before anything is changed."""
-    problem = speech_problem(head)
-    if problem:
-        raise HeadError(problem[1])
     armature = face_rig.face_armature(head)
     for owner in [*objects, *(o.data.shape_keys for o in objects if o.type == "MESH"), armature]:
         action = owner.animation_data.action if owner is not None and owner.animation_data else None

@@ -132,8 +132,7 @@ def key_source_ready(context) -> str | None:
 def keys_built(context) -> str | None:
     """The head speaks through its keys or its face rig; the reason why not, where it cannot."""
     head = chosen_head(context)
-    problem = character.speech_problem(head) if head is not None else None
-    return problem[0] if problem else None
+    return character.speech_problem(head) if head is not None else None
 
 
 def speaks_a_script(context) -> bool:
