@@ -22,7 +22,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from rigged_heads import MAKEHUMAN_UNITS_HEAD, jaw_bone_character, rigify_face_character  # noqa: E402
+from rigged_heads import jaw_bone_character, makehuman_with_our_keys, rigify_face_character  # noqa: E402
 
 from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import face_rig, heads, mesh, pipeline, shapekeys  # noqa: E402
@@ -115,13 +115,7 @@ def main() -> int:
     args = parser.parse_args()
     blender.register()
     context = _scene()
-    objects = heads.import_head(MAKEHUMAN_UNITS_HEAD)
-    for obj in objects:
-        if obj.type == "MESH" and obj.data.shape_keys is not None:
-            obj.shape_key_clear()
-    head = heads.find_head(objects)
-    shapekeys.build_shape_keys(head)
-    keyed = speaking(head, args.text)
+    keyed = speaking(makehuman_with_our_keys(), args.text)
     context = _scene()
     character = jaw_bone_character(context)
     face_rig.store_setup(character["armature"], OwnRig("jaw_bone"))

@@ -32,7 +32,7 @@ for folder in (REPOSITORY, REPOSITORY / "scripts"):
 
 from rig_mapping_figures import jaw_hinge  # noqa: E402
 
-from turkish_lipsync.blender import heads, mesh  # noqa: E402
+from turkish_lipsync.blender import heads, mesh, shapekeys  # noqa: E402
 from turkish_lipsync.core.faces.closest import nearest_vertices  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
 
@@ -62,6 +62,18 @@ def jaw_bone_character(context, path: Path = MAKEHUMAN_UNITS_HEAD) -> dict[str, 
         [objects["eye_L"], objects["eye_R"]],
     )
     return {**objects, "armature": armature}
+
+
+def makehuman_with_our_keys(path: Path = MAKEHUMAN_UNITS_HEAD) -> bpy.types.Object:
+    """The same head speaking through shape keys instead: its own keys taken off, ours built on it (the
+    shape-key path the jaw bone is measured against)."""
+    objects = heads.import_head(path)
+    for obj in objects:
+        if obj.type == "MESH" and obj.data.shape_keys is not None:
+            obj.shape_key_clear()
+    head = heads.find_head(objects)
+    shapekeys.build_shape_keys(head)
+    return head
 
 
 def default_jaw_bone_character(context) -> dict[str, bpy.types.Object]:

@@ -41,12 +41,7 @@ def _empty_scene():
 def shape_key_path():
     """The same MakeHuman head speaking through shape keys built on it (its own keys taken off first)."""
     _empty_scene()
-    objects = heads.import_head(rigged_heads.MAKEHUMAN_UNITS_HEAD)
-    for obj in objects:
-        if obj.type == "MESH" and obj.data.shape_keys is not None:
-            obj.shape_key_clear()
-    head = heads.find_head(objects)
-    shapekeys.build_shape_keys(head)
+    head = rigged_heads.makehuman_with_our_keys()
     result = pipeline.generate(bpy.context, head, TEXT)
     frames = np.arange(1, result.frame_end + 1)
     return result.timeline, frames, lip_gaps(head, frames)
