@@ -178,6 +178,14 @@ def test_a_recorded_pose_replaces_the_mappings_and_an_action_frame_gives_one_too
     peak = 1 + int(track.frames[np.argmax(track.values)])
     bpy.context.scene.frame_set(peak)
     assert jaw.rotation_quaternion.angle == pytest.approx(0.6 * track.values.max(), abs=0.02)
+    # Posed over our speech keys: only what the user posed is recorded, not the jaw as our keys have it.
+    neck = armature.pose.bones["neck"]
+    neck.location = (0.0, 0.01, 0.0)
+    settings.pose_target = "browInnerUp"
+    assert bpy.ops.turkish_lipsync.record_pose() == {"FINISHED"}
+    assert set(face_rig.stored_setup(armature).poses["browInnerUp"].bones) == {"neck"}
+    neck.location = (0.0, 0.0, 0.0)
+    assert bpy.ops.turkish_lipsync.clear_pose(target="browInnerUp") == {"FINISHED"}
     # A pose asset or any action: the pose it holds at a frame.
     action = bpy.data.actions.new("smile")
     armature.animation_data.action = None

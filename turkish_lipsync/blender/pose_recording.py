@@ -16,7 +16,7 @@ from ..core.base.errors import HeadError
 from ..core.faces.rig_poses import BoneMove, Pose, pose_targets, rotation_vectors
 from . import compat
 from .face_rig import property_default, store_setup, stored_setup
-from .marked_curves import LIVING, marked_paths
+from .marked_curves import FACE_RIG, LIVING, marked_paths
 
 # A bone counts as posed where it is this far from its rest (armature units, radians, scale).
 POSED = 1e-5
@@ -26,19 +26,52 @@ _BONE_CHANNEL = re.compile(
 _BONE_PROPERTY = re.compile(r'^pose\.bones\["((?:[^"\\]|\\.)*)"\]\["((?:[^"\\]|\\.)*)"\]$')
 
 
-def record_current_pose(armature: bpy.types.Object, target: str) -> Pose:
+def record_current_pose(armature: bpy.types.Object, target: str, frame: float) -> Pose:
     """The armature's pose now (every bone off its rest, every custom property of a bone off its default)
-    as the pose of target; the bones our living layer turns (head, eyes) are left out."""
+    as the pose of target; the bones our living layer turns (head, eyes) are left out, and so are bones as
+    our speech keys have them at this frame (only what the user posed is recorded)."""
     _check_target(target)
     living = _living_bones(armature)
+    ours = _our_speech_values(armature, frame)
     bones = {}
     for pose_bone in armature.pose.bones:
         if pose_bone.name in living:
             continue
-        move = _move_of(pose_bone.matrix_basis, _properties_off_default(pose_bone))
+        move = _move_of(
+            _posed_basis(pose_bone, ours.get(pose_bone.name, {})), _properties_off_default(pose_bone)
+        )
         if not move.is_rest(POSED):
             bones[pose_bone.name] = move
     return _stored(armature, target, Pose(bones, "posed in the panel"))
+
+
+def _posed_basis(pose_bone: bpy.types.PoseBone, keyed: dict[tuple[str, int], float]) -> Matrix:
+    """The bone's basis with the channels as our keys have them put back at rest (what the user posed)."""
+    if not keyed or pose_bone.rotation_mode == "AXIS_ANGLE":
+        return pose_bone.matrix_basis
+    rotation = "rotation_quaternion" if pose_bone.rotation_mode == "QUATERNION" else "rotation_euler"
+    values = {}
+    for channel in ("location", rotation, "scale"):
+        current = list(getattr(pose_bone, channel))
+        rest = {"rotation_quaternion": [1.0, 0.0, 0.0, 0.0], "scale": [1.0, 1.0, 1.0]}.get(channel, [0.0] * 3)
+        values[channel] = {
+            index: rest[index] if keyed.get((channel, index)) == round(value, 5) else value
+            for index, value in enumerate(current)
+        }
+    return _basis(values, pose_bone.rotation_mode)
+
+
+def _our_speech_values(armature: bpy.types.Object, frame: float) -> dict[str, dict[tuple[str, int], float]]:
+    """bone -> (channel, index) -> the value our face-rig keys give it at frame, rounded."""
+    action = armature.animation_data.action if armature.animation_data else None
+    ours = marked_paths(action, FACE_RIG)
+    values: dict[str, dict[tuple[str, int], float]] = {}
+    for fcurve in compat.all_action_fcurves(action) if ours else ():
+        found = _BONE_CHANNEL.match(fcurve.data_path)
+        if fcurve.data_path in ours and found:
+            channel = (found.group(2), fcurve.array_index)
+            values.setdefault(found.group(1), {})[channel] = round(fcurve.evaluate(frame), 5)
+    return values
 
 
 def record_action_pose(

@@ -111,7 +111,9 @@ class TURKISH_LIPSYNC_OT_record_pose(ReportedOperator, bpy.types.Operator):
     @staticmethod
     def work(context) -> Outcome:
         target = settings_of(context).pose_target
-        pose = pose_recording.record_current_pose(chosen_armature(context), target)
+        pose = pose_recording.record_current_pose(
+            chosen_armature(context), target, context.scene.frame_current
+        )
         return f"Recorded {target}: {len(pose.bones)} bones", ()
 
 
