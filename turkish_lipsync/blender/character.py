@@ -95,7 +95,7 @@ def check_can_speak(head: bpy.types.Object, objects) -> None:
 
 def face_rig_for(context: bpy.types.Context, head: bpy.types.Object, rig: LivingRig | None) -> FaceRig | None:
     """The head's face rig resolved (in the character's frame: the living rig's, else found at rest)."""
-    if face_rig.face_armature(head) is None and not rig_drivers.has_driven_keys(head):
+    if not has_face_rig(head):
         return None
     if rig is None:
         with living.at_rest(context.scene):
