@@ -6,6 +6,12 @@ Runs inside Blender and with the bpy module:
     python scripts/render.py --jsml examples/demo.jsml --out out/demo.mp4 --save-blend out/demo.blend
     python scripts/render.py --audio take.wav --out out/take.mp4   # no text: what the take says is recognised
 
+In a shot where a character is linked and library-overridden, --object names the head to animate (its
+keys or face rig built in the character's own file): the file Blender opened, or --open with the bpy module:
+
+    blender -b shot.blend -P scripts/render.py -- --object Head --jsml line.jsml --out line.mp4
+    python scripts/render.py --open shot.blend --object Head --jsml line.jsml --out line.mp4
+
 On any error it prints one line and exits non-zero. Given a .blend with --head, it changes only the TR_* keys,
 their F-curves, the TR_speech strip and the frame range (plus camera and lights only where there are none).
 
@@ -139,9 +145,11 @@ def run_one_head(arguments, context, scene, source: str, new_scene: bool, audio_
     """One head speaks the text: built where it needs keys, generated, exported; returns its name."""
     import bpy
 
-    from turkish_lipsync.blender import heads, pipeline
+    from turkish_lipsync.blender import character, heads, pipeline
 
-    if arguments.head is None:
+    if arguments.object is not None:
+        head = named_head(arguments.object)
+    elif arguments.head is None and arguments.open is None:
         head = None
     elif new_scene:
         head = heads.find_head(heads.import_head(arguments.head))
@@ -155,7 +163,7 @@ def run_one_head(arguments, context, scene, source: str, new_scene: bool, audio_
         or arguments.key_source != "auto"
         or arguments.empowered
     )
-    if head is None or rebuild or not pipeline.has_lipsync_keys(head):
+    if head is None or rebuild or character.speech_problem(head) is not None:
         report = pipeline.build_keys(
             context,
             head,
@@ -202,6 +210,40 @@ def run_one_head(arguments, context, scene, source: str, new_scene: bool, audio_
             flush=True,
         )
     return head_name
+
+
+def named_head(name: str):
+    """The open file's head of that name (a library override of a linked one before the linked one)."""
+    import bpy
+
+    head = bpy.data.objects.get(name)
+    if head is None or head.type != "MESH":
+        meshes = ", ".join(sorted(obj.name for obj in bpy.context.scene.objects if obj.type == "MESH"))
+        what = "no object" if head is None else f"a {head.type.lower()}, not the head mesh,"
+        raise LipSyncError(f"--object {name!r}: the open file has {what} of that name; its meshes: {meshes}")
+    return head
+
+
+def open_the_scene(arguments: argparse.Namespace) -> bool:
+    """A new scene, the .blend given (--open, --head), or the file Blender opened (with --object); returns
+    whether the scene is new."""
+    import bpy
+
+    opened = arguments.open or (
+        arguments.head if arguments.head and arguments.head.suffix.lower() == ".blend" else None
+    )
+    if opened is not None:
+        bpy.ops.wm.open_mainfile(filepath=str(opened.resolve()))
+        return False
+    if arguments.object is not None and arguments.head is None:
+        if not bpy.data.filepath:
+            raise LipSyncError(
+                "--object names a head of the open file: open it (blender -b SHOT.blend -P render.py -- ...) "
+                "or give --open SHOT.blend"
+            )
+        return False
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    return True
 
 
 def speaker_choices(arguments: argparse.Namespace) -> dict:
@@ -305,11 +347,7 @@ def run(arguments: argparse.Namespace) -> None:
 
     started = time.perf_counter()
     audio_decoding.register()  # Blender's FFmpeg reads the recordings, as in the panel
-    new_scene = arguments.head is None or arguments.head.suffix.lower() != ".blend"
-    if new_scene:
-        bpy.ops.wm.read_factory_settings(use_empty=True)
-    else:
-        bpy.ops.wm.open_mainfile(filepath=str(arguments.head.resolve()))
+    new_scene = open_the_scene(arguments)
     context = bpy.context
     scene = context.scene
     if arguments.fps is not None:

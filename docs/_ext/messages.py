@@ -76,6 +76,15 @@ GROUPS: dict[str, tuple[str, ...]] = {
         "turkish_lipsync/blender/owned_keys.py",
     ),
     "buttons": ("turkish_lipsync/blender/operators.py",),
+    "rigs": (
+        "turkish_lipsync/core/faces/rig_",
+        "turkish_lipsync/blender/face_rig.py",
+        "turkish_lipsync/blender/rig_",
+        "turkish_lipsync/blender/pose_recording.py",
+        "turkish_lipsync/blender/character.py",
+        "turkish_lipsync/blender/linking.py",
+        "turkish_lipsync/blender/marked_curves.py",
+    ),
     "engine": (
         "turkish_lipsync/core/speech/espeak.py",
         "turkish_lipsync/core/speech/timeline.py",

@@ -40,6 +40,8 @@ LABEL_WORDS = 4  # a text of the translation table this short is a label; longer
 
 def _type_text(prop, browsed: bool = False) -> str:
     """browsed: a button beside the field browses for its file (an operator with a file filter)."""
+    if prop.type == "ENUM" and not prop.default:  # items the add-on lists as the panel is drawn
+        return "one of the items the panel lists"
     default = getattr(prop, "default", None)
     if prop.type == "BOOLEAN":
         return f"on or off; default {'on' if default else 'off'}"
@@ -59,7 +61,7 @@ def _type_text(prop, browsed: bool = False) -> str:
             " (`//` is the folder of the saved .blend)" if "//" in default else ""
         )
     if prop.type == "POINTER":
-        kind = {"Object": "an object", "Text": "a Text data block (Text Editor)"}.get(
+        kind = {"Object": "an object", "Text": "a Text data block (Text Editor)", "Action": "an action"}.get(
             prop.fixed_type.identifier, prop.fixed_type.identifier
         )
         return f"{kind}; default none"

@@ -32,6 +32,8 @@ from ..core.speech import Synthesis
 from ..core.text.script import Script
 from . import gltf_export, keyframes, living, pipeline, render, sequencer, shapekeys
 from . import heads as head_files
+from .character import check_can_speak, key_speech, record_holder
+from .face_rig import is_linked
 from .living_rig import LivingRig, find_rig
 from .scene_record import ConversationRecord, conversation_record, keep_conversation_record
 
@@ -103,10 +105,9 @@ def generate_conversation(
             context, rigs[character.role.key], character.tracks, start, clear=number == 0
         )
         warnings += moved.warnings
-        written = keyframes.write_weight_tracks(
-            pipeline.head_objects(head), character.tracks, start, _action_name(character, result, head)
-        )
-        actions += [w.action_name for w in written]
+        name = _action_name(character, result, head)
+        keyed = key_speech(head, pipeline.head_objects(head), character.tracks, start, name, None)
+        actions += list(keyed.action_names)
         _keep_character_record(head, result, character, start)
         warnings += pipeline.own_keys_held_warning(head)
 
@@ -187,7 +188,9 @@ def cast_heads(context: bpy.types.Context, cast: Cast) -> dict[str, str]:
                 raise HeadError(
                     f"{role.name}'s head {head.name!r} is not a mesh; choose the head mesh itself."
                 )
-            if not pipeline.has_lipsync_keys(head):
+            if is_linked(head):  # a linked character's keys are built in its own file
+                check_can_speak(head, [head])
+            elif not pipeline.has_lipsync_keys(head):
                 context.view_layer.update()
                 shapekeys.build_shape_keys(head)
             heads[role.key] = head.name
@@ -256,7 +259,7 @@ def character_text(result: SceneResult, key: str) -> str:
 
 def _keep_character_record(head: bpy.types.Object, result: SceneResult, character, start: int) -> None:
     """The character's own timeline and motion beside its keys: what its exports describe."""
-    action = head.data.shape_keys.animation_data.action
+    action = record_holder(head, pipeline.RECORD_PROPERTY)
     settings = {
         name: str(value) if isinstance(value, Path) else value
         for name, value in dataclasses.asdict(result.options).items()

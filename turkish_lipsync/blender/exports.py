@@ -46,7 +46,12 @@ def export_animation(
     tracks = keyframes.read_weight_tracks(objects, record.frame_start, record.frame_count, record.fps)
     tracks = dataclasses.replace(tracks, head_and_eyes=record.head_and_eyes)
     warnings: tuple[str, ...] = ()
-    if keyframes.key_fingerprint(objects) != record.key_fingerprint:
+    if not tracks.tracks:
+        warnings = (
+            f"{head.name!r} speaks through its face rig, not its shape keys: formats of weights (the Live "
+            "Link Face CSV) export them at rest; mouth cues and words are timed as Generate timed them.",
+        )
+    elif keyframes.key_fingerprint(objects) != record.key_fingerprint:
         warnings = (
             f"The keys of {head.name!r} were changed after Generate Animation: the weights are exported as "
             "the keys are now, the mouth cues and words as Generate timed them.",

@@ -92,7 +92,7 @@ def find_rig(head: bpy.types.Object, parts: list[bpy.types.Object] | None = None
     vertices = mesh.world_rest_coordinates(head).astype(np.float64)
     low, high = vertices.min(axis=0), vertices.max(axis=0)
     centre, size = (low + high) / 2, float(np.max(high - low))
-    armature = _armature_of(head)
+    armature = armature_of(head)
     head_bone = (_bone_named(armature, _HEAD_BONE) or _bone_named(armature, _NECK_BONE)) if armature else None
     warnings: list[str] = []
 
@@ -215,7 +215,7 @@ def _look_key_centres(head: bpy.types.Object, world: np.ndarray) -> list[tuple[n
     return [(s.mean(axis=0), {}) for s in sides]
 
 
-def _armature_of(head: bpy.types.Object) -> bpy.types.Object | None:
+def armature_of(head: bpy.types.Object) -> bpy.types.Object | None:
     for modifier in head.modifiers:
         if modifier.type == "ARMATURE" and modifier.object is not None:
             return modifier.object

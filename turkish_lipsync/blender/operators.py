@@ -18,7 +18,7 @@ from ..core.scene import RoleChoice
 from ..core.scene.speech import SceneSources, line_recordings_in
 from ..core.speech.timeline import TABLE_CANNOT_FOLLOW_RECORDING
 from ..core.text.script import Script, has_speakers, read_script, speaker_key
-from . import conversation, exports, gltf_export, landmarks, mesh, pipeline, shapekeys
+from . import character, conversation, exports, gltf_export, landmarks, mesh, pipeline, shapekeys
 from .preferences import ADDON_PACKAGE, configure_speech_engine
 from .properties import LAYER_VALUES
 
@@ -131,9 +131,9 @@ def key_source_ready(context) -> str | None:
 
 
 def keys_built(context) -> str | None:
-    if not pipeline.has_lipsync_keys(chosen_head(context)):
-        return "The head has no lip-sync shape keys yet: build them first"
-    return None
+    """The head speaks through its keys or its face rig; the reason why not, where it cannot."""
+    head = chosen_head(context)
+    return character.speech_problem(head) if head is not None else None
 
 
 def speaks_a_script(context) -> bool:
@@ -193,8 +193,7 @@ def speech_generated(context) -> str | None:
         return None
     if chosen_head(context) is None:
         return "Choose the head object in the Lip Sync panel"
-    key = chosen_head(context).data.shape_keys
-    action = key.animation_data.action if key is not None and key.animation_data else None
+    action = character.record_holder(chosen_head(context), pipeline.RECORD_PROPERTY)
     if action is None or pipeline.RECORD_PROPERTY not in action:
         return "Generate the animation first: the head has no speech to export"
     return None
@@ -276,7 +275,7 @@ class TURKISH_LIPSYNC_OT_generate(ReportedOperator, bpy.types.Operator):
         script = read_script(source) if source else None
         if script is not None:
             return generate_conversation(context, settings, script)
-        if head is None or not pipeline.has_lipsync_keys(head):
+        if head is None:
             raise HeadError(
                 "The text has no speakers, so one head speaks it: choose the head in the Lip Sync panel and "
                 "build its shape keys first."

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import bpy
 
+from ..core.base.errors import LipSyncError
+from .face_rig import face_armature, stored_setup
 from .shapekeys import KEY_SOURCES_PROPERTY
 
 
@@ -49,7 +51,9 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
             row.operator("turkish_lipsync.show_landmarks", icon="EMPTY_DATA")
             row.operator("turkish_lipsync.clear_landmarks", icon="X", text="")
         column.operator("turkish_lipsync.build_shape_keys", icon="SHAPEKEY_DATA")
+        column.operator("turkish_lipsync.make_keys_linkable", icon="LINKED")
         self.draw_key_sources(layout, settings.head)
+        self.draw_face_rig(layout, settings)
 
         layout.separator()
         column = layout.column(heading="Speech")
@@ -133,6 +137,44 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
             sub.prop(settings, amount, text="")
         body.prop(settings, "gaze_target")
         body.prop(settings, "seed")
+
+    @staticmethod
+    def draw_face_rig(layout, settings) -> None:
+        """A sub-panel for a head its armature moves: the mapping kept with the armature, the poses of the
+        character's own (recorded from its pose or from an action), each with a button to clear it."""
+        head = settings.head
+        armature = face_armature(head) if head is not None else None
+        header, body = layout.panel("TURKISH_LIPSYNC_face_rig", default_closed=armature is None)
+        header.label(text="Face Rig")
+        if body is None:
+            return
+        body.prop(settings, "face_rig")
+        if settings.face_rig == "jaw_bone":  # the armature's bones to choose from, where it has one
+            body.prop_search(settings, "jaw_bone", armature.data, "bones") if armature else body.prop(
+                settings, "jaw_bone"
+            )
+        row = body.row(align=True)
+        row.operator("turkish_lipsync.use_face_rig", icon="ARMATURE_DATA")
+        row.operator("turkish_lipsync.stop_face_rig", icon="X", text="")
+        body.prop(settings, "pose_target")
+        body.operator("turkish_lipsync.record_pose", icon="POSE_HLT")
+        body.prop(settings, "pose_action")
+        body.prop(settings, "pose_frame")
+        body.operator("turkish_lipsync.record_action_pose", icon="ACTION")
+        if armature is None:
+            return
+        try:
+            own = stored_setup(armature)
+        except LipSyncError as error:
+            body.label(text=str(error), icon="ERROR", translate=False)
+            return
+        column = body.column(align=True)
+        column.use_property_split = False
+        for target, pose in own.poses.items():
+            row = column.row(align=True)
+            row.label(text=target.removeprefix("TR_"), translate=False)
+            row.label(text=pose.source, translate=False)
+            row.operator("turkish_lipsync.clear_pose", text="", icon="X").target = target
 
     @staticmethod
     def draw_key_sources(layout, head) -> None:

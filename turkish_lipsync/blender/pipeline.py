@@ -29,7 +29,7 @@ from ..core.base.model import (
 from ..core.interchange.animation_record import AnimationRecord, record_from_json, record_to_json
 from ..core.motion.frames import shown_frame_count
 from ..core.pipeline import LipSyncOptions, lip_sync
-from . import compat, heads, keyframes, living, render, sequencer, shapekeys
+from . import character, compat, face_rig, heads, keyframes, linking, living, render, sequencer, shapekeys
 from .living_rig import find_rig
 from .owned_keys import owned_keys
 from .scene_record import conversation_record, forget_conversation_record
@@ -98,6 +98,12 @@ def build_keys(
     """
     progress = progress or _no_progress
     created: list[bpy.types.Object] = []
+    if head is not None and face_rig.is_linked(head):
+        raise HeadError(
+            f"{head.name!r} is linked from {face_rig.library_path(head)}: build its shape keys there, in the "
+            "character's own file (then Make Keys Linkable), save it, and reload the library here."
+        )
+    linkable = head is not None and linking.is_linkable(head)
     if head is None:
         progress(0.05, "Creating the reference head")
         parts = heads.create_reference_head(context)
@@ -120,6 +126,8 @@ def build_keys(
             if mesh is not None and mesh.users == 0:
                 bpy.data.meshes.remove(mesh)
         raise
+    if linkable:  # keys built anew are driven as the old ones were
+        linking.make_keys_linkable(head, heads.find_head_parts(head))
     progress(1.0, "Shape keys built")
     return report
 
@@ -181,21 +189,18 @@ def generate(
     """
     progress = progress or _no_progress
     scene = context.scene
-    if not has_lipsync_keys(head):
-        raise HeadError(
-            f"The head {head.name!r} has no {VISEME_KEY_PREFIX}* shape keys yet: press 'Build Shape Keys' "
-            "first (or run the script with --head on it)."
-        )
+    objects = head_objects(head)
+    character.check_can_speak(head, objects)
     fps = sequencer.scene_fps(scene)
     start = scene.frame_start if start_frame is None else int(start_frame)
-
-    objects = head_objects(head)
     options = dataclasses.replace(options or LipSyncOptions(), fps=fps)
     rig, target_warning = None, ""
     if options.living().any:  # the eyes, the head's pivot and the target matter only to the living layers
         rig, target = living.rig_and_target(context, head, objects, gaze_target)
         setup, target_warning = rig.gaze_setup(target)
         options = dataclasses.replace(options, gaze_setup=setup)
+    face = character.face_rig_for(context, head, rig)  # the head's face rig, if it has one
+    rig = face_rig.hand_eyes_to_rig(rig, face) if rig is not None else None
     progress(0.05, "Reading the text and speaking it")
     spoken = lip_sync(source, options)
     timeline, synthesis, tracks = spoken.timeline, spoken.synthesis, spoken.tracks
@@ -210,8 +215,8 @@ def generate(
     # the shape keys are not yet animated (after them, that evaluation takes a tenth of a second and more).
     progress(0.6, "Turning the head and eyes")
     moved = living.key_living_motion(context, rig, tracks, start)
-    progress(0.7, f"Keying {len(tracks.tracks)} shape-key tracks")
-    written = keyframes.write_weight_tracks(objects, tracks, start, action_name)
+    progress(0.7, f"Keying {len(tracks.tracks)} tracks")
+    keyed = character.key_speech(head, objects, tracks, start, action_name, face)
     _keep_record(head, source, spoken, start)
     progress(0.85, "Placing the speech in the sequencer")
     forget_conversation(scene)
@@ -225,7 +230,7 @@ def generate(
     range_warnings = sequencer.fit_frame_range(scene, start, frame_count)
     progress(1.0, "Animation generated")
     return GenerateResult(
-        action_names=tuple(w.action_name for w in written),
+        action_names=keyed.action_names,
         wav_path=str(wav_path) if wav_path else None,
         strip_name=strip_name,
         frame_start=start,
@@ -239,6 +244,7 @@ def generate(
         warnings=spoken.warnings
         + range_warnings
         + moved.warnings
+        + keyed.warnings
         + own_keys_held_warning(head)
         + ((target_warning,) if target_warning and options.living().gaze > 0 else ()),
     )
@@ -290,7 +296,9 @@ def put_own_keys_at_rest(head: bpy.types.Object) -> int:
 
 def _keep_record(head: bpy.types.Object, source: str, spoken, start: int) -> None:
     """The timeline and settings beside the keys, for exports of the animation the head has."""
-    action = head.data.shape_keys.animation_data.action
+    action = character.record_holder(head, RECORD_PROPERTY)
+    if action is None:
+        return
     settings = {
         name: str(value) if isinstance(value, Path) else value
         for name, value in dataclasses.asdict(spoken.options).items()
@@ -311,8 +319,7 @@ def _keep_record(head: bpy.types.Object, source: str, spoken, start: int) -> Non
 
 def animation_record(head: bpy.types.Object) -> AnimationRecord | None:
     """What Generate made on this head, or None where it has no generated animation."""
-    key = getattr(head.data, "shape_keys", None)
-    action = key.animation_data.action if key is not None and key.animation_data else None
+    action = character.record_holder(head, RECORD_PROPERTY)
     if action is None or RECORD_PROPERTY not in action:
         return None
     return record_from_json(str(action[RECORD_PROPERTY]), f"the action {action.name!r}")

@@ -386,6 +386,93 @@ TURKISH = {
         "Metnin her satırı için bir kayıt içeren, dosya adlarının sırasıyla okunan bir klasör (boş: satırlar "
         "sentezlenir ya da Kendi Kaydı bütün sahneyi tutar)"
     ),
+    # the face rig and linked characters
+    "Face Rig": "Yüz Donanımı",
+    "Use Face Rig": "Yüz Donanımını Kullan",
+    "Stop Using Face Rig": "Yüz Donanımını Bırak",
+    "Record Pose": "Pozu Kaydet",
+    "Record from Action": "Eylemden Kaydet",
+    "Clear Pose": "Pozu Temizle",
+    "Make Keys Linkable": "Anahtarları Bağlanabilir Yap",
+    "Keep the chosen face-rig mapping with the head's armature: Generate then moves its bones": (
+        "Seçilen yüz donanımı eşlemesini kafanın iskeletinde saklar: Üret artık onun kemiklerini oynatır"
+    ),
+    "Remove the face-rig set-up and its recorded poses from the armature, and the rig's speech keys": (
+        "Yüz donanımı ayarını ve kaydedilmiş pozlarını iskeletten, donanımın konuşma anahtarlarını da "
+        "kaldırır"
+    ),
+    "Record the armature's current pose as the pose of the chosen viseme, emotion or ARKit unit": (
+        "İskeletin şimdiki pozunu seçilen vizemin, duygunun ya da ARKit biriminin pozu olarak kaydeder"
+    ),
+    "Record the pose the Pose Action (or pose asset) holds at the Pose Frame as the chosen target's pose": (
+        "Poz Eylemi'nin (ya da poz varlığının) Poz Karesi'ndeki pozunu seçilen hedefin pozu olarak kaydeder"
+    ),
+    "Forget this recorded pose (the mapping's own pose of its target, if any, is used again)": (
+        "Bu kaydedilmiş pozu unutur (eşlemenin bu hedef için kendi pozu varsa yeniden o kullanılır)"
+    ),
+    "Drive the head's lip-sync keys by its own properties, so that shots that link it can animate them": (
+        "Kafanın dudak senkronu anahtarlarını kendi özellikleriyle sürer; onu bağlayan çekimler de onları "
+        "canlandırabilir"
+    ),
+    "The poses of the head's armature that make the visemes and emotions (Use Face Rig keeps the choice "
+    "with the character)": (
+        "Kafanın iskeletinde vizemleri ve duyguları oluşturan pozlar (Yüz Donanımını Kullan seçimi "
+        "karakterle "
+        "birlikte saklar)"
+    ),
+    "Jaw Bone": "Çene Kemiği",
+    "The armature's bone that opens the jaw, for the Jaw Bone mapping (empty: found by its name)": (
+        "Çene Kemiği eşlemesi için iskeletin çeneyi açan kemiği (boş: adından bulunur)"
+    ),
+    "One bone opens and closes the jaw; the lips follow it (game characters)": (
+        "Çeneyi tek bir kemik açıp kapatır; dudaklar onu izler (oyun karakterleri)"
+    ),
+    "Rigify Face": "Rigify Yüzü",
+    "Rigify's face rig: jaw, lip, lid and brow controls (generated from the human meta-rig)": (
+        "Rigify'ın yüz donanımı: çene, dudak, göz kapağı ve kaş denetimleri (insan meta iskeletinden "
+        "üretilir)"
+    ),
+    "Own Poses": "Kendi Pozları",
+    "Only the poses recorded for this character below": "Yalnızca aşağıda bu karakter için kaydedilen pozlar",
+    "Pose For": "Pozun Hedefi",
+    "What the recorded pose stands for: a viseme, an emotion, a blink or look, or one of the 52 ARKit "
+    "units": (
+        "Kaydedilen pozun neyi karşıladığı: bir vizem, bir duygu, göz kırpma ya da bakış, veya 52 ARKit "
+        "biriminden biri"
+    ),
+    "The target whose recorded pose is cleared": "Kaydedilmiş pozu temizlenecek hedef",
+    "Pose Action": "Poz Eylemi",
+    "An action or pose asset that holds a pose of the rig, for Record from Action": (
+        "Eylemden Kaydet için donanımın bir pozunu tutan eylem ya da poz varlığı"
+    ),
+    "Pose Frame": "Poz Karesi",
+    "The frame of the Pose Action that holds the pose": "Poz Eylemi'nde pozu tutan kare",
+    "The head has no armature: give it an Armature modifier or an armature parent": (
+        "Kafanın iskeleti yok: ona bir İskelet değiştiricisi ya da iskelet ebeveyni verin"
+    ),
+    "The armature is linked: set up its face rig in the character's own file": (
+        "İskelet bağlı: yüz donanımını karakterin kendi dosyasında ayarlayın"
+    ),
+    "The armature has no face-rig set-up to remove": "İskelette kaldırılacak bir yüz donanımı ayarı yok",
+    "Switch to Object or Pose Mode first": "Önce Nesne ya da Poz Kipine geçin",
+    "Choose the Pose Action in the Face Rig section": "Yüz Donanımı bölümünde Poz Eylemi'ni seçin",
+    "The head is linked: make its keys linkable in the character's own file": (
+        "Kafa bağlı: anahtarlarını karakterin kendi dosyasında bağlanabilir yapın"
+    ),
+    "The head is linked and its library has no lip-sync keys or face rig yet: build them in the character's "
+    "own file": (
+        "Kafa bağlı ve kütüphanesinde henüz dudak senkronu anahtarı ya da yüz donanımı yok: onları "
+        "karakterin "
+        "kendi dosyasında oluşturun"
+    ),
+    "The head is linked and its keys are not linkable: press Make Keys Linkable in the character's own "
+    "file": (
+        "Kafa bağlı ve anahtarları bağlanabilir değil: karakterin kendi dosyasında Anahtarları Bağlanabilir "
+        "Yap'a basın"
+    ),
+    "The head has no lip-sync shape keys or face rig yet: build the keys first": (
+        "Kafada henüz dudak senkronu şekil anahtarı ya da yüz donanımı yok: önce anahtarları oluşturun"
+    ),
 }
 # The cast's voices, numbered per gender as the panel lists them.
 TURKISH |= {f"Female {number}": f"Kadın {number}" for number in range(1, 10)}
