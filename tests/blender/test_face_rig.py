@@ -6,8 +6,8 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from scripts import rigged_heads  # noqa: E402
-from scripts.measure_face_rigs import lip_gaps, phone_frames  # noqa: E402
+from lab.kit import rigged_heads  # noqa: E402
+from lab.kit.rigged_heads import lip_gaps, phone_frames  # noqa: E402
 from tests.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import compat, face_rig, heads, pipeline, shapekeys  # noqa: E402

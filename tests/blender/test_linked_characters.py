@@ -11,7 +11,7 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from scripts import rigged_heads  # noqa: E402
+from lab.kit import rigged_heads  # noqa: E402
 from tests.render_runs import REPOSITORY, run_render  # noqa: E402
 from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import compat, face_rig, heads, linking, pipeline, sequencer, shapekeys  # noqa: E402

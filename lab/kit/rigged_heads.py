@@ -12,7 +12,7 @@ pictures (the heads are read where they are, never copied).
   the default head's own jawOpen and blink units; teeth, tongue and eyes are bone children of Rigify's
   ORG bones, the lashes weighted as the skin beside them.
 
-Run alone, it saves both characters as .blend files to look at: python scripts/rigged_heads.py OUT_FOLDER
+Run alone, it saves both characters as .blend files to look at: python -m lab.kit.rigged_heads OUT_FOLDER
 """
 
 from __future__ import annotations
@@ -25,22 +25,13 @@ from pathlib import Path
 import bpy
 import numpy as np
 
-REPOSITORY = Path(__file__).resolve().parent.parent
-for folder in (REPOSITORY, REPOSITORY / "scripts"):
-    if str(folder) not in sys.path:
-        sys.path.insert(0, str(folder))
+from lab.kit.heads_on_disk import HEADS
+from turkish_lipsync.blender import heads, mesh, shapekeys
+from turkish_lipsync.core.faces.closest import nearest_vertices
+from turkish_lipsync.core.faces.measure import FaceMeasure
+from turkish_lipsync.core.faces.reference import load_reference_head
 
-from rig_mapping_figures import jaw_hinge  # noqa: E402
-
-from turkish_lipsync.blender import heads, mesh, shapekeys  # noqa: E402
-from turkish_lipsync.core.faces.closest import nearest_vertices  # noqa: E402
-from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
-
-SHARED_HEADS = next(
-    (p for p in (REPOSITORY.parent / "shared" / "heads", Path("/work/shared/heads")) if p.is_dir()),
-    REPOSITORY.parent / "shared" / "heads",
-)
-MAKEHUMAN_UNITS_HEAD = SHARED_HEADS / "makehuman" / "mh_head_expression_units.glb"
+MAKEHUMAN_UNITS_HEAD = HEADS / "makehuman" / "mh_head_expression_units.glb"
 
 
 # ---------------------------------------------------------------- a game character with a jaw bone
@@ -374,3 +365,53 @@ if __name__ == "__main__":
     rigify_face_character(bpy.context)
     bpy.ops.wm.save_as_mainfile(filepath=str(folder.resolve() / "rigify_face_character.blend"))
     print(f"Saved the characters in {folder}")
+
+
+LANDMARKS = ("mouth_corner_left", "upper_lip", "lower_lip", "upper_lip_inner", "lower_lip_inner", "chin",
+             "brow_left", "nose_tip")  # fmt: skip
+
+
+def jaw_hinge(vertices: np.ndarray, deltas: np.ndarray) -> tuple[np.ndarray, float]:
+    """The hinge (on the middle plane) and angle of the turn about the left-right axis that best gives the
+    vertices the unit moves most their motion: d_y = -a z + b, d_z = a y - c, a the angle."""
+    size = np.linalg.norm(deltas, axis=1)
+    moving = size > 0.5 * size.max()
+    y, z = vertices[moving, 1], vertices[moving, 2]
+    ones, zeros = np.ones_like(y), np.zeros_like(y)
+    system = np.vstack([np.column_stack([-z, ones, zeros]), np.column_stack([y, zeros, -ones])])
+    observed = np.concatenate([deltas[moving, 1], deltas[moving, 2]])
+    (angle, b, c), *_ = np.linalg.lstsq(system, observed, rcond=None)
+    return np.array([0.0, c / angle, b / angle]), float(angle)
+
+
+def evaluated_world(obj: bpy.types.Object) -> np.ndarray:
+    """(N, 3) world coordinates of obj's evaluated mesh (shape keys, armature and all)."""
+    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    shape = evaluated.to_mesh()
+    try:
+        local = mesh.read_coordinates(shape.vertices, len(shape.vertices)).astype(np.float64)
+    finally:
+        evaluated.to_mesh_clear()
+    matrix = np.array(obj.matrix_world, np.float64)
+    return local @ matrix[:3, :3].T + matrix[:3, 3]
+
+
+def lip_gaps(head: bpy.types.Object, frames) -> np.ndarray:
+    """The lips' opening at the middle of the mouth on the evaluated mesh at each scene frame (metres)."""
+    rest = mesh.world_rest_coordinates(head).astype(np.float64)
+    polygons = [list(polygon.vertices) for polygon in head.data.polygons]
+    measure = FaceMeasure(rest, polygons, shapekeys.head_landmarks(head))
+    gaps = []
+    for frame in frames:
+        bpy.context.scene.frame_set(int(frame))
+        gaps.append(measure.lip_aperture(evaluated_world(head) - rest))
+    return np.array(gaps)
+
+
+def phone_frames(timeline, letters: str, fps: float = 25) -> list[tuple[str, np.ndarray]]:
+    """(letter, the scene frames it covers) of every phone of those letters (the scene starts at frame 1)."""
+    return [
+        (phone.letter, np.arange(int(np.floor(phone.start * fps)), int(np.ceil(phone.end * fps)) + 1) + 1)
+        for phone in timeline.phones
+        if phone.letter in letters
+    ]

@@ -1,9 +1,9 @@
 """How closely heads moved by bones speak as the shape-key path does, on the evaluated mesh:
 
-    nice -n 10 .venv/bin/python scripts/measure_face_rigs.py [--text TEXT]
+    nice -n 10 .venv/bin/python -m lab.measure.face_rigs [--text TEXT]
 
 For the jaw-bone game character (MakeHuman's expression-units head, its own keys taken off, on a neck, head
-and jaw armature) and for Rigify's face rig on the default head (scripts/rigged_heads.py), against the same
+and jaw armature) and for Rigify's face rig on the default head (lab/kit/rigged_heads.py), against the same
 head speaking through shape keys built on it: the lips' opening at the middle of the mouth at every frame
 (the lowest point of the upper lip minus the highest of the lower, negative where they press), its
 correlation with the shape-key path's, the opening at the widest frame of each open vowel and at the
@@ -14,56 +14,23 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 
 import bpy
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from rigged_heads import jaw_bone_character, makehuman_with_our_keys, rigify_face_character  # noqa: E402
-
-from turkish_lipsync import blender  # noqa: E402
-from turkish_lipsync.blender import face_rig, heads, mesh, pipeline, shapekeys  # noqa: E402
-from turkish_lipsync.core.faces.measure import FaceMeasure  # noqa: E402
-from turkish_lipsync.core.faces.rig_mappings import OwnRig  # noqa: E402
+from lab.kit.rigged_heads import (
+    jaw_bone_character,
+    lip_gaps,
+    makehuman_with_our_keys,
+    phone_frames,
+    rigify_face_character,
+)
+from turkish_lipsync import blender
+from turkish_lipsync.blender import face_rig, heads, pipeline, shapekeys
+from turkish_lipsync.core.faces.rig_mappings import OwnRig
 
 TEXT = "Merhaba, benim adım Erdem. Bu sabah vapura binip geçtim, ama bir de babamı gördüm."
 FPS = 25
-
-
-def evaluated_world(obj: bpy.types.Object) -> np.ndarray:
-    """(N, 3) world coordinates of obj's evaluated mesh (shape keys, armature and all)."""
-    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
-    shape = evaluated.to_mesh()
-    try:
-        local = mesh.read_coordinates(shape.vertices, len(shape.vertices)).astype(np.float64)
-    finally:
-        evaluated.to_mesh_clear()
-    matrix = np.array(obj.matrix_world, np.float64)
-    return local @ matrix[:3, :3].T + matrix[:3, 3]
-
-
-def lip_gaps(head: bpy.types.Object, frames) -> np.ndarray:
-    """The lips' opening at the middle of the mouth on the evaluated mesh at each scene frame (metres)."""
-    rest = mesh.world_rest_coordinates(head).astype(np.float64)
-    polygons = [list(polygon.vertices) for polygon in head.data.polygons]
-    measure = FaceMeasure(rest, polygons, shapekeys.head_landmarks(head))
-    gaps = []
-    for frame in frames:
-        bpy.context.scene.frame_set(int(frame))
-        gaps.append(measure.lip_aperture(evaluated_world(head) - rest))
-    return np.array(gaps)
-
-
-def phone_frames(timeline, letters: str) -> list[tuple[str, np.ndarray]]:
-    """(letter, the scene frames it covers) of every phone of those letters (the scene starts at frame 1)."""
-    return [
-        (phone.letter, np.arange(int(np.floor(phone.start * FPS)), int(np.ceil(phone.end * FPS)) + 1) + 1)
-        for phone in timeline.phones
-        if phone.letter in letters
-    ]
 
 
 def _scene():
@@ -84,11 +51,11 @@ def compare(name: str, keyed, rigged) -> None:
     by_frame = dict(zip(frames, gaps, strict=True))
     keyed_by_frame = dict(zip(frames, keyed_gaps, strict=True))
     closures = []
-    for _letter, span in phone_frames(timeline, "bmp"):
+    for _letter, span in phone_frames(timeline, "bmp", FPS):
         closed = min(span, key=lambda frame: keyed_by_frame[frame])
         closures.append((keyed_by_frame[closed], by_frame[closed]))
     vowels = []
-    for _letter, span in phone_frames(timeline, "aeo"):
+    for _letter, span in phone_frames(timeline, "aeo", FPS):
         widest = max(span, key=lambda frame: keyed_by_frame[frame])
         vowels.append((keyed_by_frame[widest], by_frame[widest]))
     closures, vowels = np.array(closures) * 1000, np.array(vowels) * 1000

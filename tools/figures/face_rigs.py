@@ -1,9 +1,9 @@
 """The face-rig and linked-character pictures of the manual, rendered with Cycles on the CPU:
 
-    nice -n 10 .venv/bin/python scripts/face_rig_pictures.py [--folder docs/images] [--tile 150] [--size 240]
+    nice -n 10 .venv/bin/python -m tools.figures.face_rigs [--folder docs/images] [--tile 150] [--size 240]
 
 - jaw_bone_character.jpg: a game character whose jaw is a bone and whose lids are shape keys (the default
-  head on a neck, head and jaw armature, scripts/rigged_heads.py): the open mouth, a closed b/m/p, a
+  head on a neck, head and jaw armature, lab/kit/rigged_heads.py): the open mouth, a closed b/m/p, a
   blink, a look aside and the head turned; below, the letters of the first word of a spoken sentence.
 - rigify_face.jpg: the same on the default head moved by Rigify's face rig (no shape keys at all).
 - linked_shot.jpg: the default head with linkable keys, linked from its own file into a shot and
@@ -22,14 +22,10 @@ from pathlib import Path
 import bpy
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from rigged_heads import default_jaw_bone_character, rigify_face_character  # noqa: E402
-from speaking_strip import BACKGROUND, face_of, letter_frames, rendered, save_jpeg  # noqa: E402
-
-from turkish_lipsync.blender import face_rig, heads, linking, pipeline, shapekeys  # noqa: E402
-from turkish_lipsync.core.faces.rig_mappings import OwnRig  # noqa: E402
+from lab.kit.rigged_heads import default_jaw_bone_character, rigify_face_character
+from tools.figures.speaking_strip import BACKGROUND, face_of, letter_frames, rendered, save_jpeg
+from turkish_lipsync.blender import face_rig, heads, linking, pipeline, shapekeys
+from turkish_lipsync.core.faces.rig_mappings import OwnRig
 
 FPS = 25
 TEXT = "Merhaba, benim adım Erdem. Bu sabah babamı gördüm, bir de vapura binip geçtim."
