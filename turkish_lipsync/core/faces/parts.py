@@ -181,7 +181,9 @@ def _split_lips(
     return owner, sure
 
 
-def _inside_mouth(vertices: np.ndarray, hidden_by: np.ndarray, owner: np.ndarray, mouth: _MouthLine):
+def _inside_mouth(
+    vertices: np.ndarray, hidden_by: np.ndarray, owner: np.ndarray, mouth: _MouthLine
+) -> np.ndarray:
     """0 on the outer face, rising to 1 deep inside the mouth: hidden from the front behind the lips, or
     seen through the gap between them but well behind their inner edge (teeth between parted lips)."""
     width = mouth.width
@@ -194,7 +196,9 @@ def _inside_mouth(vertices: np.ndarray, hidden_by: np.ndarray, owner: np.ndarray
     return inside
 
 
-def _split_lids(face: _Skin, lm: Mapping[str, np.ndarray], side: str, label: np.ndarray, sure) -> None:
+def _split_lids(
+    face: _Skin, lm: Mapping[str, np.ndarray], side: str, label: np.ndarray, sure: np.ndarray
+) -> None:
     """Label the side's upper and lower lid (where the lips did not) and say where that is sure."""
     vertices, hidden = face.vertices, face.hidden
     x, z = vertices[:, 0], vertices[:, 2]
