@@ -235,7 +235,9 @@ class FaceReader:
             points[f"brow_{side}"] = self.depth.point(brow_row, centre_column)
         return points
 
-    def _eye_socket(self, side, direction, top, bottom, mid, bowl, recess) -> _Socket:
+    def _eye_socket(
+        self, side: str, direction: int, top: int, bottom: int, mid: int, bowl: np.ndarray, recess: np.ndarray
+    ) -> _Socket:
         """The eye socket beside the nose on one side: its deepest point and its outline."""
         near, far = mid + direction * self.pixels(0.03), mid + direction * self.pixels(0.26)
         first, last = max(min(near, far), 0), max(near, far)
