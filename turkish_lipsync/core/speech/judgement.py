@@ -117,28 +117,15 @@ def judge(
     the take's clipping (audio.clipping), given as the likelier cause where the take fits loosely."""
     spans, mismatch, pace = word_scores(utterance, phone_events, warp, fit, settings)
     take = take_mismatch(fit, settings)
-    unmatched = ((mismatch > settings.unmatched_word) & (pace < settings.shortened)) | (
-        mismatch > take + settings.lost_word
-    )
-    crowded = (pace > settings.stretched) & (mismatch > settings.stretched_mismatch) & ~unmatched
     phrases = _phrases(utterance, warp, spans, fit, settings)
     texts = [word.text for word in utterance.words]
     voiced = np.flatnonzero(spans[:, 0] >= 0)
     worst = voiced[np.argsort(-mismatch[voiced], kind="stable")]
-    order_fits_little = fit.order_ratio > settings.other_text_order_ratio
     # Both sides bound the evidence: a word shouted for a second is still one word's letters to go by.
     spoken = min(int(fit.recorded_speech[: fit.mismatch.size].sum()), int(fit.synthetic_speech.sum()))
     evidence = spoken >= settings.refusal_evidence_frames
-    words_heard = np.percentile(mismatch[voiced], 25) < settings.words_heard if voiced.size else False
-    other_text = (take > settings.other_text and order_fits_little) or take > settings.plainly_other_text
-    if evidence and other_text and not words_heard:
-        unheard = np.flatnonzero(mismatch > settings.other_text)
-        unheard = unheard if unheard.size else np.sort(worst[: max(1, worst.size // 2)])
-        raise AudioError(
-            f"recording {name} does not read this text: {_word_list(texts, unheard)} "
-            f"({unheard.size} of its {len(texts)} words) are not heard in it; check that the recording "
-            "and the text belong together" + (f" ({clipped})" if clipped else "")
-        )
+    if evidence:
+        _refuse_another_text(texts, mismatch, voiced, worst, take, fit.order_ratio, name, clipped, settings)
     causes = (
         f"{clipped}; or it may read another text"
         if clipped
@@ -149,7 +136,61 @@ def judge(
         f"{_word_list(texts, np.sort(worst[:3]))}; check that it reads this text: the face follows it as "
         "well as it can"
     ] * loosely_fitting(take, fit.order_ratio, evidence, _is_list(phrases, settings), settings)
-    warnings += [
+    warnings += _word_warnings(texts, spans, mismatch, pace, take, warp, fit, settings)
+    if len(warnings) > settings.most_warnings:
+        more = len(warnings) - settings.most_warnings + 1
+        warnings[settings.most_warnings - 1 :] = [
+            f"and {more} more places where the recording and the text part"
+        ]
+    return phrases, tuple(warnings)
+
+
+def _refuse_another_text(
+    texts: list[str],
+    mismatch: np.ndarray,
+    voiced: np.ndarray,
+    worst: np.ndarray,
+    take: float,
+    order_ratio: float,
+    name: str,
+    clipped: str,
+    settings: AlignerSettings,
+) -> None:
+    """Refuse a take (one with evidence enough) whose frames fit as another text's do, its sounds fitting
+    the text's order little better than the reverse or its fit plainly another text's, unless its best
+    words are heard. mismatch: per word (NaN where the engine voiced none); worst: the voiced words, the
+    worst fitting first."""
+    order_fits_little = order_ratio > settings.other_text_order_ratio
+    words_heard = np.percentile(mismatch[voiced], 25) < settings.words_heard if voiced.size else False
+    other_text = (take > settings.other_text and order_fits_little) or take > settings.plainly_other_text
+    if other_text and not words_heard:
+        unheard = np.flatnonzero(mismatch > settings.other_text)
+        unheard = unheard if unheard.size else np.sort(worst[: max(1, worst.size // 2)])
+        raise AudioError(
+            f"recording {name} does not read this text: {_word_list(texts, unheard)} "
+            f"({unheard.size} of its {len(texts)} words) are not heard in it; check that the recording "
+            "and the text belong together" + (f" ({clipped})" if clipped else "")
+        )
+
+
+def _word_warnings(
+    texts: list[str],
+    spans: np.ndarray,
+    mismatch: np.ndarray,
+    pace: np.ndarray,
+    take: float,
+    warp: TimeWarp,
+    fit: Fit,
+    settings: AlignerSettings,
+) -> list[str]:
+    """The places where recording and text part: words it seems not to say (their mismatch high and
+    their time short, or far above the take's), speech it adds between two words (_stalls), and words
+    drawn out far past the take's pace that fit their letters poorly."""
+    unmatched = ((mismatch > settings.unmatched_word) & (pace < settings.shortened)) | (
+        mismatch > take + settings.lost_word
+    )
+    crowded = (pace > settings.stretched) & (mismatch > settings.stretched_mismatch) & ~unmatched
+    warnings = [
         f"the recording seems not to say {_word_list(texts, run)} (word {run[0] + 1} of the text); "
         "check the recording there: the face is timed on the rest"
         for run in _consecutive(np.flatnonzero(unmatched))
@@ -168,12 +209,7 @@ def judge(
         for index in np.flatnonzero(crowded)
         if index not in named
     )
-    if len(warnings) > settings.most_warnings:
-        more = len(warnings) - settings.most_warnings + 1
-        warnings[settings.most_warnings - 1 :] = [
-            f"and {more} more places where the recording and the text part"
-        ]
-    return phrases, tuple(warnings)
+    return warnings
 
 
 def loosely_fitting(
