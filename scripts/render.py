@@ -146,6 +146,7 @@ def run_one_head(arguments, context, scene, source: str, new_scene: bool, audio_
     import bpy
 
     from turkish_lipsync.blender import character, heads, pipeline
+    from turkish_lipsync.blender.generate import generate
 
     if arguments.object is not None:
         head = named_head(arguments.object)
@@ -183,14 +184,14 @@ def run_one_head(arguments, context, scene, source: str, new_scene: bool, audio_
     if arguments.own_keys_at_rest:
         cleared = pipeline.put_own_keys_at_rest(bpy.data.objects[head_name])
         print(f"Set {cleared} of the head's own shape keys to 0", flush=True)
-    result = pipeline.generate(
+    result = generate(
         context,
-        bpy.data.objects[head_name],
         source,
         lip_sync_options(arguments),
         audio_folder=audio_folder,
         progress=_print_progress,
         gaze_target=arguments.gaze_target or "",
+        head=bpy.data.objects[head_name],
     )
     _print_warnings(result.warnings)
     print(
@@ -296,15 +297,16 @@ def scene_sources(arguments: argparse.Namespace):
 def run_conversation(arguments: argparse.Namespace, context, script, audio_folder: str) -> list[str]:
     """Every speaker of the script played by its head: generated, exported; returns the heads' names."""
     from turkish_lipsync.blender import conversation, exports
+    from turkish_lipsync.blender.generate import generate
 
-    result = conversation.generate_conversation(
+    result = generate(
         context,
-        script,
-        speaker_choices(arguments),
+        script.source,
         lip_sync_options(arguments),
         sources=scene_sources(arguments),
         audio_folder=audio_folder,
         progress=_print_progress,
+        choices=speaker_choices(arguments),
     )
     _print_warnings(result.warnings)
     cast = ", ".join(f"{name} by {head}" for name, head in result.heads.items())

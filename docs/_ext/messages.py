@@ -113,6 +113,7 @@ GROUPS: dict[str, tuple[str, ...]] = {
     "scene": (
         "turkish_lipsync/core/pipeline.py",
         "turkish_lipsync/blender/pipeline.py",
+        "turkish_lipsync/blender/generate.py",
         "turkish_lipsync/blender/sequencer.py",
         "turkish_lipsync/blender/keyframes.py",
         "turkish_lipsync/blender/compat.py",

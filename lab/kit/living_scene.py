@@ -20,6 +20,7 @@ import numpy as np
 
 from lab.kit.corpus import corpus_sentences
 from turkish_lipsync.blender import compat, eye_keys, heads, keyframes, living, mesh, pipeline
+from turkish_lipsync.blender.generate import generate
 from turkish_lipsync.blender.living_rig import find_rig
 from turkish_lipsync.core.base.model import BLINK_KEYS, OWNED_PREFIX
 from turkish_lipsync.core.faces.eyes import own_look_keys, sphere_fit
@@ -289,8 +290,8 @@ def measure(head_path: Path | None, seconds: float, fps: float, seed: int, text:
     context.view_layer.update()
     camera = np.array(scene.camera.matrix_world.translation)
     with tempfile.TemporaryDirectory() as folder:
-        result = pipeline.generate(
-            context, head, text or speech_text(seconds), LipSyncOptions(seed=seed), audio_folder=folder
+        result = generate(
+            context, text or speech_text(seconds), LipSyncOptions(seed=seed), audio_folder=folder, head=head
         )
         with living.at_rest(scene):
             rig = find_rig(head)

@@ -102,7 +102,8 @@ def run_end_to_end(head_kind: str, living_on: bool = True) -> dict:
     context = _fresh_scene()
     import bpy
 
-    from turkish_lipsync.blender import compat, heads, pipeline, shapekeys
+    from turkish_lipsync.blender import compat, heads, shapekeys
+    from turkish_lipsync.blender.generate import generate
     from turkish_lipsync.core import pipeline as core_pipeline
     from turkish_lipsync.core.pipeline import LIVING_LAYERS, LipSyncOptions
 
@@ -132,7 +133,7 @@ def run_end_to_end(head_kind: str, living_on: bool = True) -> dict:
         started, cpu_started = time.perf_counter(), time.process_time()
         report = shapekeys.build_shape_keys(head)
         stages["shape_keys_s"] = time.perf_counter() - started
-        result = pipeline.generate(context, head, text, options, audio_folder=folder, progress=progress)
+        result = generate(context, text, options, audio_folder=folder, progress=progress, head=head)
         total = time.perf_counter() - started
         cpu = time.process_time() - cpu_started
     # Generate's own stages, between its progress reports.
@@ -263,11 +264,12 @@ def run_render(frames: int) -> dict:
     """Cycles on the CPU at 640x640 with the demo's settings: seconds per frame."""
     context = _fresh_scene()
     from turkish_lipsync.blender import pipeline
+    from turkish_lipsync.blender.generate import generate
 
     source = (REPOSITORY / "examples" / "demo.jsml").read_text(encoding="utf-8")
     head_name = pipeline.build_keys(context, None).head
     head = context.scene.objects[head_name]
-    result = pipeline.generate(context, head, source)
+    result = generate(context, source, head=head)
     context.scene.frame_end = result.frame_start + frames - 1
     with tempfile.TemporaryDirectory() as folder:
         rendered = pipeline.render_video(

@@ -27,7 +27,8 @@ import numpy as np
 
 from lab import REPOSITORY
 from lab.kit.living_scene import evaluated_world, lid_points, skull_points
-from turkish_lipsync.blender import conversation, living, pipeline
+from turkish_lipsync.blender import living, pipeline
+from turkish_lipsync.blender.generate import generate
 from turkish_lipsync.blender.living_rig import find_rig
 from turkish_lipsync.core.motion.living import measures
 from turkish_lipsync.core.pipeline import LipSyncOptions
@@ -67,11 +68,11 @@ def new_scene(fps: float) -> bpy.types.Context:
     return bpy.context
 
 
-def generate(source: str, fps: float, folder: str, sources: SceneSources | None = None, choices=None):
+def generated_scene(source: str, fps: float, folder: str, sources: SceneSources | None = None, choices=None):
     context = new_scene(fps)
     script = read_script(source)
-    result = conversation.generate_conversation(
-        context, script, choices or {}, LipSyncOptions(), sources=sources, audio_folder=folder
+    result = generate(
+        context, script.source, LipSyncOptions(), sources=sources, audio_folder=folder, choices=choices or {}
     )
     pipeline.frame_head(context.scene, None)  # the two-shot the render uses (it was where the eyes aimed)
     return context, result
@@ -292,7 +293,7 @@ def first_phone_errors(result, truth) -> list[float]:
 
 
 def measure_synthesis(source: str, fps: float, folder: str) -> dict:
-    context, result = generate(source, fps, folder)
+    context, result = generated_scene(source, fps, folder)
     camera = np.array(context.scene.camera.matrix_world.translation)
     sampled = sample(context, result)
     out = figures(result, sampled, fps, camera)
@@ -338,7 +339,7 @@ def measure_recordings(source: str, fps: float, folder: str, wanted: set[str]) -
             choices = {name: RoleChoice(recording=path) for name, path in tracks.items()}
             runs.append(("one recording per speaker", None, choices))
         for label, sources, choices in runs:
-            context, result = generate(source, fps, folder, sources, choices)
+            context, result = generated_scene(source, fps, folder, sources, choices)
             errors = first_phone_errors(result, truth)
             camera = np.array(context.scene.camera.matrix_world.translation)
             measured = figures(result, sample(context, result), fps, camera)

@@ -26,7 +26,8 @@ from lab.kit.rigged_heads import (
     rigify_face_character,
 )
 from turkish_lipsync import blender
-from turkish_lipsync.blender import face_rig, heads, pipeline, shapekeys
+from turkish_lipsync.blender import face_rig, heads, shapekeys
+from turkish_lipsync.blender.generate import generate
 from turkish_lipsync.core.faces.rig_mappings import OwnRig
 
 TEXT = "Merhaba, benim adım Erdem. Bu sabah vapura binip geçtim, ama bir de babamı gördüm."
@@ -40,7 +41,7 @@ def _scene():
 
 
 def speaking(head, text: str):
-    result = pipeline.generate(bpy.context, head, text)
+    result = generate(bpy.context, text, head=head)
     frames = np.arange(1, result.frame_end + 1)
     return result.timeline, frames, lip_gaps(head, frames)
 

@@ -7,10 +7,11 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from lab.kit import rigged_heads  # noqa: E402
+from lab.kit.heads_on_disk import HEADS  # noqa: E402
 from lab.kit.rigged_heads import lip_gaps, phone_frames  # noqa: E402
-from tests.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync import blender  # noqa: E402
-from turkish_lipsync.blender import compat, face_rig, heads, pipeline, shapekeys  # noqa: E402
+from turkish_lipsync.blender import compat, face_rig, heads, shapekeys  # noqa: E402
+from turkish_lipsync.blender.generate import generate  # noqa: E402
 from turkish_lipsync.blender.marked_curves import FACE_RIG, LIVING  # noqa: E402
 from turkish_lipsync.core.base.errors import HeadError  # noqa: E402
 from turkish_lipsync.core.faces.rig_mappings import OwnRig, rig_template  # noqa: E402
@@ -42,7 +43,7 @@ def shape_key_path():
     """The same MakeHuman head speaking through shape keys built on it (its own keys taken off first)."""
     _empty_scene()
     head = rigged_heads.makehuman_with_our_keys()
-    result = pipeline.generate(bpy.context, head, TEXT)
+    result = generate(bpy.context, TEXT, head=head)
     frames = np.arange(1, result.frame_end + 1)
     return result.timeline, frames, lip_gaps(head, frames)
 
@@ -59,7 +60,7 @@ def test_the_jaw_bone_opens_on_open_vowels_and_closes_on_b_m_p_as_the_shape_keys
     character = _jaw_character()
     head = character["head"]
     assert head.data.shape_keys is None  # a head with no shape keys: its jaw is a bone
-    result = pipeline.generate(bpy.context, head, TEXT)
+    result = generate(bpy.context, TEXT, head=head)
     assert [p.letter for p in result.timeline.phones] == [p.letter for p in timeline.phones]
     gaps = dict(zip(frames, lip_gaps(head, frames), strict=True))
     keyed = dict(zip(frames, keyed_gaps, strict=True))
@@ -79,7 +80,7 @@ def test_the_jaw_bone_opens_on_open_vowels_and_closes_on_b_m_p_as_the_shape_keys
 
 def test_the_jaw_characters_eyes_and_head_live_as_before():
     character = _jaw_character()
-    result = pipeline.generate(bpy.context, character["head"], TEXT)
+    result = generate(bpy.context, TEXT, head=character["head"])
     armature = character["armature"]
     action = armature.animation_data.action
     assert {path for path in action[LIVING.curves_property]} == {'pose.bones["head"].rotation_quaternion'}
@@ -103,12 +104,12 @@ def test_generate_again_replaces_only_ours_and_keeps_the_users_keys_and_nla():
     track = armature.animation_data.nla_tracks.new()
     strip_action = bpy.data.actions.new("users_strip")
     track.strips.new("users_strip", 1, strip_action)
-    pipeline.generate(bpy.context, character["head"], TEXT)
+    generate(bpy.context, TEXT, head=character["head"])
     first = sorted(
         (fc.data_path, fc.array_index, len(fc.keyframe_points))
         for fc in compat.all_action_fcurves(users_action)
     )
-    pipeline.generate(bpy.context, character["head"], "Merhaba, benim adım Erdem.")
+    generate(bpy.context, "Merhaba, benim adım Erdem.", head=character["head"])
     again = [(fc.data_path, fc.array_index) for fc in compat.all_action_fcurves(users_action)]
     assert armature.animation_data.action == users_action
     assert sorted(again) == sorted((path, index) for path, index, _count in first)  # nothing twice
@@ -119,7 +120,7 @@ def test_generate_again_replaces_only_ours_and_keeps_the_users_keys_and_nla():
     face_rig.remove_face_rig_motion(character["head"])
     jaw = armature.pose.bones["jaw"]
     jaw.keyframe_insert("rotation_quaternion", frame=3)
-    result = pipeline.generate(bpy.context, character["head"], "Merhaba.")
+    result = generate(bpy.context, "Merhaba.", head=character["head"])
     jaw_curves = [fc for fc in compat.all_action_fcurves(users_action) if '"jaw"' in fc.data_path]
     assert all(len(fc.keyframe_points) == 1 for fc in jaw_curves)
     assert any("animated by" in warning for warning in result.warnings)
@@ -144,7 +145,7 @@ def test_a_head_with_neither_keys_nor_rig_is_refused_with_what_to_do():
     _empty_scene()
     character = rigged_heads.jaw_bone_character(bpy.context)
     with pytest.raises(HeadError, match="Build Shape Keys first, or set up its face rig"):
-        pipeline.generate(bpy.context, character["head"], "Merhaba")
+        generate(bpy.context, "Merhaba", head=character["head"])
     assert character["armature"].animation_data is None
     settings = bpy.context.scene.turkish_lipsync
     settings.head = character["head"]
@@ -173,7 +174,7 @@ def test_a_recorded_pose_replaces_the_mappings_and_an_action_frame_gives_one_too
     jaw.rotation_quaternion = (1.0, 0.0, 0.0, 0.0)
     pose = face_rig.stored_setup(armature).poses["TR_viseme_a"]
     assert set(pose.bones) == {"jaw"} and pose.bones["jaw"].rotation == pytest.approx((0.6, 0.0, 0.0))
-    result = pipeline.generate(bpy.context, head, "Aaa")
+    result = generate(bpy.context, "Aaa", head=head)
     track = result.tracks.track("TR_viseme_a")
     peak = 1 + int(track.frames[np.argmax(track.values)])
     bpy.context.scene.frame_set(peak)
@@ -223,7 +224,7 @@ def reference_gaps():
     _empty_scene()
     head = heads.create_reference_head(bpy.context)["head"]
     shapekeys.build_shape_keys(head)
-    result = pipeline.generate(bpy.context, head, TEXT)
+    result = generate(bpy.context, TEXT, head=head)
     frames = np.arange(1, result.frame_end + 1)
     return frames, lip_gaps(head, frames)
 
@@ -249,7 +250,7 @@ def test_the_rigify_face_opens_and_closes_the_mouth_as_the_shape_keys_do(rigify_
     bpy.context.scene.render.fps = FPS
     head, rig = bpy.data.objects["TR_Head"], bpy.data.objects["rig"]
     face_rig.store_setup(rig, OwnRig("rigify_face"))
-    result = pipeline.generate(bpy.context, head, TEXT)
+    result = generate(bpy.context, TEXT, head=head)
     assert not any("blinks" in warning for warning in result.warnings)
     ours = set(rig.animation_data.action[FACE_RIG.curves_property])
     for control in ("jaw_master", "lips.L", "lips.R", "lip.T", "lip.B", "lid.T.L.002", "eye.L"):

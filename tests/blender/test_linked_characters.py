@@ -15,6 +15,7 @@ from lab.kit import rigged_heads  # noqa: E402
 from tests.render_runs import REPOSITORY, run_render  # noqa: E402
 from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import compat, face_rig, heads, linking, pipeline, sequencer, shapekeys  # noqa: E402
+from turkish_lipsync.blender.generate import generate  # noqa: E402
 from turkish_lipsync.blender.marked_curves import FACE_RIG, LINKED_KEYS, LIVING  # noqa: E402
 from turkish_lipsync.core.base.errors import HeadError  # noqa: E402
 from turkish_lipsync.core.faces.rig_mappings import OwnRig  # noqa: E402
@@ -107,7 +108,7 @@ def test_a_linked_character_with_linkable_keys_speaks_in_the_shot_and_keeps_it(t
     _shot(character, shot)
     bpy.ops.wm.open_mainfile(filepath=str(shot))
     head = _override("TR_Head")
-    result = pipeline.generate(bpy.context, head, TEXT)
+    result = generate(bpy.context, TEXT, head=head)
     action = head.animation_data.action
     assert action.library is None and LINKED_KEYS.curves_property in action
     names = ["TR_viseme_a", "TR_viseme_me"]
@@ -121,7 +122,7 @@ def test_a_linked_character_with_linkable_keys_speaks_in_the_shot_and_keeps_it(t
     if compat.HAS_AUDIO:
         assert sequencer.speech_strip(bpy.context.scene) is not None
     first = _counts()
-    pipeline.generate(bpy.context, head, TEXT)
+    generate(bpy.context, TEXT, head=head)
     assert _counts() == first  # Generate again adds nothing twice
     saved = _key_values(head, names, frames)
     bpy.ops.wm.save_mainfile()
@@ -156,7 +157,7 @@ def test_a_linked_character_with_a_face_rig_speaks_through_its_bones_in_the_shot
     _shot(character, shot)
     bpy.ops.wm.open_mainfile(filepath=str(shot))
     armature = _override("GameRig")
-    result = pipeline.generate(bpy.context, _override("head"), TEXT)
+    result = generate(bpy.context, TEXT, head=_override("head"))
     jaw = armature.pose.bones["jaw"]
 
     def jaw_angles():
@@ -168,7 +169,7 @@ def test_a_linked_character_with_a_face_rig_speaks_through_its_bones_in_the_shot
 
     assert jaw_angles().max() > 8 and jaw_angles().min() < 1
     first = _counts()
-    pipeline.generate(bpy.context, _override("head"), TEXT)
+    generate(bpy.context, TEXT, head=_override("head"))
     assert _counts() == first
     opened = jaw_angles()
     assert FACE_RIG.curves_property in armature.animation_data.action
@@ -192,7 +193,7 @@ def test_a_linked_character_without_keys_or_rig_says_where_to_build_them(tmp_pat
     bpy.ops.wm.open_mainfile(filepath=str(shot))
     head = _override("TR_Head")
     with pytest.raises(HeadError, match=f"linked from {character}.*Build Shape Keys there") as error:
-        pipeline.generate(bpy.context, head, TEXT)
+        generate(bpy.context, TEXT, head=head)
     assert "reload the library" in str(error.value)
     assert head.animation_data is None or head.animation_data.action is None
     with pytest.raises(HeadError, match="build its shape keys there"):
@@ -210,7 +211,7 @@ def test_keys_that_are_not_linkable_are_refused_in_the_shot_with_what_to_do(tmp_
     _shot(character, shot)
     bpy.ops.wm.open_mainfile(filepath=str(shot))
     with pytest.raises(HeadError, match="press Make Keys Linkable"):
-        pipeline.generate(bpy.context, _override("TR_Head"), TEXT)
+        generate(bpy.context, TEXT, head=_override("TR_Head"))
 
 
 def test_render_script_animates_the_override_of_an_open_shot(tmp_path):

@@ -15,6 +15,7 @@ from mathutils import Matrix  # noqa: E402
 from lab.kit.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import compat, heads, landmarks, living, pipeline, sequencer  # noqa: E402
+from turkish_lipsync.blender.generate import generate  # noqa: E402
 from turkish_lipsync.core.base.model import EMOTIONS, emotion_key_name, viseme_key_name  # noqa: E402
 from turkish_lipsync.core.faces.landmarks import LANDMARK_NAMES, LID_LANDMARK_NAMES  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
@@ -102,7 +103,7 @@ def test_generate_operator_keys_the_speech_and_places_the_audio():
 def test_generate_keys_the_tracks_of_the_speech_on_head_and_teeth():
     head = _default_head_with_keys()
     scene = bpy.context.scene
-    result = pipeline.generate(bpy.context, head, SENTENCE)
+    result = generate(bpy.context, SENTENCE, head=head)
     timeline, tracks = result.timeline, result.tracks
     assert scene.frame_start == 1
     assert scene.frame_end == round(timeline.duration * 25)

@@ -10,7 +10,8 @@ from mathutils import Quaternion  # noqa: E402
 
 from tests.blender.evaluated import evaluated_world  # noqa: E402
 from turkish_lipsync import blender  # noqa: E402
-from turkish_lipsync.blender import compat, heads, mesh, pipeline, shapekeys  # noqa: E402
+from turkish_lipsync.blender import compat, heads, mesh, shapekeys  # noqa: E402
+from turkish_lipsync.blender.generate import generate  # noqa: E402
 from turkish_lipsync.blender.marked_curves import FACE_RIG  # noqa: E402
 from turkish_lipsync.core.base.errors import HeadError  # noqa: E402
 from turkish_lipsync.core.faces.measure import FaceMeasure  # noqa: E402
@@ -84,7 +85,7 @@ def _controlled_head():
 
 def test_a_control_rig_that_drives_the_keys_is_keyed_instead_of_the_keys():
     head, armature = _controlled_head()
-    result = pipeline.generate(bpy.context, head, TEXT)
+    result = generate(bpy.context, TEXT, head=head)
     action = armature.animation_data.action
     ours = set(action[FACE_RIG.curves_property])
     assert {'pose.bones["c_jaw"].rotation_quaternion', 'pose.bones["c_lips"].location'} <= ours
@@ -136,4 +137,4 @@ def test_keys_driven_by_something_no_bone_moves_are_refused_with_what_to_do():
     variable.targets[0].id = empty
     variable.targets[0].transform_type = "LOC_X"
     with pytest.raises(HeadError, match="mouthPressRight.*overridden by it"):
-        pipeline.generate(bpy.context, head, TEXT)
+        generate(bpy.context, TEXT, head=head)

@@ -20,7 +20,8 @@ import bpy
 import numpy as np
 
 from tools import REPOSITORY
-from turkish_lipsync.blender import conversation, pipeline
+from turkish_lipsync.blender import pipeline
+from turkish_lipsync.blender.generate import generate
 from turkish_lipsync.core.base.model import viseme_key_name
 from turkish_lipsync.core.pipeline import LipSyncOptions
 from turkish_lipsync.core.text.script import read_script
@@ -71,7 +72,7 @@ def row_of(script_path: Path, args, folder: str) -> np.ndarray:
     width, height = args.width, args.width * 5 // 12  # wide: the faces side by side, little sky
     scene.render.resolution_x, scene.render.resolution_y = width, height
     script = read_script(script_path.read_text(encoding="utf-8"))
-    result = conversation.generate_conversation(context, script, {}, LipSyncOptions(), audio_folder=folder)
+    result = generate(context, script.source, LipSyncOptions(), audio_folder=folder)
     first_head = bpy.data.objects[next(iter(result.heads.values()))]
     tiles = []
     for frame, label in chosen_frames(result):

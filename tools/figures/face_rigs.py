@@ -24,7 +24,8 @@ import numpy as np
 
 from lab.kit.rigged_heads import default_jaw_bone_character, rigify_face_character
 from tools.figures.speaking_strip import BACKGROUND, face_of, letter_frames, rendered, save_jpeg
-from turkish_lipsync.blender import face_rig, heads, linking, pipeline, shapekeys
+from turkish_lipsync.blender import face_rig, heads, linking, shapekeys
+from turkish_lipsync.blender.generate import generate
 from turkish_lipsync.core.faces.rig_mappings import OwnRig
 
 FPS = 25
@@ -92,7 +93,7 @@ def jaw_bone_picture(args, folder: str) -> np.ndarray:
     character = default_jaw_bone_character(context)
     shapekeys.build_shape_keys(character["head"])  # its lids blink by keys; the jaw is the bone's
     face_rig.store_setup(character["armature"], OwnRig("jaw_bone"))
-    result = pipeline.generate(context, character["head"], TEXT, audio_folder=folder)
+    result = generate(context, TEXT, audio_folder=folder, head=character["head"])
     return sheet_of(context, character["head"], result, args, folder, "jaw bone")
 
 
@@ -100,7 +101,7 @@ def rigify_picture(args, folder: str) -> np.ndarray:
     context = _scene()
     character = rigify_face_character(context)
     face_rig.store_setup(character["rig"], OwnRig("rigify_face"))
-    result = pipeline.generate(context, character["head"], TEXT, audio_folder=folder)
+    result = generate(context, TEXT, audio_folder=folder, head=character["head"])
     return sheet_of(context, character["head"], result, args, folder, "Rigify face")
 
 
@@ -127,7 +128,7 @@ def linked_picture(args, folder: str) -> np.ndarray:
         context.scene.collection.children.unlink(linked)
     bpy.ops.wm.save_as_mainfile(filepath=str(Path(folder) / "shot.blend"))
     head = bpy.data.objects["TR_Head"]  # the override, not the linked head
-    result = pipeline.generate(context, head, TEXT, audio_folder=folder)
+    result = generate(context, TEXT, audio_folder=folder, head=head)
     return sheet_of(context, head, result, args, folder, "linked, in a shot")
 
 

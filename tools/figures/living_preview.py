@@ -21,6 +21,7 @@ import bpy
 import numpy as np
 
 from turkish_lipsync.blender import heads, pipeline
+from turkish_lipsync.blender.generate import generate
 from turkish_lipsync.core.base.model import BLINK_KEYS
 from turkish_lipsync.core.pipeline import LipSyncOptions
 
@@ -61,7 +62,7 @@ def strip_of(head_path: Path | None, args) -> np.ndarray:
     pipeline.frame_head(scene, head)
     tiles = []
     with tempfile.TemporaryDirectory() as folder:
-        result = pipeline.generate(context, head, TEXT, LipSyncOptions(), audio_folder=folder)
+        result = generate(context, TEXT, LipSyncOptions(), audio_folder=folder, head=head)
         for frame, label in chosen_frames(result.tracks):
             path = pipeline.render_still(
                 context,

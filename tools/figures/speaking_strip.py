@@ -20,6 +20,7 @@ import bpy
 import numpy as np
 
 from turkish_lipsync.blender import pipeline
+from turkish_lipsync.blender.generate import generate
 from turkish_lipsync.core.pipeline import LipSyncOptions
 
 FPS = 25
@@ -113,7 +114,7 @@ def main() -> int:
     context.scene.render.fps = FPS
     head = bpy.data.objects[pipeline.build_keys(context, None).head]
     with tempfile.TemporaryDirectory() as folder:
-        result = pipeline.generate(context, head, args.text, LipSyncOptions(), audio_folder=folder)
+        result = generate(context, args.text, LipSyncOptions(), audio_folder=folder, head=head)
         if args.strip is not None:
             rows = letter_frames(result, args.words)
             width = max(len(row) for row in rows)

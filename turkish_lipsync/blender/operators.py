@@ -19,6 +19,7 @@ from ..core.scene.speech import SceneSources, line_recordings_in
 from ..core.speech.timeline import TABLE_CANNOT_FOLLOW_RECORDING
 from ..core.text.script import Script, has_speakers, read_script, speaker_key
 from . import character, conversation, exports, gltf_export, landmarks, mesh, pipeline, shapekeys
+from .generate import generate
 from .preferences import ADDON_PACKAGE, configure_speech_engine
 from .properties import LAYER_VALUES
 
@@ -274,53 +275,32 @@ class TURKISH_LIPSYNC_OT_generate(ReportedOperator, bpy.types.Operator):
         source = source_of(settings)
         script = read_script(source) if source else None
         if script is not None:
-            return generate_conversation(context, settings, script)
-        if head is None:
-            raise HeadError(
-                "The text has no speakers, so one head speaks it: choose the head in the Lip Sync panel and "
-                "build its shape keys first."
-            )
+            fill_cast(settings, script)  # the cast list brought up to the script before it is cast
         with progress_reporter(context, "Generate") as progress:
-            result = pipeline.generate(
+            result = generate(
                 context,
-                head,
                 source,
                 options_of(settings),
+                head=head,
+                choices=choices_of(settings) if script is not None else None,
+                sources=sources_of(settings) if script is not None else None,
                 audio_folder=settings.audio_folder,
                 package=ADDON_PACKAGE,
                 progress=progress,
                 gaze_target=settings.gaze_target.name if settings.gaze_target else "",
             )
-        settings.head = head
+        if script is None:
+            settings.head = head
+            what = f"{result.phone_count} phones"
+        else:
+            for member in settings.cast:  # the heads the cast got (default heads included), for the next run
+                if member.head is None and member.name in result.heads:
+                    member.head = bpy.data.objects[result.heads[member.name]]
+            what = f"{len(script.lines)} lines of {len(result.heads)} characters"
         message = (
-            f"{result.phone_count} phones keyed over {result.duration:.2f} s "
-            f"(frames {result.frame_start}-{result.frame_end})"
+            f"{what} keyed over {result.duration:.2f} s (frames {result.frame_start}-{result.frame_end})"
         )
         return message, result.warnings
-
-
-def generate_conversation(context, settings, script: Script) -> Outcome:
-    """A script with speakers: the cast list brought up to the script, then every character generated."""
-    fill_cast(settings, script)
-    with progress_reporter(context, "Generate") as progress:
-        result = conversation.generate_conversation(
-            context,
-            script,
-            choices_of(settings),
-            options_of(settings),
-            sources=sources_of(settings),
-            audio_folder=settings.audio_folder,
-            package=ADDON_PACKAGE,
-            progress=progress,
-        )
-    for member in settings.cast:  # the heads the cast got (default heads included), for the next run
-        if member.head is None and member.name in result.heads:
-            member.head = bpy.data.objects[result.heads[member.name]]
-    message = (
-        f"{len(script.lines)} lines of {len(result.heads)} characters keyed over {result.duration:.2f} s "
-        f"(frames {result.frame_start}-{result.frame_end})"
-    )
-    return message, result.warnings
 
 
 def fill_cast(settings, script: Script) -> int:
