@@ -32,7 +32,23 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
         layout.use_property_split = True
         layout.use_property_decorate = False
         settings = context.scene.turkish_lipsync
+        self.draw_head(layout, settings)
+        self.draw_key_sources(layout, settings.head)
+        self.draw_face_rig(layout, settings)
+        layout.separator()
+        self.draw_speech(layout, settings)
+        self.draw_cast(layout, settings)
+        self.draw_living(layout, settings)
+        column = layout.column()
+        column.operator("turkish_lipsync.generate", icon="PLAY_SOUND")
+        layout.separator()
+        self.draw_render(layout, settings)
+        layout.separator()
+        self.draw_export(layout, settings)
 
+    @staticmethod
+    def draw_head(layout, settings) -> None:
+        """The head and what its keys are built from."""
         column = layout.column(heading="Head")
         column.prop(settings, "head")
         column.prop(settings, "key_source")
@@ -52,10 +68,10 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
             row.operator("turkish_lipsync.clear_landmarks", icon="X", text="")
         column.operator("turkish_lipsync.build_shape_keys", icon="SHAPEKEY_DATA")
         column.operator("turkish_lipsync.make_keys_linkable", icon="LINKED")
-        self.draw_key_sources(layout, settings.head)
-        self.draw_face_rig(layout, settings)
 
-        layout.separator()
+    @staticmethod
+    def draw_speech(layout, settings) -> None:
+        """What is spoken, from which recording or cue file, and how it is timed and moved."""
         column = layout.column(heading="Speech")
         column.prop(settings, "source_kind", expand=True)
         if settings.source_kind == "TEXT":
@@ -72,19 +88,17 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
         column.prop(settings, "motion")
         column.prop(settings, "interpolation")
         column.prop(settings, "audio_folder")
-        self.draw_cast(layout, settings)
-        self.draw_living(layout, settings)
-        column = layout.column()
-        column.operator("turkish_lipsync.generate", icon="PLAY_SOUND")
 
-        layout.separator()
+    @staticmethod
+    def draw_render(layout, settings) -> None:
         column = layout.column(heading="Render")
         column.prop(settings, "render_engine")
         column.prop(settings, "render_samples")
         column.prop(settings, "output_path")
         column.operator("turkish_lipsync.render", icon="RENDER_ANIMATION")
 
-        layout.separator()
+    @staticmethod
+    def draw_export(layout, settings) -> None:
         column = layout.column(heading="Export")
         column.prop(settings, "export_format")
         column.prop(settings, "export_path")
