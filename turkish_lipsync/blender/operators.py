@@ -18,7 +18,7 @@ from ..core.scene import RoleChoice
 from ..core.scene.speech import SceneSources, line_recordings_in
 from ..core.speech.timeline import TABLE_CANNOT_FOLLOW_RECORDING
 from ..core.text.script import Script, has_speakers, read_script, speaker_key
-from . import character, conversation, exports, gltf_export, landmarks, mesh, pipeline, shapekeys
+from . import character, exports, landmarks, mesh, pipeline, shapekeys
 from .generate import generate
 from .preferences import ADDON_PACKAGE, configure_speech_engine
 from .properties import LAYER_VALUES
@@ -182,15 +182,8 @@ def timing_follows_recording(context) -> str | None:
     return None
 
 
-def in_conversation(context) -> bool:
-    """Whether the exports are a conversation's: the scene holds one and no other head is chosen."""
-    characters = pipeline.conversation_heads(context.scene)
-    head = chosen_head(context)
-    return bool(characters) and (head is None or head in characters)
-
-
 def speech_generated(context) -> str | None:
-    if in_conversation(context):
+    if exports.in_conversation(context.scene, chosen_head(context)):
         return None
     if chosen_head(context) is None:
         return "Choose the head object in the Lip Sync panel"
@@ -576,14 +569,11 @@ class TURKISH_LIPSYNC_OT_export_animation(ReportedOperator, bpy.types.Operator):
     def work(context) -> Outcome:
         settings = settings_of(context)
         path = exports.export_path_for(settings.export_path, settings.export_format)
-        if in_conversation(context):
-            results = exports.export_scene(context, settings.export_format, path)
-            written = ", ".join(str(result.path) for result in results)
-            return f"Exported {settings.export_format} to {written}", tuple(
-                warning for result in results for warning in result.warnings
-            )
-        result = exports.export_animation(context, chosen_head(context), settings.export_format, path)
-        return f"Exported {result.export_format} to {result.path}", result.warnings
+        results = exports.export_speech(context, chosen_head(context), settings.export_format, path)
+        written = ", ".join(str(result.path) for result in results)
+        return f"Exported {settings.export_format} to {written}", tuple(
+            warning for result in results for warning in result.warnings
+        )
 
 
 class TURKISH_LIPSYNC_OT_export_gltf(ReportedOperator, bpy.types.Operator):
@@ -597,10 +587,10 @@ class TURKISH_LIPSYNC_OT_export_gltf(ReportedOperator, bpy.types.Operator):
     @staticmethod
     def work(context) -> Outcome:
         path = settings_of(context).gltf_path
-        if in_conversation(context):
-            results = conversation.export_conversation_gltf(context, path)
+        results = exports.export_speech_gltf(context, chosen_head(context), path)
+        if len(results) > 1:  # a conversation: the scene and each character
             return f"Exported {', '.join(result.path for result in results)}", ()
-        result = gltf_export.export_gltf(context, chosen_head(context), path)
+        result = results[0]
         sound = f", the speech in {result.wav_path}" if result.wav_path else ", no speech WAV in the scene"
         return f"Exported {result.path} ({result.morph_targets} morph targets){sound}", ()
 
