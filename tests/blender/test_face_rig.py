@@ -15,6 +15,7 @@ from turkish_lipsync.blender.generate import generate  # noqa: E402
 from turkish_lipsync.blender.marked_curves import FACE_RIG, LIVING  # noqa: E402
 from turkish_lipsync.core.base.errors import HeadError  # noqa: E402
 from turkish_lipsync.core.faces.rig_mappings import OwnRig, rig_template  # noqa: E402
+from turkish_lipsync.core.scene import RoleChoice  # noqa: E402
 
 TEXT = "Merhaba, benim adım Erdem. Bu sabah vapura binip geçtim, ama bir de babamı gördüm."
 FPS = 25
@@ -261,3 +262,20 @@ def test_the_rigify_face_opens_and_closes_the_mouth_as_the_shape_keys_do(rigify_
     # The eyes look through Rigify's eye targets, not as objects of their own.
     eye = bpy.data.objects["TR_Head_EyeLeft"]
     assert eye.animation_data is None or eye.animation_data.action is None
+
+
+def test_a_conversation_character_speaks_through_its_face_rig(tmp_path):
+    """One Generate for one head and many: cast in a script, the jaw-bone character moves its jaw bone (no
+    shape keys are built on it), the other speaker its default head's keys."""
+    character = _jaw_character()
+    head = character["head"]
+    script = "AYŞE: Merhaba, benim adım Ayşe.\nALİ: Bu sabah babamı gördüm."
+    result = generate(
+        bpy.context, script, choices={"Ali": RoleChoice(head=head.name)}, audio_folder=str(tmp_path)
+    )
+    assert result.heads["Ali"] == head.name and head.data.shape_keys is None
+    action = character["armature"].animation_data.action
+    jaw = [c for c in compat.all_action_fcurves(action) if "jaw" in c.data_path.lower()]
+    assert jaw and any(np.ptp([k.co[1] for k in c.keyframe_points]) > 0.01 for c in jaw)
+    ayse = bpy.data.objects[result.heads["Ayşe"]]
+    assert any(name.startswith("TR_viseme_") for name in ayse.data.shape_keys.key_blocks.keys())

@@ -23,7 +23,7 @@ from ..core.scene.layout import arc_positions
 from ..core.scene.tables import conversation_table
 from . import gltf_export, living, pipeline, render, shapekeys
 from . import heads as head_files
-from .character import check_can_speak
+from .character import check_can_speak, speech_problem
 from .face_rig import is_linked
 from .living_rig import LivingRig, find_rig
 from .scene_record import conversation_record
@@ -79,7 +79,7 @@ def cast_heads(context: bpy.types.Context, cast: Cast) -> dict[str, str]:
                 )
             if is_linked(head):  # a linked character's keys are built in its own file
                 check_can_speak(head, [head])
-            elif not pipeline.has_lipsync_keys(head):
+            elif speech_problem(head) is not None:  # neither keys nor a face rig to speak through
                 context.view_layer.update()
                 shapekeys.build_shape_keys(head)
             heads[role.key] = head.name
