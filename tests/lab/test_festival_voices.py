@@ -1,0 +1,77 @@
+"""Festival's diphone voices as labelled people's speech (lab/train/festival_voices.py): the phone tables
+load and are checked, segments become frame labels; with Festival installed, every voice's phones are in
+its table."""
+
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+from lab.train import festival_voices
+from turkish_lipsync.core.base.errors import DataError
+from turkish_lipsync.core.speech.acoustic.labels import CLASS_INDEX
+
+
+@pytest.mark.parametrize("name", sorted({voice.inventory for voice in festival_voices.VOICES.values()}))
+def test_every_table_loads_with_silence_and_the_bilabials(name):
+    table = festival_voices.inventory(name)
+    heard = {letter for letters in table.values() for letter in letters}
+    assert {"_", "b", "m", "p", "a", "i", "u"} <= heard
+
+
+def test_a_table_naming_no_letter_is_refused(tmp_path, monkeypatch):
+    (tmp_path / "bad.toml").write_text('[phones]\naa = "a"\nth = "θ"\n', encoding="utf-8")
+    monkeypatch.setattr(festival_voices, "INVENTORY", tmp_path)
+    with pytest.raises(DataError, match="'th' maps to 'θ'"):
+        festival_voices.inventory("bad")
+
+
+def test_segments_become_frame_labels_shared_and_ignored(tmp_path):
+    (tmp_path / "take.segs").write_text("#\n0.100 100 pau\n0.200 100 ay\n0.300 100 th\n0.400 100 m\n")
+    samples = np.zeros(int(0.4 * 16000), np.int16)
+    import wave
+
+    with wave.open(str(tmp_path / "take.wav"), "wb") as out:
+        out.setnchannels(1)
+        out.setsampwidth(2)
+        out.setframerate(16000)
+        out.writeframes(samples.tobytes())
+    _, labels = festival_voices.labelled(tmp_path / "take", festival_voices.inventory("english"))
+    # 10 ms frames centred at 12.5, 22.5, ... ms: silence, then "ay" as a and y, then θ ignored, then m.
+    assert labels[5] == CLASS_INDEX["_"]
+    assert labels[11] == CLASS_INDEX["a"] and labels[18] == CLASS_INDEX["y"]
+    assert (labels[21:29] == festival_voices.IGNORE).all()
+    assert labels[33] == CLASS_INDEX["m"]
+
+
+def test_a_phone_no_table_holds_is_an_error(tmp_path):
+    (tmp_path / "take.segs").write_text("#\n0.100 100 pau\n0.200 100 qq\n")
+    (tmp_path / "take.wav").write_bytes(b"")
+    import wave
+
+    with wave.open(str(tmp_path / "take.wav"), "wb") as out:
+        out.setnchannels(1)
+        out.setsampwidth(2)
+        out.setframerate(16000)
+        out.writeframes(np.zeros(3200, np.int16).tobytes())
+    with pytest.raises(DataError, match="'qq'"):
+        festival_voices.labelled(tmp_path / "take", festival_voices.inventory("english"))
+
+
+@pytest.mark.skipif(shutil.which("festival") is None, reason="Festival is not installed")
+@pytest.mark.parametrize("name", sorted(festival_voices.VOICES))
+def test_every_phone_a_voice_can_speak_is_in_its_table(name):
+    voice = festival_voices.VOICES[name]
+    package = subprocess.run(
+        ["dpkg-query", "-W", "-f=${Status}", voice.package], capture_output=True, text=True
+    )
+    if not package.stdout.endswith("installed"):
+        pytest.skip(f"{voice.package} is not installed")
+    script = (
+        f"({voice.select})\n"
+        "(print (mapcar car (car (cdr (assoc 'phones (PhoneSet.description '(phones)))))))\n"
+    )
+    printed = subprocess.run(["festival", "-b", "--pipe"], input=script, capture_output=True, text=True)
+    phones = printed.stdout.strip().splitlines()[-1].strip("()").split()
+    assert phones and set(phones) <= set(festival_voices.inventory(voice.inventory))
