@@ -74,9 +74,10 @@ def _installed(package: str) -> bool:
     return status.stdout.endswith("installed")
 
 
-def inventory(name: str) -> dict[str, tuple[str, ...]]:
-    """A language's phone table: each phone to the letters it is heard as (empty: ignored)."""
-    path = INVENTORY / f"{name}.toml"
+def inventory(name: str, folder: Path | None = None) -> dict[str, tuple[str, ...]]:
+    """A language's phone table (folder: INVENTORY's): each phone to the letters it is heard as (empty:
+    ignored)."""
+    path = (folder or INVENTORY) / f"{name}.toml"
     with path.open("rb") as handle:
         phones = tomllib.load(handle).get("phones")
     if not isinstance(phones, dict) or not phones:
@@ -133,12 +134,19 @@ def _in_script(text: str, voice: Voice) -> str:
     )
 
 
-def render(name: str, texts: list[str], stretches: list[float], folder: Path) -> list[Path]:
-    """Each text spoken by the voice at its duration stretch: folder/NNNN.wav and .segs (made once)."""
-    voice = VOICES[name]
+# Each word's segments, as a list of lists (written to a .words file beside the .segs).
+WORD_PHONES = """(define (word_phones utt)
+  (mapcar (lambda (word) (apply append (mapcar (lambda (syl) (mapcar item.name (item.daughters syl)))
+                                             (item.daughters (item.relation word 'SylStructure)))))
+          (utt.relation.items utt 'Word)))"""
+
+
+def render(voice: Voice, texts: list[str], stretches: list[float], folder: Path) -> list[Path]:
+    """Each text spoken by the voice at its duration stretch: folder/NNNN.wav, .segs and .words (each
+    word's segments), made once."""
     folder.mkdir(parents=True, exist_ok=True)
     wanted = [folder / f"{number:04d}" for number in range(len(texts))]
-    lines = [f"({voice.select})"]
+    lines = [WORD_PHONES, f"({voice.select})"]
     for stem, text, stretch in zip(wanted, texts, stretches, strict=True):
         if stem.with_suffix(".segs").exists():
             continue
@@ -148,9 +156,11 @@ def render(name: str, texts: list[str], stretches: list[float], folder: Path) ->
             f"(Parameter.set 'Duration_Stretch {stretch:.3f})",
             f'(unwind-protect (begin (set! utt (SynthText "{spoken}"))',
             f'  (utt.save.wave utt "{stem.with_suffix(".wav")}" \'riff)',
+            f'  (set! words (fopen "{stem.with_suffix(".words")}" "w"))',
+            '  (format words "%l\\n" (word_phones utt)) (fclose words)',
             f'  (utt.save.segs utt "{stem.with_suffix(".segs")}")) nil)',
         ]
-    if len(lines) > 1:
+    if len(lines) > 2:
         with tempfile.NamedTemporaryFile("wb", suffix=".scm", delete=False) as script:
             script.write("\n".join(lines).encode(voice.encoding, errors="replace"))
         subprocess.run(["festival", "-b", script.name], capture_output=True, timeout=3600)

@@ -42,15 +42,18 @@ def heard_utterance(recognition: Recognition) -> Utterance:
     return assemble_utterance(" ".join(texts), items)
 
 
-def heard_timeline(utterance: Utterance, recognition: Recognition, duration: float) -> Timeline:
-    """Each letter of the heard utterance timed where it was heard, a voiceless stop from its closure."""
+def heard_timeline(
+    utterance: Utterance, recognition: Recognition, duration: float, closure_share: float = CLOSURE_SHARE
+) -> Timeline:
+    """Each letter of the heard utterance timed where it was heard, a voiceless stop from its closure
+    (closure_share of the letter before: 0 where the letters' times already hold the closure)."""
     starts, ends = [], []
     for phrase in recognition.phrases:
         for number, letter in enumerate(phrase):
             start = letter.start
             if number and letter.letter in VOICELESS_STOPS:
                 before = phrase[number - 1]
-                start -= CLOSURE_SHARE * (before.end - before.start)
+                start -= closure_share * (before.end - before.start)
                 ends[-1] = min(ends[-1], start)
             starts.append(start)
             ends.append(letter.end)
