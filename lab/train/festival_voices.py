@@ -23,11 +23,13 @@ from pathlib import Path
 import numpy as np
 
 from turkish_lipsync.core.base.errors import DataError
-from turkish_lipsync.core.speech.acoustic.labels import CLASS_INDEX, SILENCE, frame_times
+from turkish_lipsync.core.speech.acoustic.labels import CLASS_INDEX, FRAME_SECONDS, SILENCE, frame_times
 from turkish_lipsync.core.speech.audio import read_audio, resample
 from turkish_lipsync.core.speech.features import ANALYSIS_RATE
 
 INVENTORY = Path(__file__).with_name("inventory")
+VOICELESS_STOPS = frozenset("çkpt")
+SILENT_UNDER_DB = 40.0  # a stop's frames this far under the take's loud ones, after a pause, are the pause's
 IGNORE = 255  # a frame label that teaches nothing (a phone no Turkish sound is near)
 HELD_OUT = ("festvox-ru", "festvox-italp16k", "festvox-itapc16k")  # measure only: never rendered here
 
@@ -185,18 +187,28 @@ def segments(path: Path) -> list[tuple[float, float, str]]:
 def labelled(stem: Path, table: dict[str, tuple[str, ...]]) -> tuple[np.ndarray, np.ndarray]:
     """16 kHz float samples of a rendered text and a label per 10 ms frame (IGNORE where no letter is near).
 
-    A phone heard as several letters (a diphthong, an affricate) shares its time among them evenly.
+    A phone heard as several letters (a diphthong, an affricate) shares its time among them evenly. A
+    voiceless stop after silence starts at its first sound: the diphones give it 50-60 ms of the silence
+    before (Czech, English), which is the pause's, and taught as the stop it makes the network hear a
+    list's pause as the next item's p, t or k (onsets 70-150 ms early).
     """
     mono, rate = read_audio(stem.with_suffix(".wav"))
     samples = resample(mono, rate, ANALYSIS_RATE)
-    count = samples.size // int(round(0.01 * ANALYSIS_RATE)) + 1
+    hop = int(round(FRAME_SECONDS * ANALYSIS_RATE))
+    count = samples.size // hop + 1
     times = frame_times(count)
     labels = np.zeros(count, np.uint8)
+    silent = _silent_frames(samples, count, hop)
+    after_silence = True
     for start, end, phone in segments(stem.with_suffix(".segs")):
         if phone not in table:
             raise DataError(f"{INVENTORY}: phone {phone!r} (in {stem}.segs) is in no inventory table")
         letters = table[phone]
         first, stop = np.searchsorted(times, (start, end))
+        if after_silence and letters and letters[0] in VOICELESS_STOPS:
+            while first < stop and silent[first]:
+                first += 1
+        after_silence = letters == (SILENCE,)
         if not letters:
             labels[first:stop] = IGNORE
             continue
@@ -204,3 +216,10 @@ def labelled(stem: Path, table: dict[str, tuple[str, ...]]) -> tuple[np.ndarray,
         for letter, begin, finish in zip(letters, bounds[:-1], bounds[1:], strict=True):
             labels[begin:finish] = CLASS_INDEX[letter]
     return samples, labels
+
+
+def _silent_frames(samples: np.ndarray, count: int, hop: int) -> np.ndarray:
+    """Frames more than SILENT_UNDER_DB under the take's loud frames (its 90th percentile of power)."""
+    padded = np.pad(samples, (0, count * hop - samples.size + hop))
+    power = np.mean(padded[: count * hop].reshape(count, hop) ** 2, axis=1) + 1e-12
+    return 10 * np.log10(power) < 10 * np.log10(np.percentile(power, 90)) - SILENT_UNDER_DB

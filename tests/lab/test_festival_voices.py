@@ -4,6 +4,7 @@ its table."""
 
 import shutil
 import subprocess
+import wave
 
 import numpy as np
 import pytest
@@ -29,14 +30,7 @@ def test_a_table_naming_no_letter_is_refused(tmp_path, monkeypatch):
 
 def test_segments_become_frame_labels_shared_and_ignored(tmp_path):
     (tmp_path / "take.segs").write_text("#\n0.100 100 pau\n0.200 100 ay\n0.300 100 th\n0.400 100 m\n")
-    samples = np.zeros(int(0.4 * 16000), np.int16)
-    import wave
-
-    with wave.open(str(tmp_path / "take.wav"), "wb") as out:
-        out.setnchannels(1)
-        out.setsampwidth(2)
-        out.setframerate(16000)
-        out.writeframes(samples.tobytes())
+    _write_wav(tmp_path / "take.wav", np.zeros(int(0.4 * 16000)))
     _, labels = festival_voices.labelled(tmp_path / "take", festival_voices.inventory("english"))
     # 10 ms frames centred at 12.5, 22.5, ... ms: silence, then "ay" as a and y, then θ ignored, then m.
     assert labels[5] == CLASS_INDEX["_"]
@@ -47,14 +41,7 @@ def test_segments_become_frame_labels_shared_and_ignored(tmp_path):
 
 def test_a_phone_no_table_holds_is_an_error(tmp_path):
     (tmp_path / "take.segs").write_text("#\n0.100 100 pau\n0.200 100 qq\n")
-    (tmp_path / "take.wav").write_bytes(b"")
-    import wave
-
-    with wave.open(str(tmp_path / "take.wav"), "wb") as out:
-        out.setnchannels(1)
-        out.setsampwidth(2)
-        out.setframerate(16000)
-        out.writeframes(np.zeros(3200, np.int16).tobytes())
+    _write_wav(tmp_path / "take.wav", np.zeros(3200))
     with pytest.raises(DataError, match="'qq'"):
         festival_voices.labelled(tmp_path / "take", festival_voices.inventory("english"))
 
@@ -75,3 +62,24 @@ def test_every_phone_a_voice_can_speak_is_in_its_table(name):
     printed = subprocess.run(["festival", "-b", "--pipe"], input=script, capture_output=True, text=True)
     phones = printed.stdout.strip().splitlines()[-1].strip("()").split()
     assert phones and set(phones) <= set(festival_voices.inventory(voice.inventory))
+
+
+def test_a_voiceless_stop_after_a_pause_starts_at_its_sound(tmp_path):
+    # 0.1 s of pause, a p whose first 60 ms are silent (the diphone's share of the pause), its burst, an a.
+    (tmp_path / "take.segs").write_text("#\n0.100 100 pau\n0.200 100 p\n0.300 100 aa\n")
+    rng = np.random.default_rng(1)
+    samples = np.zeros(4800)
+    samples[2560:3200] = 0.3 * rng.normal(size=640)  # the burst, from 160 ms
+    samples[3200:] = 0.5 * np.sin(np.arange(1600) * 0.2)
+    _write_wav(tmp_path / "take.wav", samples)
+    _, labels = festival_voices.labelled(tmp_path / "take", festival_voices.inventory("english"))
+    assert (labels[10:14] == CLASS_INDEX["_"]).all()  # frames centred at 112-142 ms: the pause's
+    assert (labels[16:19] == CLASS_INDEX["p"]).all()
+
+
+def _write_wav(path, samples):
+    with wave.open(str(path), "wb") as out:
+        out.setnchannels(1)
+        out.setsampwidth(2)
+        out.setframerate(16000)
+        out.writeframes((np.asarray(samples) * 32767).astype(np.int16).tobytes())
