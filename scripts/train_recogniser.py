@@ -59,7 +59,7 @@ sys.path.insert(0, str(REPOSITORY))
 from scripts import people  # noqa: E402
 from scripts.corpus import held_out_sentences, tuning_sentences  # noqa: E402
 from turkish_lipsync.core.base.errors import LipSyncError  # noqa: E402
-from turkish_lipsync.core.speech import espeak, synthesize_timeline  # noqa: E402
+from turkish_lipsync.core.speech import espeak, get_engine, synthesize_timeline  # noqa: E402
 from turkish_lipsync.core.speech.acoustic.features import (  # noqa: E402
     FEATURE_COUNT,
     LONG_TERM_SPECTRUM_FILE,
@@ -83,8 +83,10 @@ from turkish_lipsync.core.speech.acoustic.network import (  # noqa: E402
     WEIGHTS_FILE,
     load_network,
 )
+from turkish_lipsync.core.speech.align import phone_letter_spans  # noqa: E402
 from turkish_lipsync.core.speech.audio import resample  # noqa: E402
 from turkish_lipsync.core.speech.features import ANALYSIS_RATE  # noqa: E402
+from turkish_lipsync.core.speech.timing import build_timeline  # noqa: E402
 from turkish_lipsync.core.text.utterance import build_utterance  # noqa: E402
 
 # Spoken only by scripts/measure_recogniser.py: voices the network never heard.
@@ -134,20 +136,38 @@ def training_texts(count: int, rng: np.random.Generator) -> list[str]:
     return texts
 
 
-def speak(text: str, variant: str, pitch: int, rate: int, sample_rate: int = ANALYSIS_RATE):
-    """Float samples of the text in the variant (16 kHz unless asked), and its timeline (the truth)."""
+def speak(
+    text: str, variant: str, pitch: int, rate: int, sample_rate: int = ANALYSIS_RATE, stops_at_bursts=False
+):
+    """Float samples of the text in the variant (16 kHz unless asked), and its timeline (the truth): as the
+    product's, each voiceless stop from its closure, or with stops_at_bursts from its burst (the labels
+    the network learns: burst_timeline)."""
     library = espeak._library()
     utterance = build_utterance(f'<PROS PITCH="{pitch:+d}%" RATE="{rate:+d}%">{text}</PROS>')
     with library.lock:
         library.handle.espeak_SetVoiceByName(f"tr+{variant}".encode())
     try:
-        speech = synthesize_timeline(utterance)
+        if stops_at_bursts:
+            synthesis = get_engine("espeak").synthesize(utterance)
+            timeline = burst_timeline(utterance, synthesis)
+        else:
+            speech = synthesize_timeline(utterance)
+            synthesis, timeline = speech.synthesis, speech.timeline
     finally:
         with library.lock:
             library.handle.espeak_SetVoiceByName(b"tr")
-    synthesis = speech.synthesis
     samples = resample(synthesis.samples.astype(np.float32) / 32768, synthesis.sample_rate, sample_rate)
-    return samples, speech.timeline
+    return samples, timeline
+
+
+def burst_timeline(utterance, synthesis):
+    """The timeline with each voiceless stop from its burst, where eSpeak NG reports it: the network learns
+    the stops there, for the aligner matches the synthetic letters at their bursts and gives each stop its
+    closure after the warp (timewarp.warp_synthesis), and the recogniser gives a stop back a share of the
+    letter before (recognition/transcript.py). (The product's timelines start a stop at its closure.)"""
+    starts, ends, linked = phone_letter_spans(utterance, synthesis, get_engine("espeak"))
+    onsets = tuple(event.start for event in linked.phone_events)
+    return build_timeline(utterance, starts, ends, linked.duration, "phone", onsets)
 
 
 # ---------------------------------------------------------------- degradations (16 kHz)
@@ -272,7 +292,7 @@ def make_clip(job: tuple) -> tuple[np.ndarray, np.ndarray]:
     if not text:
         features = recogniser_features(non_speech(rng), whole_take_level)
         return features.astype(np.float16), np.zeros(len(features), np.uint8)
-    clean, timeline = speak(text, variant, pitch, rate)
+    clean, timeline = speak(text, variant, pitch, rate, stops_at_bursts=True)
     if not short:
         samples, lead, stretch = degrade(clean, rng)
         features = recogniser_features(samples, whole_take_level)

@@ -29,7 +29,8 @@ from turkish_lipsync.core.speech.features import ANALYSIS_RATE
 
 INVENTORY = Path(__file__).with_name("inventory")
 VOICELESS_STOPS = frozenset("çkpt")
-SILENT_UNDER_DB = 40.0  # a stop's frames this far under the take's loud ones, after a pause, are the pause's
+SILENT_UNDER_DB = 40.0  # a voiceless stop's closure: its frames this far under the take's loud ones ...
+CLOSURE_UNDER_DB = 15.0  # ... or this far under the phone before's loudest (as espeak.py finds closures)
 IGNORE = 255  # a frame label that teaches nothing (a phone no Turkish sound is near)
 HELD_OUT = ("festvox-ru", "festvox-italp16k", "festvox-itapc16k")  # measure only: never rendered here
 
@@ -188,9 +189,13 @@ def labelled(stem: Path, table: dict[str, tuple[str, ...]]) -> tuple[np.ndarray,
     """16 kHz float samples of a rendered text and a label per 10 ms frame (IGNORE where no letter is near).
 
     A phone heard as several letters (a diphthong, an affricate) shares its time among them evenly. A
-    voiceless stop after silence starts at its first sound: the diphones give it 50-60 ms of the silence
-    before (Czech, English), which is the pause's, and taught as the stop it makes the network hear a
-    list's pause as the next item's p, t or k (onsets 70-150 ms early).
+    voiceless stop starts at its burst, as eSpeak NG's labels start it (scripts/train_recogniser.py's
+    burst_timeline): the silence of its closure (its frames from its start that lie SILENT_UNDER_DB under
+    the take's loud frames or CLOSURE_UNDER_DB under the phone before's loudest) is the phone before's, or
+    the pause's. Festival starts a stop at its closure, and after a pause gives it 50-60 ms of the
+    silence before (Czech, English): taught so, the network heard a list's pause as the next item's p, t or
+    k (onsets 70-150 ms early) and keyed stops a closure early in the aligner, which gives each stop its
+    closure itself.
     """
     mono, rate = read_audio(stem.with_suffix(".wav"))
     samples = resample(mono, rate, ANALYSIS_RATE)
@@ -198,17 +203,25 @@ def labelled(stem: Path, table: dict[str, tuple[str, ...]]) -> tuple[np.ndarray,
     count = samples.size // hop + 1
     times = frame_times(count)
     labels = np.zeros(count, np.uint8)
-    silent = _silent_frames(samples, count, hop)
-    after_silence = True
+    level = _frame_levels(samples, count, hop)
+    loud = np.percentile(level, 90)
+    before = (0, 0)  # the frames of the phone before
     for start, end, phone in segments(stem.with_suffix(".segs")):
         if phone not in table:
             raise DataError(f"{INVENTORY}: phone {phone!r} (in {stem}.segs) is in no inventory table")
         letters = table[phone]
         first, stop = np.searchsorted(times, (start, end))
-        if after_silence and letters and letters[0] in VOICELESS_STOPS:
-            while first < stop and silent[first]:
-                first += 1
-        after_silence = letters == (SILENCE,)
+        if letters and letters[0] in VOICELESS_STOPS and first < stop:
+            quiet = max(loud - SILENT_UNDER_DB, level[slice(*before)].max(initial=-np.inf) - CLOSURE_UNDER_DB)
+            burst = first + int(
+                level[first] >= quiet
+            )  # a frame astride the boundary may hold the phone before
+            while burst < stop - 1 and level[burst] < quiet:
+                burst += 1
+            if burst > first + 1 or level[first] < quiet:
+                labels[first:burst] = labels[first - 1] if first else 0
+                first = burst
+        before = (first, stop)
         if not letters:
             labels[first:stop] = IGNORE
             continue
@@ -218,8 +231,8 @@ def labelled(stem: Path, table: dict[str, tuple[str, ...]]) -> tuple[np.ndarray,
     return samples, labels
 
 
-def _silent_frames(samples: np.ndarray, count: int, hop: int) -> np.ndarray:
-    """Frames more than SILENT_UNDER_DB under the take's loud frames (its 90th percentile of power)."""
-    padded = np.pad(samples, (0, count * hop - samples.size + hop))
-    power = np.mean(padded[: count * hop].reshape(count, hop) ** 2, axis=1) + 1e-12
-    return 10 * np.log10(power) < 10 * np.log10(np.percentile(power, 90)) - SILENT_UNDER_DB
+def _frame_levels(samples: np.ndarray, count: int, hop: int) -> np.ndarray:
+    """Each frame's power (dB) over the hop around its centre (labels.frame_times)."""
+    offset = int(round(frame_times(1)[0] * ANALYSIS_RATE)) - hop // 2
+    padded = np.pad(samples[offset:], (0, max(0, count * hop - samples[offset:].size)))
+    return 10 * np.log10(np.mean(padded[: count * hop].reshape(count, hop) ** 2, axis=1) + 1e-12)

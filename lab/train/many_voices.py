@@ -56,7 +56,7 @@ def festival_corpus(name: str, per_voice: int, copies: int, seed: int, cache: Pa
     texts = festival_voices.sentences(voice, per_voice, rng)
     stretches = list(rng.uniform(*TEMPO, size=per_voice))
     began = time.time()
-    stems = festival_voices.render(name, texts, stretches, cache / "festival" / f"{name}_{seed}")
+    stems = festival_voices.render(voice, texts, stretches, cache / "festival" / f"{name}_{seed}")
     table = festival_voices.inventory(voice.inventory)
     spoken = [festival_voices.labelled(stem, table) for stem in stems]
     jobs = [

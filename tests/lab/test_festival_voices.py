@@ -83,3 +83,17 @@ def _write_wav(path, samples):
         out.setsampwidth(2)
         out.setframerate(16000)
         out.writeframes((np.asarray(samples) * 32767).astype(np.int16).tobytes())
+
+
+def test_a_voiceless_stop_inside_speech_starts_at_its_burst(tmp_path):
+    # An a, a p whose first 50 ms are its closure (silent), its burst, an a: the closure is the a's.
+    (tmp_path / "take.segs").write_text("#\n0.100 100 aa\n0.200 100 p\n0.300 100 aa\n")
+    rng = np.random.default_rng(2)
+    samples = 0.5 * np.sin(np.arange(4800) * 0.2)
+    samples[1600:2400] = 0.0
+    samples[2400:3200] = 0.3 * rng.normal(size=800)
+    _write_wav(tmp_path / "take.wav", samples)
+    _, labels = festival_voices.labelled(tmp_path / "take", festival_voices.inventory("english"))
+    assert (labels[11:14] == CLASS_INDEX["a"]).all()  # the closure, centred at 122-142 ms
+    assert (labels[16:19] == CLASS_INDEX["p"]).all()
+    assert (labels[21:29] == CLASS_INDEX["a"]).all()

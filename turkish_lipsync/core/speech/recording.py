@@ -42,7 +42,7 @@ from .features import ANALYSIS_RATE, HOP, frame_count
 from .judgement import Fit, PhraseMatch, judge
 from .letter_warp import letter_warp
 from .speech_detector import detect_speech
-from .timewarp import TimeWarp, warp_synthesis, with_closures
+from .timewarp import TimeWarp, warp_synthesis
 from .voice_activity import above_floor, clean_speech_frames, runs, speech_frames, under_speech
 
 # Frames (100 ms) of the WebRTC-based mask below which a person's short word may be all it missed: Silero's
@@ -220,12 +220,11 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
     # Silence, or a stretch a voice in the background or a room's tail may fill: the speaker may pause.
     recorded_pause = np.isfinite(pauses.y_hold_cost)
     duration = output.size / output_rate
-    # The network hears a voiceless stop from its closure (its training labels start it there), so the
-    # synthetic letters are matched from their closures too, and warped with them.
-    closed = with_closures(
-        Synthesis(output[:0], output_rate, reference.phone_events, reference.word_events, "")
+    synthetic_starts, synthetic_ends, _ = phone_letter_spans(
+        utterance,
+        Synthesis(output[:0], output_rate, reference.phone_events, reference.word_events, ""),
+        engine,
     )
-    synthetic_starts, synthetic_ends, _ = phone_letter_spans(utterance, closed, engine)
     letters = letter_warp(
         utterance,
         synthetic_starts,
@@ -244,7 +243,7 @@ def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine
             "the recording and the text belong together"
         )
     synthesis = warp_synthesis(
-        Synthesis(output, output_rate, closed.phone_events, reference.word_events, "recording"),
+        Synthesis(output, output_rate, reference.phone_events, reference.word_events, "recording"),
         letters.warp,
         output,
     )

@@ -43,17 +43,19 @@ def heard_utterance(recognition: Recognition) -> Utterance:
 
 
 def heard_timeline(
-    utterance: Utterance, recognition: Recognition, duration: float, closure_share: float = CLOSURE_SHARE
+    utterance: Utterance, recognition: Recognition, duration: float, closure_share: float | None = None
 ) -> Timeline:
     """Each letter of the heard utterance timed where it was heard, a voiceless stop from its closure
-    (closure_share of the letter before: 0 where the letters' times already hold the closure)."""
+    (closure_share of the letter before, CLOSURE_SHARE unless given: 0 where the letters' times already
+    hold the closure)."""
+    share = CLOSURE_SHARE if closure_share is None else closure_share
     starts, ends = [], []
     for phrase in recognition.phrases:
         for number, letter in enumerate(phrase):
             start = letter.start
             if number and letter.letter in VOICELESS_STOPS:
                 before = phrase[number - 1]
-                start -= closure_share * (before.end - before.start)
+                start -= share * (before.end - before.start)
                 ends[-1] = min(ends[-1], start)
             starts.append(start)
             ends.append(letter.end)
