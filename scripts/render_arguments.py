@@ -103,6 +103,14 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
     parser.add_argument(
         "--head", type=Path, help="head file: .obj .glb .gltf .fbx or .blend (default: reference)"
     )
+    parser.add_argument(
+        "--open", type=Path, help="a .blend to work in as it is (a shot: its linked characters included)"
+    )
+    parser.add_argument(
+        "--object",
+        help="the head to animate, by name, in the open file (--open, --head .blend, or the file Blender "
+        "opened): a library override of a linked character too",
+    )
     parser.add_argument("--out", type=Path, help="the MP4 to render (H.264 + AAC)")
     parser.add_argument("--save-blend", type=Path, help="save the animated scene to this .blend")
     parser.add_argument(
@@ -127,8 +135,8 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
     parser.add_argument(
         "--audio",
         type=Path,
-        help="a recording of the text (WAV, FLAC, OGG) to use instead of eSpeak; without --text or --jsml, "
-        "what it says is recognised from the audio",
+        help="a recording of the text (WAV, FLAC, OGG, MP3, M4A, or a video with sound: MP4, MOV, MKV, WebM) "
+        "to use instead of eSpeak; without --text or --jsml, what it says is recognised from the audio",
     )
     add_living_arguments(parser)
     parser.add_argument(
@@ -276,6 +284,12 @@ def parse_arguments(argv: list[str]) -> argparse.Namespace:
         parser.error(f"--save-blend {arguments.save_blend} must end in .blend")
     if arguments.head is not None and not arguments.head.is_file():
         parser.error(f"--head {arguments.head} does not exist")
+    if arguments.open is not None and (
+        arguments.open.suffix.lower() != ".blend" or not arguments.open.is_file()
+    ):
+        parser.error(f"--open {arguments.open} must be a .blend file that exists")
+    if arguments.open is not None and arguments.head is not None:
+        parser.error("give --open SHOT.blend or --head HEAD, not both (--object names the head in --open)")
     if arguments.jsml is not None and not arguments.jsml.is_file():
         parser.error(f"--jsml {arguments.jsml} does not exist")
     if arguments.audio is not None and not arguments.audio.is_file():
@@ -390,6 +404,7 @@ def check_paths(arguments: argparse.Namespace) -> None:
         "--jsml": arguments.jsml,
         "--audio": arguments.audio,
         "--head": arguments.head,
+        "--open": arguments.open,
         "--cues": arguments.cues,
         "--mapping": arguments.mapping,
     }

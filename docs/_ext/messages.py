@@ -3,8 +3,10 @@
 Read with ast from turkish_lipsync/ and the batch script (scripts/render.py, scripts/render_arguments.py):
 
 - errors: `raise SomeError(...)` of the add-on's error family (LipSyncError and every subclass, found by
-  name), `raise self.error(...)`/`raise error(...)` helpers that build one, argparse's `ArgumentTypeError`
-  and `parser.error(...)` of the command lines;
+  name; a list of messages too), `raise self.error(...)`/`raise error(...)` helpers that build one,
+  argparse's `ArgumentTypeError` and `parser.error(...)` of the command lines, the problems an episode's
+  manifest gathers (`.problem(key, message)`, `.problem_at(place, message)`) and what its checks return
+  (a function returning `Problem`: what is wrong with a value, or None);
 - warnings: strings appended to, or assigned as, a `warning`/`warnings` value, returned by a function whose
   name holds "warning", given as `warnings=`, and what `report({'WARNING'|'ERROR'}, ...)` shows.
 
@@ -29,7 +31,17 @@ from sphinx.util.docutils import SphinxDirective
 
 logger = logging.getLogger(__name__)
 ROOT = Path(__file__).resolve().parents[2]
-SOURCES = ("turkish_lipsync", "scripts/render.py", "scripts/render_arguments.py")
+SOURCES = (
+    "turkish_lipsync",
+    "scripts/render.py",
+    "scripts/render_arguments.py",
+    "scripts/episode.py",
+    "scripts/episode_manifest.py",
+    "scripts/episode_plan.py",
+    "scripts/episode_tasks.py",
+    "scripts/episode_blender.py",
+    "scripts/farm_jobs.py",
+)
 # Errors raised for the developer (a bug), never shown to a user as a message of ours.
 INTERNAL_ERRORS = {
     "ValueError",
@@ -64,6 +76,15 @@ GROUPS: dict[str, tuple[str, ...]] = {
         "turkish_lipsync/blender/owned_keys.py",
     ),
     "buttons": ("turkish_lipsync/blender/operators.py",),
+    "rigs": (
+        "turkish_lipsync/core/faces/rig_",
+        "turkish_lipsync/blender/face_rig.py",
+        "turkish_lipsync/blender/rig_",
+        "turkish_lipsync/blender/pose_recording.py",
+        "turkish_lipsync/blender/character.py",
+        "turkish_lipsync/blender/linking.py",
+        "turkish_lipsync/blender/marked_curves.py",
+    ),
     "engine": (
         "turkish_lipsync/core/speech/espeak.py",
         "turkish_lipsync/core/speech/timeline.py",
@@ -83,12 +104,16 @@ GROUPS: dict[str, tuple[str, ...]] = {
         "turkish_lipsync/core/speech/features.py",
         "turkish_lipsync/core/speech/recognition/",
         "turkish_lipsync/core/speech/acoustic/",
+        "turkish_lipsync/core/speech/decoders/",
+        "turkish_lipsync/blender/audio_decoding.py",
+        "turkish_lipsync/blender/recording_browser.py",
     ),
     "cues": ("turkish_lipsync/core/speech/cues/", "turkish_lipsync/core/speech/cue_timing.py"),
     "living": ("turkish_lipsync/core/motion/", "turkish_lipsync/blender/living"),
     "scene": (
         "turkish_lipsync/core/pipeline.py",
         "turkish_lipsync/blender/pipeline.py",
+        "turkish_lipsync/blender/generate.py",
         "turkish_lipsync/blender/sequencer.py",
         "turkish_lipsync/blender/keyframes.py",
         "turkish_lipsync/blender/compat.py",
@@ -115,6 +140,7 @@ GROUPS: dict[str, tuple[str, ...]] = {
         "scripts/render_arguments.py",
     ),
     "data": ("turkish_lipsync/core/base/",),
+    "episodes": ("scripts/episode", "scripts/farm_jobs.py"),
 }
 
 
@@ -207,11 +233,14 @@ class _Collector(ast.NodeVisitor):
 
     def visit_FunctionDef(self, node: ast.FunctionDef) -> None:
         outer, self.function = self.function, node.name
-        if node.returns is not None and ast.unparse(node.returns) in ("str | None", '"str | None"'):
-            # an operator's requirement: None where it is met, else why its button is greyed out
+        returns = ast.unparse(node.returns) if node.returns is not None else ""
+        # an operator's requirement: None where it is met, else why its button is greyed out; or a check
+        # of a value: None where it is good, else what is wrong with it
+        kind = {"str | None": "disabled", '"str | None"': "disabled", "Problem": "error"}.get(returns)
+        if kind is not None:
             for returned in (child for child in ast.walk(node) if isinstance(child, ast.Return)):
                 for value in _strings(returned.value) if returned.value is not None else ():
-                    self.add("disabled", value)
+                    self.add(kind, value)
         self.generic_visit(node)
         self.function = outer
 
@@ -220,7 +249,8 @@ class _Collector(ast.NodeVisitor):
         if isinstance(call, ast.Call) and call.args:
             name = _name(call.func)
             if name in self.errors or name in USER_ERRORS or name in ("error", "_error"):
-                self.add("error", call.args[0])
+                for value in _strings(call.args[0]):
+                    self.add("error", value)
         self.generic_visit(node)
 
     def visit_Call(self, node: ast.Call) -> None:
@@ -228,6 +258,9 @@ class _Collector(ast.NodeVisitor):
         name = _name(function)
         if name == "error" and _name(getattr(function, "value", function)) == "parser" and node.args:
             self.add("error", node.args[0])
+        elif name in ("problem", "problem_at") and len(node.args) == 2:
+            for value in _strings(node.args[1]):
+                self.add("error", value)
         elif name in ("append", "extend") and _is_warning_name(function.value) and node.args:
             for value in _strings(node.args[0]):
                 self.add("warning", value)
@@ -276,7 +309,9 @@ def source_files(root: Path = ROOT) -> list[Path]:
 def collect_messages(root: Path = ROOT) -> tuple[Message, ...]:
     """Every message of the sources under root, in file and line order."""
     trees = {
-        path.relative_to(root).as_posix(): ast.parse(path.read_text(encoding="utf-8"))
+        path.relative_to(root).as_posix(): _with_constants_inlined(
+            ast.parse(path.read_text(encoding="utf-8"))
+        )
         for path in source_files(root)
     }
     errors = _error_classes(trees) - INTERNAL_ERRORS
@@ -286,6 +321,32 @@ def collect_messages(root: Path = ROOT) -> tuple[Message, ...]:
         collector.visit(tree)
         messages += sorted(set(collector.found), key=lambda message: message.line)
     return tuple(messages)
+
+
+class _ConstantInliner(ast.NodeTransformer):
+    """A module's string constants (NAME = "..." at its top level) read where they are used by name: a
+    message written once and raised or shown in several places is found at each."""
+
+    def __init__(self, constants: dict[str, ast.expr]) -> None:
+        self.constants = constants
+
+    def visit_Name(self, node: ast.Name) -> ast.expr:
+        if isinstance(node.ctx, ast.Load) and node.id in self.constants:
+            return ast.copy_location(ast.Constant(self.constants[node.id].value), node)
+        return node
+
+
+def _with_constants_inlined(tree: ast.Module) -> ast.Module:
+    constants = {
+        target.id: node.value
+        for node in tree.body
+        if isinstance(node, ast.Assign)
+        and isinstance(node.value, ast.Constant)
+        and isinstance(node.value.value, str)
+        for target in node.targets
+        if isinstance(target, ast.Name) and target.id.isupper()
+    }
+    return _ConstantInliner(constants).visit(tree) if constants else tree
 
 
 def group_of(path: str) -> str | None:

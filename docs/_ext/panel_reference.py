@@ -38,7 +38,10 @@ logger = logging.getLogger(__name__)
 LABEL_WORDS = 4  # a text of the translation table this short is a label; longer ones are tooltips
 
 
-def _type_text(prop) -> str:
+def _type_text(prop, browsed: bool = False) -> str:
+    """browsed: a button beside the field browses for its file (an operator with a file filter)."""
+    if prop.type == "ENUM" and not prop.default:  # items the add-on lists as the panel is drawn
+        return "one of the items the panel lists"
     default = getattr(prop, "default", None)
     if prop.type == "BOOLEAN":
         return f"on or off; default {'on' if default else 'off'}"
@@ -51,13 +54,14 @@ def _type_text(prop) -> str:
             text += f" (the slider {prop.soft_min:g} to {prop.soft_max:g})"
         return text
     if prop.type == "STRING":
-        kind = {"FILE_PATH": "a file", "DIR_PATH": "a folder"}.get(prop.subtype, "text")
+        kinds = {"FILE_PATH": "a file", "DIR_PATH": "a folder"}
+        kind = kinds.get(prop.subtype, "a file (its button shows only what it reads)" if browsed else "text")
         shown = f"`{default}`" if default else "empty"
         return f"{kind}; default {shown}" + (
             " (`//` is the folder of the saved .blend)" if "//" in default else ""
         )
     if prop.type == "POINTER":
-        kind = {"Object": "an object", "Text": "a Text data block (Text Editor)"}.get(
+        kind = {"Object": "an object", "Text": "a Text data block (Text Editor)", "Action": "an action"}.get(
             prop.fixed_type.identifier, prop.fixed_type.identifier
         )
         return f"{kind}; default none"
@@ -90,10 +94,10 @@ def _term(name: str, identifier: str) -> nodes.term:
 
 
 def property_item(
-    struct, identifier: str, drawn: Drawn | None = None, settings=None
+    struct, identifier: str, drawn: Drawn | None = None, settings=None, browsed: bool = False
 ) -> nodes.definition_list_item:
     """One field: `struct` holds it, `settings` (the add-on's settings, when they are not the struct) say
-    how a script reaches it and what its conditions name."""
+    how a script reaches it and what its conditions name; browsed: a button beside it browses for it."""
     settings = settings or struct
     prop = struct.properties[identifier]
     path = path_of(drawn) if drawn is not None else identifier
@@ -101,7 +105,7 @@ def property_item(
     item += _term(prop.name, path)
     definition = nodes.definition()
     definition += _paragraph(prop.description)
-    details = [_type_text(prop)]
+    details = [_type_text(prop, browsed)]
     if drawn is not None and drawn.shown_when:
         details.append("shown when " + " and ".join(condition_text(c, settings) for c in drawn.shown_when))
     if drawn is not None and drawn.active_when:
@@ -137,6 +141,14 @@ def operator_item(drawn: Drawn, struct) -> nodes.definition_list_item:
     return item
 
 
+def _browses(drawn: Drawn | None) -> bool:
+    """Whether this drawn item is a button that opens a file browser with a filter."""
+    if drawn is None or drawn.kind != "operator":
+        return False
+    rna = operator_rna(drawn.name)
+    return rna is not None and "filter_glob" in rna.properties
+
+
 def _report(problems: list[str], location) -> None:
     for problem in problems:
         logger.warning("panel reference: %s", problem, location=location)
@@ -166,12 +178,12 @@ class PanelFields(SphinxDirective):
             return []
         fields = nodes.definition_list()
         seen: set[str] = set()
-        for item in drawn:
+        for item, after in zip(drawn, [*drawn[1:], None], strict=True):
             if (item.kind, item.name) in seen:
                 continue  # drawn twice (in both branches of a condition): described once
             seen.add((item.kind, item.name))
             fields += (
-                property_item(struct_of(item.struct, struct), item.name, item, struct)
+                property_item(struct_of(item.struct, struct), item.name, item, struct, _browses(after))
                 if item.kind == "property"
                 else operator_item(item, struct)
             )

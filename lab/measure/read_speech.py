@@ -30,19 +30,21 @@ import re
 import sys
 import tempfile
 from collections import Counter
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 
 import numpy as np
 
-from lab.train import festival_voices
-from scripts.measure_people import VOWEL_CLASSES, aligned, heard, shares
-from scripts.measure_recogniser import bilabial_scores, correlation, opening_trajectory, speak_language
-from scripts.measure_recordings import write_wav
+from lab.kit import festival_voices
+from lab.kit.scores import bilabial_scores, correlation, opening_trajectory
+from lab.kit.takes import write_wav
+from lab.kit.voices import speak_language
+from lab.measure.people import VOWEL_CLASSES, aligned, heard, shares
 from turkish_lipsync.core.base.model import Timeline
 from turkish_lipsync.core.speech.acoustic.labels import BILABIAL_LETTERS
 from turkish_lipsync.core.speech.audio import read_audio
-from turkish_lipsync.core.speech.recognition.recogniser import PHRASE_PAUSE, HeardLetter, Recognition
+from turkish_lipsync.core.speech.recognition.recogniser import HeardLetter, Recognition
+from turkish_lipsync.core.speech.recognition.settings import DEFAULT_RECOGNISER
 from turkish_lipsync.core.speech.recognition.transcript import heard_timeline, heard_utterance
 
 INVENTORY = Path(__file__).with_name("inventory")
@@ -118,13 +120,18 @@ def truth_timeline(take: Take) -> Timeline:
     closures already)."""
     phrases, phrase = [], []
     for letter in take.letters:
-        if phrase and letter.start - phrase[-1].end >= PHRASE_PAUSE:
+        if phrase and letter.start - phrase[-1].end >= DEFAULT_RECOGNISER.phrase_pause:
             phrases.append(tuple(phrase))
             phrase = []
         phrase.append(letter)
     phrases.append(tuple(phrase))
     recognition = Recognition(tuple(phrases), 1.0)
-    return heard_timeline(heard_utterance(recognition), recognition, take.duration, closure_share=0.0)
+    return heard_timeline(
+        heard_utterance(recognition),
+        recognition,
+        take.duration,
+        replace(DEFAULT_RECOGNISER, closure_share=0.0),
+    )
 
 
 def bilabial_runs(spans: list[tuple[float, float]]) -> list[float]:

@@ -4,18 +4,18 @@
         [--copies 2] [--epochs 10] [--start WEIGHTS] [--out WEIGHTS]
 
 Writes turkish_lipsync/core/speech/acoustic/phone_network.npz unless --out says otherwise. Goes on from
-the weights of scripts/train_recogniser.py's last round (--start; by default the cache's
-`round_3_SEED.npz`, which scripts/train_recogniser.py leaves there: run it first) at its last round's
+the weights of lab/train/recogniser.py's last round (--start; by default the cache's
+`round_3_SEED.npz`, which lab/train/recogniser.py leaves there: run it first) at its last round's
 learning rate and band warp, on:
 
 1. eSpeak NG's clips as that round makes them (levelled as the extension levels them, a third cut to a word
    or two), first: the decoder's letter transitions and shortest durations come from their Turkish texts;
-2. scripts/people.py's tune part (its Dutch lines and Russian and Tswana syllables), labelled by forced
+2. lab/kit/people.py's tune part (its Dutch lines and Russian and Tswana syllables), labelled by forced
    alignment with the starting weights, clean and degraded;
 3. every voice of festival_voices.VOICES (or --voices): --per-voice random sentences of its language's
    words at random tempos (Festival's Duration_Stretch 0.8-1.35), labelled by Festival's own segments
    mapped to Turkish letter sounds (inventory/*.toml), each clean and degraded --copies - 1 times (another
-   vocal tract, rooms, telephone bands, noise, music: scripts/train_recogniser.degrade).
+   vocal tract, rooms, telephone bands, noise, music: lab.kit.degradations.degrade).
 
 Every step seeded (--seed). Corpora are cached (--cache) and not made again.
 """
@@ -30,9 +30,8 @@ from pathlib import Path
 
 import numpy as np
 
-from lab.train import festival_voices
-from scripts import people
-from scripts.train_recogniser import (
+from lab.kit import festival_voices, people
+from lab.train.recogniser import (
     FINAL_BAND_WARP,
     FINAL_LEARNING_RATE,
     make_corpus,
@@ -97,7 +96,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--learning-rate", type=float, default=FINAL_LEARNING_RATE)
     parser.add_argument("--seed", type=int, default=7)
     parser.add_argument("--cache", type=Path, default=CACHE)
-    parser.add_argument("--people", type=Path, default=people.FOLDER, help="scripts/people.py's folder")
+    parser.add_argument("--people", type=Path, default=people.FOLDER, help="lab/kit/people.py's folder")
     parser.add_argument("--start", type=Path, help="weights to go on from")
     parser.add_argument("--out", type=Path, default=WEIGHTS_FILE)
     parser.add_argument("--corpus-only", action="store_true", help="make the corpora and stop")
@@ -106,7 +105,7 @@ def main(argv: list[str] | None = None) -> int:
     start = args.start or args.cache / f"round_3_{args.seed}.npz"
     if not start.exists():
         raise SystemExit(
-            f"{start} is missing: run scripts/train_recogniser.py first (it leaves its last round there)"
+            f"{start} is missing: run lab/train/recogniser.py first (it leaves its last round there)"
         )
     names = sorted(festival_voices.VOICES) if args.voices is None else args.voices
     festival_voices.install()
@@ -119,7 +118,7 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     description = (
         "eSpeak NG's Turkish voice (variants, rates, pitches), degraded, a third of it cut to a word or two; "
-        "people's speech (scripts/people.py's tune part, labelled by forced alignment, clean and degraded); "
+        "people's speech (lab/kit/people.py's tune part, labelled by forced alignment, clean and degraded); "
         f"Festival's diphone voices {', '.join(names) or 'none'} ({args.per_voice} sentences each, labelled "
         f"by their own segments, clean and degraded); {args.epochs} epochs on from {start.name}"
     )

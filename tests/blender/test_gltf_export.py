@@ -9,9 +9,10 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from tests.heads_on_disk import HEADS  # noqa: E402
+from lab.kit.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync import blender  # noqa: E402
-from turkish_lipsync.blender import gltf_export, heads, pipeline, shapekeys  # noqa: E402
+from turkish_lipsync.blender import gltf_export, heads, shapekeys  # noqa: E402
+from turkish_lipsync.blender.generate import generate  # noqa: E402
 from turkish_lipsync.core.base.errors import LipSyncError  # noqa: E402
 from turkish_lipsync.core.pipeline import LipSyncOptions  # noqa: E402
 
@@ -40,7 +41,7 @@ def exported(tmp_path_factory):
     objects = heads.create_reference_head(bpy.context)
     head, teeth = objects["head"], objects["lower_teeth"]
     shapekeys.build_shape_keys(head)
-    generated = pipeline.generate(bpy.context, head, TEXT, LipSyncOptions(), audio_folder=str(folder))
+    generated = generate(bpy.context, TEXT, LipSyncOptions(), audio_folder=str(folder), head=head)
     frames = range(scene.frame_start, scene.frame_end + 1)
     played = _weights([head, teeth], frames)
     key_names = {obj.name: [b.name for b in obj.data.shape_keys.key_blocks[1:]] for obj in (head, teeth)}
@@ -100,7 +101,7 @@ def test_the_panels_export_operator(tmp_path):
         shapekeys.build_shape_keys(head)
         with pytest.raises(RuntimeError, match="Generate the animation first"):
             bpy.ops.turkish_lipsync.export_gltf()
-        pipeline.generate(bpy.context, head, "Merhaba", LipSyncOptions(timing="table"))
+        generate(bpy.context, "Merhaba", LipSyncOptions(timing="table"), head=head)
         assert bpy.ops.turkish_lipsync.export_gltf() == {"FINISHED"}
         assert gltf_export.read_glb_document(tmp_path / "panel.glb")["animations"]
     finally:

@@ -6,7 +6,7 @@ bpy = pytest.importorskip("bpy")
 
 import numpy as np  # noqa: E402
 
-from tests.heads_on_disk import HEADS  # noqa: E402
+from lab.kit.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync.blender import heads, shapekeys  # noqa: E402
 from turkish_lipsync.core.base.errors import HeadError  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402

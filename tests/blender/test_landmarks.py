@@ -5,7 +5,7 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from tests.heads_on_disk import HEADS  # noqa: E402
+from lab.kit.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync.blender.landmarks import (  # noqa: E402
     COLLECTION_NAME,
     read_landmark_markers,

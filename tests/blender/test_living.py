@@ -1,5 +1,5 @@
 """The living face on the evaluated scene, on every kind of head: eye objects, eyeball islands, painted eyes
-turned by VRM look keys with a head bone. Measured as a viewer sees it (scripts/measure_living.py: frame_set,
+turned by VRM look keys with a head bone. Measured as a viewer sees it (lab/kit/living_scene.py: frame_set,
 the evaluated depsgraph, rotations fitted to the eyeballs and the skull), never on the keys."""
 
 from __future__ import annotations
@@ -9,9 +9,10 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from scripts import measure_living  # noqa: E402
-from tests.heads_on_disk import HEADS  # noqa: E402
+from lab.kit import living_scene  # noqa: E402
+from lab.kit.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync.blender import living, pipeline  # noqa: E402
+from turkish_lipsync.blender.generate import generate  # noqa: E402
 from turkish_lipsync.core.pipeline import LipSyncOptions  # noqa: E402
 
 TEXT = (
@@ -24,7 +25,7 @@ FPS = 60
 def _measured(head_path):
     if head_path is not None and not head_path.is_file():
         pytest.skip(f"{head_path} is not on this machine")
-    return measure_living.measure(head_path, 30, FPS, 0)
+    return living_scene.measure(head_path, 30, FPS, 0)
 
 
 def _kinds_of_motion(result) -> None:
@@ -86,7 +87,7 @@ def test_generate_again_replaces_only_our_motion_and_keeps_the_users_keys(tmp_pa
     eye.delta_location = (0.0, 0.0, 0.001)
     head.constraints.new("LIMIT_SCALE")
     for _ in range(2):
-        pipeline.generate(context, head, TEXT, LipSyncOptions(), audio_folder=str(tmp_path))
+        generate(context, TEXT, LipSyncOptions(), audio_folder=str(tmp_path), head=head)
     action = head.animation_data.action
     paths = sorted({fc.data_path for fc in action.fcurves}) if hasattr(action, "fcurves") else None
     curves = [fc.data_path for fc in living.compat.all_action_fcurves(action)]
@@ -95,8 +96,8 @@ def test_generate_again_replaces_only_our_motion_and_keeps_the_users_keys(tmp_pa
     assert paths is None or "location" in paths
     assert len(head.constraints) == 1
     # Off again: our motion goes, the user's delta comes back.
-    pipeline.generate(
-        context, head, TEXT, LipSyncOptions(gaze=False, head_motion=False), audio_folder=str(tmp_path)
+    generate(
+        context, TEXT, LipSyncOptions(gaze=False, head_motion=False), audio_folder=str(tmp_path), head=head
     )
     assert [fc.data_path for fc in living.compat.all_action_fcurves(head.animation_data.action)] == [
         "location"
@@ -109,12 +110,14 @@ def test_thesis_mode_keeps_the_thesis_still_unless_asked(tmp_path):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     context = bpy.context
     head = bpy.data.objects[pipeline.build_keys(context, None).head]
-    still = pipeline.generate(
-        context, head, TEXT, LipSyncOptions(motion="thesis"), audio_folder=str(tmp_path)
-    )
+    still = generate(context, TEXT, LipSyncOptions(motion="thesis"), audio_folder=str(tmp_path), head=head)
     assert still.tracks.head_and_eyes is None and head.animation_data is None
-    moving = pipeline.generate(
-        context, head, TEXT, LipSyncOptions(motion="thesis", head_motion=True), audio_folder=str(tmp_path)
+    moving = generate(
+        context,
+        TEXT,
+        LipSyncOptions(motion="thesis", head_motion=True),
+        audio_folder=str(tmp_path),
+        head=head,
     )
     assert np.abs(moving.tracks.head_and_eyes.head).max() > 0.5
     assert head.animation_data.action is not None

@@ -12,9 +12,10 @@ bpy = pytest.importorskip("bpy")
 
 from mathutils import Matrix  # noqa: E402
 
-from tests.heads_on_disk import HEADS  # noqa: E402
+from lab.kit.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import compat, heads, landmarks, living, pipeline, sequencer  # noqa: E402
+from turkish_lipsync.blender.generate import generate  # noqa: E402
 from turkish_lipsync.core.base.model import EMOTIONS, emotion_key_name, viseme_key_name  # noqa: E402
 from turkish_lipsync.core.faces.landmarks import LANDMARK_NAMES, LID_LANDMARK_NAMES  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
@@ -102,7 +103,7 @@ def test_generate_operator_keys_the_speech_and_places_the_audio():
 def test_generate_keys_the_tracks_of_the_speech_on_head_and_teeth():
     head = _default_head_with_keys()
     scene = bpy.context.scene
-    result = pipeline.generate(bpy.context, head, SENTENCE)
+    result = generate(bpy.context, SENTENCE, head=head)
     timeline, tracks = result.timeline, result.tracks
     assert scene.frame_start == 1
     assert scene.frame_end == round(timeline.duration * 25)
@@ -567,7 +568,7 @@ def test_undo_takes_the_landmark_markers_back():
 
 def test_a_recording_with_an_empty_text_is_recognised_keyed_and_placed_as_the_sound(tmp_path):
     """No script: the panel's recording and an empty Text still animate the mouth, closing on b, m, p."""
-    from scripts.measure_recogniser import TEST_VOICES, make_take
+    from lab.kit.voices import TEST_VOICES, make_take
 
     head = _default_head_with_keys()
     settings = _settings()

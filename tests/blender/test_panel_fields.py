@@ -33,6 +33,7 @@ def test_the_reference_describes_everything_the_panel_draws():
     assert panel_fields.reference_problems(drawn, panel_fields.settings_rna()) == []
     assert list(dict.fromkeys(item.section for item in drawn)) == [
         "Head",
+        "Face Rig",
         "Speech",
         "Conversation",
         "Living Face",

@@ -12,6 +12,7 @@ bpy = pytest.importorskip("bpy")
 
 from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import compat, heads, keyframes, owned_keys, shapekeys  # noqa: E402
+from turkish_lipsync.blender.generate import generate  # noqa: E402
 from turkish_lipsync.core.faces.arkit_names import ARKIT_UNITS  # noqa: E402
 from turkish_lipsync.core.pipeline import LipSyncOptions, lip_sync  # noqa: E402
 
@@ -181,11 +182,11 @@ def test_own_keys_held_at_a_value_are_warned_and_put_at_rest_only_when_asked(ref
     animated = reference_head.shape_key_add(name="Wink", from_mix=False)
     animated.value = 0.5
     animated.keyframe_insert("value", frame=1)
-    result = pipeline.generate(bpy.context, reference_head, "Ama", LipSyncOptions(timing="table"))
+    result = generate(bpy.context, "Ama", LipSyncOptions(timing="table"), head=reference_head)
     (warning,) = [w for w in result.warnings if "own shape keys hold a value" in w]
     assert warning.startswith("1 of") and "Grin 0.80" in warning and "Wink" not in warning
     assert block.value == pytest.approx(0.8)
     assert pipeline.put_own_keys_at_rest(reference_head) == 1 and block.value == 0.0
     assert animated.value == pytest.approx(0.5)
-    result = pipeline.generate(bpy.context, reference_head, "Ama", LipSyncOptions(timing="table"))
+    result = generate(bpy.context, "Ama", LipSyncOptions(timing="table"), head=reference_head)
     assert not [w for w in result.warnings if "own shape keys hold a value" in w]

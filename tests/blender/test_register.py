@@ -5,9 +5,18 @@ import pytest
 bpy = pytest.importorskip("bpy")
 
 from turkish_lipsync import blender  # noqa: E402
-from turkish_lipsync.blender import operators, panel, preferences, properties, translations  # noqa: E402
+from turkish_lipsync.blender import (  # noqa: E402
+    operators,
+    panel,
+    preferences,
+    properties,
+    rig_operators,
+    translations,
+)
 
-OPERATOR_IDS = ("build_shape_keys", "generate", "render")
+OPERATOR_CLASSES = (*operators.CLASSES, *rig_operators.CLASSES)
+
+OPERATOR_IDS = ("build_shape_keys", "generate", "render", "use_face_rig", "record_pose", "make_keys_linkable")
 
 
 def _registered_types() -> set[str]:
@@ -51,15 +60,18 @@ def test_preferences_belong_to_the_package_blender_enables():
     assert preferences.addon_package(installed) == "bl_ext.user_default.turkish_lipsync"
     assert preferences.addon_package("") == "turkish_lipsync"
     # That Blender then finds the preferences under the installed package (addon_preferences) is checked on
-    # the real install (scripts/build_extension.py --check, tests/blender/test_extension_zip.py).
+    # the real install (tools/release/build_extension.py --check, tests/blender/test_extension_zip.py).
 
 
 def _ui_texts() -> set[str]:
     """Every label, tooltip and enum item a user sees in the panel, operators and preferences."""
     texts = {panel.VIEW3D_PT_turkish_lipsync.bl_label, panel.VIEW3D_PT_turkish_lipsync.bl_category}
     texts |= {"Head", "Speech", "Render"}
-    for cls in operators.CLASSES:
+    for cls in OPERATOR_CLASSES:
         texts |= {cls.bl_label, cls.__doc__}
+        properties_ = cls.bl_rna.properties
+        declared = [properties_[name] for name in getattr(cls, "__annotations__", {}) if name in properties_]
+        texts |= {prop.name for prop in declared} | {prop.description for prop in declared}
     for cls in (*properties.CLASSES, preferences.TurkishLipSyncPreferences):
         for prop in cls.bl_rna.properties:
             if prop.identifier in ("rna_type", "name", "bl_idname"):
@@ -86,7 +98,7 @@ def test_poll_messages_are_translated():
     import inspect
 
     requirements = {
-        requirement for cls in operators.CLASSES for requirement in getattr(cls, "requirements", ())
+        requirement for cls in OPERATOR_CLASSES for requirement in getattr(cls, "requirements", ())
     }
 
     def said(value):  # what a return statement can give: a string, or either side of "x if c else y"

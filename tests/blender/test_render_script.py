@@ -208,7 +208,7 @@ def test_a_users_own_tr_keys_survive_a_rebuild_and_are_never_keyed(tmp_path):
 
 
 def test_a_recording_alone_is_recognised(tmp_path):
-    from scripts.measure_recogniser import TEST_VOICES, make_take
+    from lab.kit.voices import TEST_VOICES, make_take
 
     take, truth, lead, _ = make_take(
         "Bu sabah babam bana mavi bir kalem aldı.", TEST_VOICES["Andrea"], "clean 60 dB", tmp_path,

@@ -5,8 +5,8 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
+from lab.kit.heads_on_disk import HEADS  # noqa: E402
 from tests.blender.evaluated import evaluated_world  # noqa: E402
-from tests.heads_on_disk import HEADS  # noqa: E402
 from turkish_lipsync.blender import heads, owned_keys, shapekeys  # noqa: E402
 from turkish_lipsync.core.base.errors import HeadError  # noqa: E402
 from turkish_lipsync.core.base.model import (  # noqa: E402

@@ -6,7 +6,7 @@ import struct
 import numpy as np
 import pytest
 
-from tests.heads_on_disk import HEADS
+from lab.kit.heads_on_disk import HEADS
 from turkish_lipsync.core.base.errors import DataError
 from turkish_lipsync.core.base.model import (
     EMOTIONS,

@@ -1,14 +1,14 @@
 """A head's parts told apart and carried with the face: every part an island of the head's own mesh.
 
 The heads are the default head's parts joined into its skin mesh and bent into another face, the truth
-the reference's own units bent alike (scripts/joined_heads.py, scripts/kit_heads.py).
+the reference's own units bent alike (lab/kit/joined_heads.py, lab/kit/heads.py).
 """
 
 import numpy as np
 import pytest
 
-from scripts import joined_heads
-from scripts.kit_heads import default_head_parts
+from lab.kit import joined_heads
+from lab.kit.heads import default_head_parts
 from turkish_lipsync.core.faces.closest import nearest_vertices
 from turkish_lipsync.core.faces.head_parts import find_parts
 from turkish_lipsync.core.faces.landmarks import face_frame, find_landmarks

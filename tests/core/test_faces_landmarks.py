@@ -5,7 +5,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tests.heads_on_disk import HEADS, read_obj
+from lab.kit.heads_on_disk import HEADS, read_obj
 from turkish_lipsync.core.base.errors import HeadError
 from turkish_lipsync.core.faces.hidden import hidden_face_share
 from turkish_lipsync.core.faces.landmark_fallbacks import landmarks_from_motion

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from scripts.bench_transfer import subdivide_quads
-from tests.heads_on_disk import HEADS, read_obj
+from lab.kit.bent_faces import subdivide_quads
+from lab.kit.heads_on_disk import HEADS, read_obj
 from turkish_lipsync.core.base.errors import HeadError
 from turkish_lipsync.core.faces.arkit_names import ARKIT_UNITS
 from turkish_lipsync.core.faces.closest import closest_points

@@ -1,4 +1,4 @@
-"""The measures scripts/measure_living.py reads off the evaluated scene, on signals whose answer is known."""
+"""The measures lab/measure/living.py reads off the evaluated scene, on signals whose answer is known."""
 
 import numpy as np
 import pytest

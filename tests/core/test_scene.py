@@ -11,7 +11,7 @@ from turkish_lipsync.core.base.model import viseme_key_name
 from turkish_lipsync.core.motion.living.prosody import measure_prosody
 from turkish_lipsync.core.pipeline import LipSyncOptions
 from turkish_lipsync.core.scene import RoleChoice, cast_for, converse
-from turkish_lipsync.core.scene.speech import line_starts
+from turkish_lipsync.core.scene.sources.spoken import line_starts
 from turkish_lipsync.core.scene.tables import conversation_table
 from turkish_lipsync.core.text.script import read_script
 
@@ -177,7 +177,7 @@ def test_an_overlapping_line_that_moves_with_its_stretch_took_the_other_voice_fo
     stretch does (the other voice heard as its first word) is not taken as it is."""
     from types import SimpleNamespace
 
-    from turkish_lipsync.core.scene.speech import _moves_with
+    from turkish_lipsync.core.scene.sources.scene_recording import _moves_with
 
     def heard_at(begins_of):
         return lambda start: (SimpleNamespace(phones=[SimpleNamespace(start=begins_of(start))]), ())

@@ -267,7 +267,7 @@ def test_unknown_timing_and_table_with_a_recording_are_refused(tmp_path):
     utterance = build_utterance("Merhaba.")
     with pytest.raises(LipSyncError, match="unknown timing 'syllable'"):
         synthesize_timeline(utterance, "syllable")
-    with pytest.raises(LipSyncError, match="table timing .* cannot follow a recording"):
+    with pytest.raises(LipSyncError, match="Table timing .* cannot follow a recording"):
         synthesize_timeline(utterance, "table", recording=tmp_path / "me.wav")
 
 

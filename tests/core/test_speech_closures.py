@@ -8,7 +8,8 @@ import numpy as np
 
 from turkish_lipsync.core.speech.base import PhoneEvent, Synthesis
 from turkish_lipsync.core.speech.recognition.recogniser import HeardLetter, Recognition
-from turkish_lipsync.core.speech.recognition.transcript import CLOSURE_SHARE, heard_timeline, heard_utterance
+from turkish_lipsync.core.speech.recognition.settings import DEFAULT_RECOGNISER
+from turkish_lipsync.core.speech.recognition.transcript import heard_timeline, heard_utterance
 from turkish_lipsync.core.speech.timewarp import (
     CLOSURE_STRETCH,
     JUMP,
@@ -68,8 +69,8 @@ def test_a_recognised_stop_gets_its_closure_back_from_the_letter_before_it_in_it
     )
     timeline = heard_timeline(heard_utterance(recognition), recognition, 2.0)
     starts = {(phone.word_index, phone.letter): phone.start for phone in timeline.phones}
-    assert np.isclose(starts[(0, "p")], 0.40 - CLOSURE_SHARE * 0.30)
+    assert np.isclose(starts[(0, "p")], 0.40 - DEFAULT_RECOGNISER.closure_share * 0.30)
     assert np.isclose(timeline.phones[0].end, starts[(0, "p")])
-    assert np.isclose(starts[(1, "k")], 1.16 - CLOSURE_SHARE * 0.06)
+    assert np.isclose(starts[(1, "k")], 1.16 - DEFAULT_RECOGNISER.closure_share * 0.06)
     assert starts[(1, "t")] == 1.00  # a phrase's first letter: after a pause, the stop starts the sound
     assert starts[(0, "ı")] == 0.50  # a vowel keeps its start

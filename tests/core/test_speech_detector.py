@@ -2,7 +2,7 @@
 
 The reference is Silero's own ONNX model run by onnxruntime (a development dependency only). Spoken words
 come from eSpeak NG through the project's engine and, where people's recordings have been built (`python
-scripts/people.py build`), from people.
+lab/kit/people.py build`), from people.
 """
 
 import importlib.metadata
@@ -10,9 +10,9 @@ import importlib.metadata
 import numpy as np
 import pytest
 
-from scripts.measure_recordings import write_wav
-from scripts.people import FOLDER as PEOPLE
-from scripts.train_recogniser import coloured_noise, music
+from lab.kit.degradations import coloured_noise, music
+from lab.kit.people import FOLDER as PEOPLE
+from lab.kit.takes import write_wav
 from turkish_lipsync.core.base.errors import AudioError, DataError
 from turkish_lipsync.core.speech import speech_detector, synthesize_timeline
 from turkish_lipsync.core.speech.audio import read_audio, resample
@@ -84,7 +84,7 @@ def onnx_probabilities(samples: np.ndarray) -> np.ndarray:
 def peoples_word(name: str) -> np.ndarray:
     path = KTUBERLING / name
     if not path.is_file():
-        pytest.skip(f"people's recordings not built here ({path}); see scripts/measure_detection.py")
+        pytest.skip(f"people's recordings not built here ({path}); see lab/measure/detection.py")
     samples, rate = read_audio(path)
     return resample(samples, rate, RATE)
 
@@ -162,7 +162,7 @@ def test_an_empty_or_tiny_take_has_no_speech_and_its_frames(count):
 def test_a_short_run_is_speech_where_the_takes_sound_is_and_a_long_one_anywhere():
     low, high, dip = 0.02, 0.9, 0.1  # under the silence threshold, over the speech threshold, a dip
     chunk = speech_detector.CHUNK / RATE
-    padding = round(speech_detector.SPEECH_PADDING / chunk)
+    padding = round(speech_detector.DEFAULT_DETECTOR.speech_padding / chunk)
 
     def take(run_chunks, loud_everywhere):
         probabilities = np.array([low] * 20 + [high] * run_chunks + [low] * 20)
@@ -173,7 +173,7 @@ def test_a_short_run_is_speech_where_the_takes_sound_is_and_a_long_one_anywhere(
     short = round(0.15 / chunk)  # a word of 0.15 s
     assert speech_detector.runs(take(short, False)).tolist() == [[20 - padding, 20 + short + padding]]
     assert not take(short, True).any()  # the same run inside loud music or noise is a blip
-    long = round(speech_detector.CERTAIN_SPEECH / chunk) + 1
+    long = round(speech_detector.DEFAULT_DETECTOR.certain_speech / chunk) + 1
     assert take(long, True).any()
     assert not take(1, False).any()  # one chunk is a click
     closure = np.array([low] * 20 + [high] * 4 + [dip] + [high] * 4 + [low] * 20)
@@ -232,7 +232,7 @@ def test_a_persons_fifth_of_a_second_syllable_is_not_silent_to_the_aligner_or_th
 ):
     path = KLETTRES / f"klettres-uk-{name}.wav"
     if not path.is_file():
-        pytest.skip(f"people's recordings not built here ({path}); see scripts/measure_detection.py")
+        pytest.skip(f"people's recordings not built here ({path}); see lab/measure/detection.py")
     samples, rate = read_audio(path)
     take = write_wav(tmp_path / "take.wav", hissed(core(resample(samples, rate, RATE))), RATE)
     try:
@@ -244,11 +244,14 @@ def test_a_persons_fifth_of_a_second_syllable_is_not_silent_to_the_aligner_or_th
 
 @pytest.mark.parametrize(("name", "spelling"), [("de/ear.ogg", "or"), ("sv/mun.wav", "mun")])
 def test_a_word_the_webrtc_mask_barely_hears_is_not_silent_to_the_aligner(tmp_path, name, spelling):
-    from turkish_lipsync.core.speech.recording import LEAST_SPEECH_FRAMES
+    from turkish_lipsync.core.speech.aligner_settings import DEFAULT_ALIGNER
     from turkish_lipsync.core.speech.voice_activity import speech_frames
 
     samples = core(peoples_word(name))
-    assert np.count_nonzero(speech_frames(samples, frame_count(samples.size))) < LEAST_SPEECH_FRAMES
+    assert (
+        np.count_nonzero(speech_frames(samples, frame_count(samples.size)))
+        < DEFAULT_ALIGNER.least_speech_frames
+    )
     assert speech_detector.detect_speech(samples).found
     take = write_wav(tmp_path / "take.wav", samples, RATE)
     try:

@@ -2,23 +2,17 @@
 
 The takes are eSpeak NG variants the network never heard (the weights' own list says so) reading held-out
 sentences of examples/corpus_tr.txt, with room noise and noise before the first word, as in
-scripts/measure_recogniser.py; the truth is the variant's own phone events.
+lab/measure/recogniser.py; the truth is the variant's own phone events.
 """
 
 import numpy as np
 import pytest
 
-from scripts.measure_recogniser import (
-    TEST_VOICES,
-    bilabial_scores,
-    correlation,
-    loudness_envelope,
-    make_take,
-    opening_trajectory,
-    speak_language,
-)
-from scripts.measure_recordings import RATE, write_wav
-from scripts.train_recogniser import coloured_noise, held_out_sentences, music
+from lab.kit.corpus import held_out_sentences
+from lab.kit.degradations import coloured_noise, music
+from lab.kit.scores import bilabial_scores, correlation, loudness_envelope, opening_trajectory
+from lab.kit.takes import RATE, write_wav
+from lab.kit.voices import TEST_VOICES, make_take, speak_language
 from turkish_lipsync.core.base.errors import AudioError
 from turkish_lipsync.core.base.visemes import BILABIAL_VISEMES, VOWEL_VISEMES
 from turkish_lipsync.core.speech.acoustic.features import FEATURE_COUNT

@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from scripts.measure_recogniser import TEST_VOICES, make_take
-from scripts.train_recogniser import held_out_sentences
+from lab.kit.corpus import held_out_sentences
+from lab.kit.voices import TEST_VOICES, make_take
 from turkish_lipsync.core.base.model import viseme_key_name
 from turkish_lipsync.core.base.visemes import BILABIAL_VISEMES
 from turkish_lipsync.core.pipeline import LipSyncOptions, lip_sync
@@ -78,7 +78,7 @@ def test_the_command_line_prints_the_timeline_of_a_recording_alone(take, tmp_pat
 
 
 def test_a_silent_recording_is_one_clear_error(tmp_path):
-    from scripts.measure_recordings import write_wav
+    from lab.kit.takes import write_wav
 
     silent = write_wav(tmp_path / "sessiz.wav", np.zeros(32_000), 16_000)
     result = subprocess.run(

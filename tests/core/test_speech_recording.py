@@ -18,6 +18,7 @@ from turkish_lipsync.core.base.errors import AudioError, TextError
 from turkish_lipsync.core.speech import align_recording, espeak, get_engine, read_audio, synthesize_timeline
 from turkish_lipsync.core.speech import recording as recording_module
 from turkish_lipsync.core.speech import timeline as timeline_module
+from turkish_lipsync.core.speech.aligner_settings import AlignerSettings
 from turkish_lipsync.core.speech.audio import resample
 from turkish_lipsync.core.speech.dtw import dtw_path
 from turkish_lipsync.core.speech.features import frame_count
@@ -341,11 +342,11 @@ def test_a_long_script_is_synthesised_in_chunks_past_the_letter_limit(tmp_path, 
     voice, truth = other_voice(OTHER_TEXT)
     path = noisy_take(tmp_path / "take.wav", voice)
     monkeypatch.setattr(timeline_module, "MAX_SPOKEN_LETTERS", 40)
-    monkeypatch.setattr(recording_module, "CHUNK_LETTERS", 30)
-    assert len(recording_module._chunks(build_utterance(OTHER_TEXT))) == 2
+    chunked = AlignerSettings(chunk_letters=30)
+    assert len(recording_module._chunks(build_utterance(OTHER_TEXT), chunked)) == 2
     with pytest.raises(TextError, match="more than the 40"):
         synthesize_timeline(build_utterance(OTHER_TEXT))  # the synthetic voice alone is still refused
-    speech = synthesize_timeline(build_utterance(OTHER_TEXT), recording=path)
+    speech = synthesize_timeline(build_utterance(OTHER_TEXT), recording=path, aligner=chunked)
     error = np.abs(np.array([w.start for w in speech.timeline.words]) - [w.start + 1.0 for w in truth.words])
     assert np.median(error) < 0.020 and error.max() < 0.150
 

@@ -2,25 +2,20 @@
 room, a voice in the background, another vocal tract, and all of these at once.
 
 The takes are made here from eSpeak NG's own speech (another variant for the speaker, JSML rate changes
-for the tempo) and the measuring script's rooms and hesitations (scripts/takes.py); the truth is the
+for the tempo) and the measuring script's rooms and hesitations (lab/kit/takes.py); the truth is the
 variant's own word onsets, moved with the take.
 """
-
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
+from lab.kit import takes
 from tests.core.test_speech_recording import OTHER_TEXT, other_voice, write_pcm_wav
 from turkish_lipsync.core.base.errors import AudioError
 from turkish_lipsync.core.speech import synthesize_timeline
 from turkish_lipsync.core.speech.audio import resample
 from turkish_lipsync.core.speech.recording import fading
 from turkish_lipsync.core.text.utterance import build_utterance
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
-import takes  # noqa: E402  (the measuring script's takes: rooms, hesitations, a voice in the background)
 
 RATE = takes.RATE
 # OTHER_TEXT read in three pieces at their own tempo: slow, fast, a little slow (no pause between them).

@@ -4,7 +4,7 @@
 // author.Command, frameChunker, path, print, formatTimestampLocal. They are provided here as the Manager
 // defines them, so the authored commands can be checked and then run for real.
 //
-// Usage: node flamenco_compile.js JOB_TYPE.js SETTINGS.json   (the tasks it authors)
+// Usage: node flamenco_compile.js JOB_TYPE.js SETTINGS.json   (the tasks it authors, as JSON)
 //        node flamenco_compile.js JOB_TYPE.js --settings      (the job type's settings)
 "use strict";
 const fs = require("fs");
@@ -48,7 +48,15 @@ if (settingsFile === "--settings") {
   console.log(JSON.stringify(definition.JOB_TYPE.settings));
   process.exit(0);
 }
-const job = { settings: JSON.parse(fs.readFileSync(settingsFile, "utf8")), created: new Date(), tasks: [] };
+// SETTINGS.json is a job's settings, or a whole submission (POST /api/v3/jobs: name, type, settings), whose
+// type must name this job type as the Manager does: the file's name, "_" as "-".
+const given = JSON.parse(fs.readFileSync(settingsFile, "utf8"));
+const typeName = nodePath.basename(jobTypeFile, ".js").replace(/_/g, "-");
+if (given.settings !== undefined && given.type !== typeName) {
+  console.error(`the job's type ${given.type} is not this job type, ${typeName}`);
+  process.exit(3);
+}
+const job = { settings: given.settings || given, created: new Date(), tasks: [] };
 job.addTask = (task) => job.tasks.push(task);
 const context = {
   author: { Task, Command: (name, parameters) => ({ name, parameters }) },

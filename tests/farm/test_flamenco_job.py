@@ -1,8 +1,10 @@
-"""The Flamenco job type: its compiler authors chunk renders and a join, and those commands really run.
+"""The Flamenco job type submitted from Blender: its compiler authors chunk renders and a join of the open
+.blend, and those commands really run.
 
 Flamenco's Manager is not available here; tests/farm/flamenco_compile.js gives compileJob() the globals the
-Manager gives it. Each authored Blender command is then run with the bpy module (`blender -b FILE --python
-render.py -- ARGS` becomes `python render.py -- --head FILE ARGS`) and the join with this Python.
+Manager gives it. Each authored command is then run as a worker runs it, with the Manager's {blender}
+variable empty: the tasks' Blender is then the bpy module of the Python that runs them. (An episode's scene,
+with its build, is checked against the Open Job Description job in test_farm_jobs.py.)
 """
 
 import json
@@ -55,8 +57,8 @@ def test_the_job_renders_chunks_on_workers_and_joins_them_with_the_speech(tmp_pa
             "chunk_size": 4,
             "engine": "CYCLES",
             "samples": 1,
-            "render_script": str(SCRIPT),
-            "join_python": sys.executable,
+            "checkout": str(REPOSITORY),
+            "python": sys.executable,
             "speech_wav": str(wav),
             "render_output_path": str(tmp_path / "out" / "{timestamp}" / "shot.mp4"),
             "blendfile": str(blend),
@@ -65,20 +67,23 @@ def test_the_job_renders_chunks_on_workers_and_joins_them_with_the_speech(tmp_pa
     renders, join = tasks[:-1], tasks[-1]
     assert len(renders) == -(-last // 4) and {task["type"] for task in renders} == {"blender"}
     assert join["type"] == "misc" and join["dependencies"] == [task["name"] for task in renders]
+    assert not any(task["name"] == "build" for task in tasks)  # the .blend is built already
     for task in renders:  # any order: each worker renders its own chunk
         (command,) = task["commands"]
-        assert command["name"] == "blender-render" and command["parameters"]["blendfile"] == str(blend)
-        arguments = command["parameters"]["args"]
-        assert arguments[:2] == ["--python", str(SCRIPT)]
-        _run(
-            [sys.executable, str(SCRIPT), "--", "--head", str(blend), *arguments[arguments.index("--") + 1 :]]
-        )
+        assert command["name"] == "exec" and f"--blend={blend}" in command["parameters"]["args"]
+        _run_on_worker(command)
     (command,) = join["commands"]
-    assert command["name"] == "exec"
-    _run([command["parameters"]["exe"], *command["parameters"]["args"]])
+    _run_on_worker(command)
     (video,) = (tmp_path / "out").glob("*/shot.mp4")
     with av.open(str(video)) as container:
         assert container.streams.audio and container.streams.video[0].frames == last
+    assert sorted(path.name for path in video.parent.glob("chunks/*.mp4"))[0] == "frames-0001-0004.mp4"
+
+
+def _run_on_worker(command: dict) -> None:
+    """An exec command as a worker runs it, the Manager's variables replaced ({blender}: the bpy module)."""
+    parameters = command["parameters"]
+    _run([parameters["exe"], *(argument.replace("{blender}", "") for argument in parameters["args"])])
 
 
 @pytest.mark.skipif(NODE is None, reason="needs node to run the job compiler")

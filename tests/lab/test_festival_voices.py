@@ -9,7 +9,7 @@ import wave
 import numpy as np
 import pytest
 
-from lab.train import festival_voices
+from lab.kit import festival_voices
 from turkish_lipsync.core.base.errors import DataError
 from turkish_lipsync.core.speech.acoustic.labels import CLASS_INDEX
 

@@ -2,10 +2,28 @@
 
 from __future__ import annotations
 
-from . import operators, panel, preferences, properties, translations
+from . import (
+    audio_decoding,
+    operators,
+    panel,
+    preferences,
+    properties,
+    recording_browser,
+    rig_operators,
+    translations,
+)
 
 # Registration order: data types first, then what uses them; unregistered in reverse.
-MODULES = (translations, properties, preferences, operators, panel)
+MODULES = (
+    translations,
+    audio_decoding,
+    properties,
+    preferences,
+    operators,
+    rig_operators,
+    recording_browser,
+    panel,
+)
 
 
 def register() -> None:

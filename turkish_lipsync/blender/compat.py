@@ -127,6 +127,12 @@ def all_action_fcurves(action: bpy.types.Action) -> list:
 
 # The bpy module 4.2 from PyPI is built without Audaspace: no sounds, no sound strips, no audio in renders.
 HAS_AUDIO = bool(getattr(bpy.app.build_options, "audaspace", True))
+# Audaspace reads recordings through Blender's FFmpeg (AAC, the sound tracks of videos) where both are built
+# in: every Blender release and the PyPI modules 4.5 and 5.0.
+HAS_FFMPEG_AUDIO = HAS_AUDIO and bool(getattr(bpy.app.build_options, "codec_ffmpeg", False))
+# FFmpeg 7.1 (Blender 4.5 and 5.0) decodes the priming samples a Matroska track's CodecDelay announces (an
+# AAC encoder's 1024) as sound, 21-32 ms before the recording's own; FFmpeg 8.1 drops them (measured).
+FFMPEG_KEEPS_MATROSKA_CODEC_DELAY = HAS_FFMPEG_AUDIO and bpy.app.ffmpeg.avformat_version < (62, 0, 0)
 
 
 def sequencer_strips(scene: bpy.types.Scene, create: bool = True):

@@ -17,7 +17,7 @@ import bpy
 from ..core.base.errors import LipSyncError
 from ..core.interchange import export_format_named, export_text, write_export
 from ..core.speech.cues.papagayo_pgo import voices_as_pgo
-from . import keyframes, pipeline, sequencer
+from . import conversation, gltf_export, keyframes, pipeline, sequencer
 from .scene_record import conversation_record
 
 
@@ -33,6 +33,33 @@ def export_path_for(chosen: str, export_format: str) -> Path:
     return Path(bpy.path.abspath(chosen)).with_suffix(export_format_named(export_format).suffix)
 
 
+def in_conversation(scene: bpy.types.Scene, head: bpy.types.Object | None) -> bool:
+    """Whether an export is the scene's conversation's: it holds one, and no other head is chosen."""
+    characters = pipeline.conversation_heads(scene)
+    return bool(characters) and (head is None or head in characters)
+
+
+def export_speech(
+    context: bpy.types.Context, head: bpy.types.Object | None, export_format: str, path: Path
+) -> tuple[ExportResult, ...]:
+    """What Generate made, for other tools: a conversation's (export_scene) where the head is one of its
+    characters or none is chosen, else the head's own (export_animation)."""
+    if in_conversation(context.scene, head):
+        return export_scene(context, export_format, path)
+    if head is None:
+        raise LipSyncError("Choose the head whose speech to export in the Lip Sync panel.")
+    return (export_animation(context, head, export_format, path),)
+
+
+def export_speech_gltf(
+    context: bpy.types.Context, head: bpy.types.Object | None, path: str | Path
+) -> list[gltf_export.GltfExport]:
+    """The speech as glTF: a conversation's scene and each character beside it, else the head's own."""
+    if in_conversation(context.scene, head):
+        return conversation.export_conversation_gltf(context, path)
+    return [gltf_export.export_gltf(context, head, path)]
+
+
 def export_animation(
     context: bpy.types.Context, head: bpy.types.Object, export_format: str, path: Path
 ) -> ExportResult:
@@ -46,7 +73,12 @@ def export_animation(
     tracks = keyframes.read_weight_tracks(objects, record.frame_start, record.frame_count, record.fps)
     tracks = dataclasses.replace(tracks, head_and_eyes=record.head_and_eyes)
     warnings: tuple[str, ...] = ()
-    if keyframes.key_fingerprint(objects) != record.key_fingerprint:
+    if not tracks.tracks:
+        warnings = (
+            f"{head.name!r} speaks through its face rig, not its shape keys: formats of weights (the Live "
+            "Link Face CSV) export them at rest; mouth cues and words are timed as Generate timed them.",
+        )
+    elif keyframes.key_fingerprint(objects) != record.key_fingerprint:
         warnings = (
             f"The keys of {head.name!r} were changed after Generate Animation: the weights are exported as "
             "the keys are now, the mouth cues and words as Generate timed them.",

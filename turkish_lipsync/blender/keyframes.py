@@ -16,13 +16,11 @@ import numpy as np
 
 from ..core.base.model import EMOTION_KEY_PREFIX, VISEME_KEY_PREFIX, Track, WeightTracks
 from . import compat
+from .marked_curves import INTERPOLATION_VALUES, LINKED_KEYS, marked_paths
 from .owned_keys import owned_keys
 
 ACTION_TAG = "turkish_lipsync_utterance"  # custom property on the actions we create
 KEY_ID_TYPE = "KEY"
-
-# Blender's BezTriple interpolation enum values, for foreach_set.
-INTERPOLATION_VALUES = {"CONSTANT": 0, "LINEAR": 1, "BEZIER": 2}
 
 
 @dataclass(frozen=True)
@@ -34,6 +32,11 @@ class WrittenAction:
     action_name: str
     curve_count: int
     key_count: int
+
+
+def property_path(name: str) -> str:
+    """The data path of an object's custom property."""
+    return f'["{bpy.utils.escape_identifier(name)}"]'
 
 
 def curve_data_path(shape_key_name: str) -> str:
@@ -188,8 +191,19 @@ def remove_weight_tracks(objects) -> int:
 
 
 def _our_curves(objects) -> list[tuple[str, bpy.types.FCurve]]:
-    """(our key's name, its curve) of every curve of our keys on the objects' shape keys."""
+    """(our key's name, its curve) of every curve of our keys on the objects' shape keys, and of the head's
+    own properties that drive them where its keys are linkable (blender/linking.py)."""
     curves = []
+    head = objects[0] if objects else None
+    action = head.animation_data.action if head is not None and head.animation_data else None
+    linked = marked_paths(action, LINKED_KEYS)
+    if linked:
+        ours = {property_path(name): name for name in owned_keys(head)}
+        curves += [
+            (ours[fc.data_path], fc)
+            for fc in compat.all_action_fcurves(action)
+            if fc.data_path in linked & set(ours)
+        ]
     for obj, key in shape_key_owners(objects):
         action = key.animation_data.action if key.animation_data else None
         channels = compat.action_channels(action, key, KEY_ID_TYPE, create=False) if action else None

@@ -28,12 +28,11 @@ from ..core.base.rotations import eye_matrices, head_matrices
 from ..core.motion.frames import decimated_keys
 from . import compat, render
 from .living_rig import LivingRig, find_rig
+from .marked_curves import LIVING, remove_marked_channels, users_paths, write_marked_channels
 
-ACTION_TAG = "turkish_lipsync_living"  # on actions we create for the living motion
-CURVES_PROPERTY = "tr_living_curves"  # on any action: the data paths of the curves we added to it
+ACTION_TAG = LIVING.action_tag  # on actions we create for the living motion
+CURVES_PROPERTY = LIVING.curves_property  # on any action: the data paths of the curves we added to it
 REST_PROPERTY = "tr_living_rest"  # on an object: its static delta transform before ours
-GROUP = "TR living"
-OBJECT_ID = "OBJECT"
 # Keys are dropped where linear interpolation between their neighbours keeps every angle of the motion (yaw,
 # pitch, roll of the head and of an eye, degrees) this close: a fortieth of the eyes' contact threshold and
 # smaller than the microsaccades of a fixating eye, or the 0.44 mm a head turning that much shifts 10 cm
@@ -65,9 +64,10 @@ def at_rest(scene: bpy.types.Scene):
             if fcurve.data_path in ours and not fcurve.mute:
                 fcurve.mute = True
                 muted.append(fcurve)
-        if REST_PROPERTY in obj:
+        rest = _rest_of(obj, bool(ours))
+        if rest is not None:
             saved.append((obj, _deltas_of(obj)))
-            _set_deltas(obj, obj[REST_PROPERTY])
+            _set_deltas(obj, rest)
     changed = bool(muted or saved)  # else the scene is at rest as it is (an update costs 1.6 ms)
     if changed:
         bpy.context.view_layer.update()
@@ -226,15 +226,12 @@ def _key_object(obj: bpy.types.Object, frames: np.ndarray, motion_world: np.ndar
     rotation_path = "delta_rotation_quaternion" if mode == "QUATERNION" else "delta_rotation_euler"
     action = obj.animation_data.action if obj.animation_data else None
     if action is not None:
-        theirs = {fc.data_path for fc in compat.all_action_fcurves(action)} - set(
-            action.get(CURVES_PROPERTY, ())
-        )
-        if theirs & {"delta_location", rotation_path}:
+        if users_paths(action) & {"delta_location", rotation_path}:
             return 0, (
                 f"{obj.name!r} already has animated delta transforms of its own, so the head's and eyes' "
                 "motion was not keyed on it; clear them (Object > Animation) to let it move."
             )
-    rest = obj.get(REST_PROPERTY) or _deltas_of(obj)
+    rest = _rest_of(obj, action is not None and CURVES_PROPERTY in action) or _deltas_of(obj)
     obj[REST_PROPERTY] = rest
     location = np.array(obj.location)
     rest_location = np.array(rest["location"])
@@ -249,7 +246,7 @@ def _key_object(obj: bpy.types.Object, frames: np.ndarray, motion_world: np.ndar
     delta_rotation = rotation @ rest_rotation
     rotation_values = _quaternions(delta_rotation) if mode == "QUATERNION" else _eulers(delta_rotation, mode)
     channels = {"delta_location": (frames, delta_location), rotation_path: (frames, rotation_values)}
-    return _write_channels(obj, channels), ""
+    return write_marked_channels(obj, channels, LIVING), ""
 
 
 def _key_bones(
@@ -261,11 +258,7 @@ def _key_bones(
     armature_rotation = armature.matrix_world.to_3x3()  # mathutils, as in _key_object
     armature_rotation *= 1.0 / (np.cbrt(abs(armature_rotation.determinant())) or 1.0)
     action = armature.animation_data.action if armature.animation_data else None
-    theirs = set()
-    if action is not None:
-        theirs = {fc.data_path for fc in compat.all_action_fcurves(action)} - set(
-            action.get(CURVES_PROPERTY, ())
-        )
+    theirs = users_paths(action)
     channels = {}
     for bone_name, (frames, motion) in bones.items():
         bone = armature.data.bones[bone_name]
@@ -288,33 +281,7 @@ def _key_bones(
                 "not keyed on it; key it on a layer of your own (NLA) and generate again."
             )
         channels[path] = (frames, values)
-    return _write_channels(armature, channels), ""
-
-
-def _write_channels(owner: bpy.types.Object, channels: dict) -> int:
-    """F-curves for every channel (path -> (frames, (N, k) values)) in the owner's action (ours where it has
-    none), keyed on those frames; returns the count."""
-    action = owner.animation_data.action if owner.animation_data else None
-    if action is None:
-        action = bpy.data.actions.new(f"TR_living.{owner.name}")
-        action[ACTION_TAG] = True
-    compat.assign_action(owner, action, OBJECT_ID)
-    bag = compat.action_channels(action, owner, OBJECT_ID, create=True)
-    written = 0
-    for path, (frames, values) in channels.items():
-        values = np.asarray(values, np.float64).reshape(len(frames), -1)
-        coordinates = np.empty((len(frames), 2), np.float32)
-        coordinates[:, 0] = frames
-        interpolations = np.ones(len(frames), np.int32)
-        for index in range(values.shape[1]):
-            fcurve = compat.new_fcurve(bag, path, GROUP, index=index)
-            fcurve.keyframe_points.add(len(frames))
-            coordinates[:, 1] = values[:, index]
-            fcurve.keyframe_points.foreach_set("co", coordinates.ravel())
-            fcurve.keyframe_points.foreach_set("interpolation", interpolations)
-            written += len(frames)
-    action[CURVES_PROPERTY] = sorted({*action.get(CURVES_PROPERTY, ()), *channels})
-    return written
+    return write_marked_channels(armature, channels, LIVING), ""
 
 
 # ---------------------------------------------------------------- removing
@@ -324,23 +291,25 @@ def remove_living_motion(scene: bpy.types.Scene) -> int:
     """Our living motion off every object of the scene, their own deltas back; returns curves removed."""
     removed = 0
     for obj in scene.objects:
-        animation = obj.animation_data
-        action = animation.action if animation else None
-        if action is not None and CURVES_PROPERTY in action:
-            ours = set(action[CURVES_PROPERTY])
-            bag = compat.action_channels(action, obj, OBJECT_ID, create=False)
-            if bag is not None:
-                for fcurve in [fc for fc in bag.fcurves if fc.data_path in ours]:
-                    bag.fcurves.remove(fcurve)
-                    removed += 1
-            del action[CURVES_PROPERTY]
-            if action.get(ACTION_TAG) and not compat.all_action_fcurves(action):
-                animation.action = None
-                bpy.data.actions.remove(action)
-        if REST_PROPERTY in obj:
-            _set_deltas(obj, obj[REST_PROPERTY])
-            del obj[REST_PROPERTY]
+        action = obj.animation_data.action if obj.animation_data else None
+        rest = _rest_of(obj, action is not None and CURVES_PROPERTY in action)
+        removed += remove_marked_channels(obj, LIVING)
+        if rest is not None:
+            _set_deltas(obj, rest)
+        obj.pop(REST_PROPERTY, None)
     return removed
+
+
+def _rest_of(obj: bpy.types.Object, moved_by_us: bool):
+    """The object's own static deltas under ours: as we kept them, else (a library override reopened: the
+    properties we add to one are not saved) those of the linked object it overrides; None where we never
+    moved it."""
+    if REST_PROPERTY in obj:
+        return obj[REST_PROPERTY]
+    override = obj.override_library
+    if moved_by_us and override is not None and override.reference is not None:
+        return _deltas_of(override.reference)
+    return None
 
 
 # ---------------------------------------------------------------- delta transforms and rotations

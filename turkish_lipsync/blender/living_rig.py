@@ -92,32 +92,10 @@ def find_rig(head: bpy.types.Object, parts: list[bpy.types.Object] | None = None
     vertices = mesh.world_rest_coordinates(head).astype(np.float64)
     low, high = vertices.min(axis=0), vertices.max(axis=0)
     centre, size = (low + high) / 2, float(np.max(high - low))
-    armature = _armature_of(head)
+    armature = armature_of(head)
     head_bone = (_bone_named(armature, _HEAD_BONE) or _bone_named(armature, _NECK_BONE)) if armature else None
     warnings: list[str] = []
-
-    # Eyes: objects of their own, else bones, else islands of the head's mesh, else what look keys move.
-    found: list[tuple[np.ndarray, dict]] = []
-    for part in parts:
-        if part.type == "MESH" and len(part.data.vertices) >= 12:
-            points = mesh.world_rest_coordinates(part).astype(np.float64)
-            ball_centre, radius, spread = sphere_fit(points)
-            if spread < 0.25 and 0.01 * size < radius < 0.06 * size:
-                found.append((ball_centre, {"object_name": part.name}))
-    turn_by = "objects" if len(found) >= 2 else "none"
-    if turn_by == "none" and armature is not None:
-        found = [
-            (_bone_head(armature, bone.name), {"bone_name": bone.name})
-            for bone in armature.data.bones
-            if _EYE_BONE.search(bone.name) and not bone.children
-        ]
-        turn_by = "bones" if len(found) == 2 else "none"
-    if turn_by == "none":
-        balls = round_pieces(vertices, mesh.triangles(head), size)
-        found = [(ball.centre, {}) for ball in balls]
-        moved = _look_key_centres(head, vertices) if len(found) < 2 else []
-        found = found if len(found) >= 2 else moved
-        turn_by = "keys" if len(found) >= 2 else "none"
+    found, turn_by = _eye_centres(head, parts, armature, vertices, size)
     found = _pair(found, centre)
     eye_middle = np.mean([point for point, _ in found], axis=0) if found else centre
     frame = _frame(eye_middle, centre, size)
@@ -155,6 +133,33 @@ def find_rig(head: bpy.types.Object, parts: list[bpy.types.Object] | None = None
         parts=tuple(p.name for p in parts),
         warnings=tuple(warnings),
     )
+
+
+def _eye_centres(head, parts, armature, vertices: np.ndarray, size: float) -> tuple[list, str]:
+    """The eyes' centres (each with what turns it) and how they turn: objects of their own, else bones,
+    else islands of the head's mesh, else what look keys move ("none" where fewer than two are found)."""
+    found: list[tuple[np.ndarray, dict]] = []
+    for part in parts:
+        if part.type == "MESH" and len(part.data.vertices) >= 12:
+            points = mesh.world_rest_coordinates(part).astype(np.float64)
+            ball_centre, radius, spread = sphere_fit(points)
+            if spread < 0.25 and 0.01 * size < radius < 0.06 * size:
+                found.append((ball_centre, {"object_name": part.name}))
+    if len(found) >= 2:
+        return found, "objects"
+    if armature is not None:
+        found = [
+            (_bone_head(armature, bone.name), {"bone_name": bone.name})
+            for bone in armature.data.bones
+            if _EYE_BONE.search(bone.name) and not bone.children
+        ]
+        if len(found) == 2:
+            return found, "bones"
+    balls = round_pieces(vertices, mesh.triangles(head), size)
+    found = [(ball.centre, {}) for ball in balls]
+    moved = _look_key_centres(head, vertices) if len(found) < 2 else []
+    found = found if len(found) >= 2 else moved
+    return found, "keys" if len(found) >= 2 else "none"
 
 
 def _frame(eye_middle: np.ndarray, centre: np.ndarray, size: float) -> np.ndarray:
@@ -215,7 +220,7 @@ def _look_key_centres(head: bpy.types.Object, world: np.ndarray) -> list[tuple[n
     return [(s.mean(axis=0), {}) for s in sides]
 
 
-def _armature_of(head: bpy.types.Object) -> bpy.types.Object | None:
+def armature_of(head: bpy.types.Object) -> bpy.types.Object | None:
     for modifier in head.modifiers:
         if modifier.type == "ARMATURE" and modifier.object is not None:
             return modifier.object

@@ -16,8 +16,10 @@ from ..core.faces.reference import load_reference_head
 from ..core.pipeline import LipSyncOptions
 from ..core.scene import RoleChoice
 from ..core.scene.speech import SceneSources, line_recordings_in
+from ..core.speech.timeline import TABLE_CANNOT_FOLLOW_RECORDING
 from ..core.text.script import Script, has_speakers, read_script, speaker_key
-from . import conversation, exports, gltf_export, landmarks, mesh, pipeline, shapekeys
+from . import character, exports, landmarks, mesh, pipeline, shapekeys
+from .generate import generate
 from .preferences import ADDON_PACKAGE, configure_speech_engine
 from .properties import LAYER_VALUES
 
@@ -130,9 +132,9 @@ def key_source_ready(context) -> str | None:
 
 
 def keys_built(context) -> str | None:
-    if not pipeline.has_lipsync_keys(chosen_head(context)):
-        return "The head has no lip-sync shape keys yet: build them first"
-    return None
+    """The head speaks through its keys or its face rig; the reason why not, where it cannot."""
+    head = chosen_head(context)
+    return character.speech_problem(head) if head is not None else None
 
 
 def speaks_a_script(context) -> bool:
@@ -176,24 +178,16 @@ def source_chosen(context) -> str | None:
 def timing_follows_recording(context) -> str | None:
     settings = settings_of(context)
     if settings.recording and settings.timing == "table" and not settings.cue_file:
-        return "Table timing cannot follow a recording: choose Phone or Word timing"
+        return TABLE_CANNOT_FOLLOW_RECORDING
     return None
 
 
-def in_conversation(context) -> bool:
-    """Whether the exports are a conversation's: the scene holds one and no other head is chosen."""
-    characters = pipeline.conversation_heads(context.scene)
-    head = chosen_head(context)
-    return bool(characters) and (head is None or head in characters)
-
-
 def speech_generated(context) -> str | None:
-    if in_conversation(context):
+    if exports.in_conversation(context.scene, chosen_head(context)):
         return None
     if chosen_head(context) is None:
         return "Choose the head object in the Lip Sync panel"
-    key = chosen_head(context).data.shape_keys
-    action = key.animation_data.action if key is not None and key.animation_data else None
+    action = character.record_holder(chosen_head(context), pipeline.RECORD_PROPERTY)
     if action is None or pipeline.RECORD_PROPERTY not in action:
         return "Generate the animation first: the head has no speech to export"
     return None
@@ -274,53 +268,32 @@ class TURKISH_LIPSYNC_OT_generate(ReportedOperator, bpy.types.Operator):
         source = source_of(settings)
         script = read_script(source) if source else None
         if script is not None:
-            return generate_conversation(context, settings, script)
-        if head is None or not pipeline.has_lipsync_keys(head):
-            raise HeadError(
-                "The text has no speakers, so one head speaks it: choose the head in the Lip Sync panel and "
-                "build its shape keys first."
-            )
+            fill_cast(settings, script)  # the cast list brought up to the script before it is cast
         with progress_reporter(context, "Generate") as progress:
-            result = pipeline.generate(
+            result = generate(
                 context,
-                head,
                 source,
                 options_of(settings),
+                head=head,
+                choices=choices_of(settings) if script is not None else None,
+                sources=sources_of(settings) if script is not None else None,
                 audio_folder=settings.audio_folder,
                 package=ADDON_PACKAGE,
                 progress=progress,
                 gaze_target=settings.gaze_target.name if settings.gaze_target else "",
             )
-        settings.head = head
+        if script is None:
+            settings.head = head
+            what = f"{result.phone_count} phones"
+        else:
+            for member in settings.cast:  # the heads the cast got (default heads included), for the next run
+                if member.head is None and member.name in result.heads:
+                    member.head = bpy.data.objects[result.heads[member.name]]
+            what = f"{len(script.lines)} lines of {len(result.heads)} characters"
         message = (
-            f"{result.phone_count} phones keyed over {result.duration:.2f} s "
-            f"(frames {result.frame_start}-{result.frame_end})"
+            f"{what} keyed over {result.duration:.2f} s (frames {result.frame_start}-{result.frame_end})"
         )
         return message, result.warnings
-
-
-def generate_conversation(context, settings, script: Script) -> Outcome:
-    """A script with speakers: the cast list brought up to the script, then every character generated."""
-    fill_cast(settings, script)
-    with progress_reporter(context, "Generate") as progress:
-        result = conversation.generate_conversation(
-            context,
-            script,
-            choices_of(settings),
-            options_of(settings),
-            sources=sources_of(settings),
-            audio_folder=settings.audio_folder,
-            package=ADDON_PACKAGE,
-            progress=progress,
-        )
-    for member in settings.cast:  # the heads the cast got (default heads included), for the next run
-        if member.head is None and member.name in result.heads:
-            member.head = bpy.data.objects[result.heads[member.name]]
-    message = (
-        f"{len(script.lines)} lines of {len(result.heads)} characters keyed over {result.duration:.2f} s "
-        f"(frames {result.frame_start}-{result.frame_end})"
-    )
-    return message, result.warnings
 
 
 def fill_cast(settings, script: Script) -> int:
@@ -596,14 +569,11 @@ class TURKISH_LIPSYNC_OT_export_animation(ReportedOperator, bpy.types.Operator):
     def work(context) -> Outcome:
         settings = settings_of(context)
         path = exports.export_path_for(settings.export_path, settings.export_format)
-        if in_conversation(context):
-            results = exports.export_scene(context, settings.export_format, path)
-            written = ", ".join(str(result.path) for result in results)
-            return f"Exported {settings.export_format} to {written}", tuple(
-                warning for result in results for warning in result.warnings
-            )
-        result = exports.export_animation(context, chosen_head(context), settings.export_format, path)
-        return f"Exported {result.export_format} to {result.path}", result.warnings
+        results = exports.export_speech(context, chosen_head(context), settings.export_format, path)
+        written = ", ".join(str(result.path) for result in results)
+        return f"Exported {settings.export_format} to {written}", tuple(
+            warning for result in results for warning in result.warnings
+        )
 
 
 class TURKISH_LIPSYNC_OT_export_gltf(ReportedOperator, bpy.types.Operator):
@@ -617,10 +587,10 @@ class TURKISH_LIPSYNC_OT_export_gltf(ReportedOperator, bpy.types.Operator):
     @staticmethod
     def work(context) -> Outcome:
         path = settings_of(context).gltf_path
-        if in_conversation(context):
-            results = conversation.export_conversation_gltf(context, path)
+        results = exports.export_speech_gltf(context, chosen_head(context), path)
+        if len(results) > 1:  # a conversation: the scene and each character
             return f"Exported {', '.join(result.path for result in results)}", ()
-        result = gltf_export.export_gltf(context, chosen_head(context), path)
+        result = results[0]
         sound = f", the speech in {result.wav_path}" if result.wav_path else ", no speech WAV in the scene"
         return f"Exported {result.path} ({result.morph_targets} morph targets){sound}", ()
 

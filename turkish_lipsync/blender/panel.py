@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import bpy
 
+from ..core.base.errors import LipSyncError
+from .face_rig import face_armature, stored_setup
 from .shapekeys import KEY_SOURCES_PROPERTY
 
 
@@ -30,7 +32,23 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
         layout.use_property_split = True
         layout.use_property_decorate = False
         settings = context.scene.turkish_lipsync
+        self.draw_head(layout, settings)
+        self.draw_key_sources(layout, settings.head)
+        self.draw_face_rig(layout, settings)
+        layout.separator()
+        self.draw_speech(layout, settings)
+        self.draw_cast(layout, settings)
+        self.draw_living(layout, settings)
+        column = layout.column()
+        column.operator("turkish_lipsync.generate", icon="PLAY_SOUND")
+        layout.separator()
+        self.draw_render(layout, settings)
+        layout.separator()
+        self.draw_export(layout, settings)
 
+    @staticmethod
+    def draw_head(layout, settings) -> None:
+        """The head and what its keys are built from."""
         column = layout.column(heading="Head")
         column.prop(settings, "head")
         column.prop(settings, "key_source")
@@ -49,16 +67,20 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
             row.operator("turkish_lipsync.show_landmarks", icon="EMPTY_DATA")
             row.operator("turkish_lipsync.clear_landmarks", icon="X", text="")
         column.operator("turkish_lipsync.build_shape_keys", icon="SHAPEKEY_DATA")
-        self.draw_key_sources(layout, settings.head)
+        column.operator("turkish_lipsync.make_keys_linkable", icon="LINKED")
 
-        layout.separator()
+    @staticmethod
+    def draw_speech(layout, settings) -> None:
+        """What is spoken, from which recording or cue file, and how it is timed and moved."""
         column = layout.column(heading="Speech")
         column.prop(settings, "source_kind", expand=True)
         if settings.source_kind == "TEXT":
             column.prop(settings, "text")
         else:
             column.prop(settings, "file_path")
-        column.prop(settings, "recording")
+        row = column.row(align=True)
+        row.prop(settings, "recording")
+        row.operator("turkish_lipsync.choose_recording", text="", icon="FILEBROWSER").target = "SPEECH"
         column.prop(settings, "cue_file")
         column.prop(settings, "timing")
         column.prop(settings, "rate")
@@ -66,19 +88,17 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
         column.prop(settings, "motion")
         column.prop(settings, "interpolation")
         column.prop(settings, "audio_folder")
-        self.draw_cast(layout, settings)
-        self.draw_living(layout, settings)
-        column = layout.column()
-        column.operator("turkish_lipsync.generate", icon="PLAY_SOUND")
 
-        layout.separator()
+    @staticmethod
+    def draw_render(layout, settings) -> None:
         column = layout.column(heading="Render")
         column.prop(settings, "render_engine")
         column.prop(settings, "render_samples")
         column.prop(settings, "output_path")
         column.operator("turkish_lipsync.render", icon="RENDER_ANIMATION")
 
-        layout.separator()
+    @staticmethod
+    def draw_export(layout, settings) -> None:
         column = layout.column(heading="Export")
         column.prop(settings, "export_format")
         column.prop(settings, "export_path")
@@ -106,7 +126,9 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
             voiced.prop(member, "pitch")
             voiced.prop(member, "voice_rate")
             column.prop(member, "emotion_strength")
-            column.prop(member, "recording")
+            row = column.row(align=True)
+            row.prop(member, "recording")
+            row.operator("turkish_lipsync.choose_recording", text="", icon="FILEBROWSER").target = "SPEAKER"
         body.prop(settings, "line_recordings")
 
     @staticmethod
@@ -129,6 +151,44 @@ class VIEW3D_PT_turkish_lipsync(bpy.types.Panel):
             sub.prop(settings, amount, text="")
         body.prop(settings, "gaze_target")
         body.prop(settings, "seed")
+
+    @staticmethod
+    def draw_face_rig(layout, settings) -> None:
+        """A sub-panel for a head its armature moves: the mapping kept with the armature, the poses of the
+        character's own (recorded from its pose or from an action), each with a button to clear it."""
+        head = settings.head
+        armature = face_armature(head) if head is not None else None
+        header, body = layout.panel("TURKISH_LIPSYNC_face_rig", default_closed=armature is None)
+        header.label(text="Face Rig")
+        if body is None:
+            return
+        body.prop(settings, "face_rig")
+        if settings.face_rig == "jaw_bone":  # the armature's bones to choose from, where it has one
+            body.prop_search(settings, "jaw_bone", armature.data, "bones") if armature else body.prop(
+                settings, "jaw_bone"
+            )
+        row = body.row(align=True)
+        row.operator("turkish_lipsync.use_face_rig", icon="ARMATURE_DATA")
+        row.operator("turkish_lipsync.stop_face_rig", icon="X", text="")
+        body.prop(settings, "pose_target")
+        body.operator("turkish_lipsync.record_pose", icon="POSE_HLT")
+        body.prop(settings, "pose_action")
+        body.prop(settings, "pose_frame")
+        body.operator("turkish_lipsync.record_action_pose", icon="ACTION")
+        if armature is None:
+            return
+        try:
+            own = stored_setup(armature)
+        except LipSyncError as error:
+            body.label(text=str(error), icon="ERROR", translate=False)
+            return
+        column = body.column(align=True)
+        column.use_property_split = False
+        for target, pose in own.poses.items():
+            row = column.row(align=True)
+            row.label(text=target.removeprefix("TR_"), translate=False)
+            row.label(text=pose.source, translate=False)
+            row.operator("turkish_lipsync.clear_pose", text="", icon="X").target = target
 
     @staticmethod
     def draw_key_sources(layout, head) -> None:

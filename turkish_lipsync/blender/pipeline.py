@@ -6,8 +6,6 @@ error leaves the file as it was. Functions take and return names, never keep Ble
 
 from __future__ import annotations
 
-import dataclasses
-import re
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -19,20 +17,14 @@ import numpy as np
 from ..core.base.errors import HeadError, TextError
 from ..core.base.files import read_user_text
 from ..core.base.model import (
-    OWNED_PREFIX,
     VISEME_KEY_PREFIX,
-    Timeline,
-    Utterance,
-    WeightTracks,
     viseme_key_name,
 )
-from ..core.interchange.animation_record import AnimationRecord, record_from_json, record_to_json
-from ..core.motion.frames import shown_frame_count
-from ..core.pipeline import LipSyncOptions, lip_sync
-from . import compat, heads, keyframes, living, render, sequencer, shapekeys
+from ..core.interchange.animation_record import AnimationRecord, record_from_json
+from . import character, compat, face_rig, heads, keyframes, linking, living, render, sequencer, shapekeys
 from .living_rig import find_rig
 from .owned_keys import owned_keys
-from .scene_record import conversation_record, forget_conversation_record
+from .scene_record import conversation_record
 from .shapekeys import BuildReport
 
 Progress = Callable[[float, str], None]
@@ -40,24 +32,6 @@ Progress = Callable[[float, str], None]
 
 def _no_progress(_fraction: float, _message: str) -> None:
     pass
-
-
-@dataclass(frozen=True, eq=False)
-class GenerateResult:
-    """What generate did (names only, safe across undo) and the timeline and tracks it keyed."""
-
-    action_names: tuple[str, ...]
-    wav_path: str | None
-    strip_name: str | None
-    frame_start: int
-    frame_end: int
-    duration: float
-    phone_count: int
-    timing: str
-    fps: float
-    timeline: Timeline
-    tracks: WeightTracks
-    warnings: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -98,6 +72,12 @@ def build_keys(
     """
     progress = progress or _no_progress
     created: list[bpy.types.Object] = []
+    if head is not None and face_rig.is_linked(head):
+        raise HeadError(
+            f"{head.name!r} is linked from {face_rig.library_path(head)}: build its shape keys there, in the "
+            "character's own file (then Make Keys Linkable), save it, and reload the library here."
+        )
+    linkable = head is not None and linking.is_linkable(head)
     if head is None:
         progress(0.05, "Creating the reference head")
         parts = heads.create_reference_head(context)
@@ -120,6 +100,8 @@ def build_keys(
             if mesh is not None and mesh.users == 0:
                 bpy.data.meshes.remove(mesh)
         raise
+    if linkable:  # keys built anew are driven as the old ones were
+        linking.make_keys_linkable(head, heads.find_head_parts(head))
     progress(1.0, "Shape keys built")
     return report
 
@@ -147,104 +129,6 @@ def read_source(text_name: str = "", file_path: str = "", allow_empty: bool = Fa
     if not source.strip() and not allow_empty:
         raise TextError("The text is empty: write some Turkish text (plain or JSML) to speak.")
     return source
-
-
-def action_name_for(utterance: Utterance) -> str:
-    """One action per utterance, named after its words (Blender names hold at most 63 bytes)."""
-    words = " ".join(word.text for word in utterance.words)
-    name = OWNED_PREFIX + re.sub(r"\s+", " ", words).strip()
-    while len(name.encode("utf-8")) > 60:
-        name = name[:-1]
-    return name
-
-
-# ---------------------------------------------------------------- generate
-
-
-def generate(
-    context: bpy.types.Context,
-    head: bpy.types.Object,
-    source: str,
-    options: LipSyncOptions | None = None,
-    *,
-    audio_folder: str = "",
-    start_frame: int | None = None,
-    package: str | None = None,
-    progress: Progress | None = None,
-    gaze_target: str = "",
-) -> GenerateResult:
-    """Speak source on head: F-curves on its TR_* keys, its head and eyes turned, the speech strip, the
-    frame range.
-
-    options are the core's (timing, motion, rate, ...); their frame rate is replaced by the scene's and
-    their gaze set-up by the head's eyes and the target (gaze_target names an object; else the camera).
-    """
-    progress = progress or _no_progress
-    scene = context.scene
-    if not has_lipsync_keys(head):
-        raise HeadError(
-            f"The head {head.name!r} has no {VISEME_KEY_PREFIX}* shape keys yet: press 'Build Shape Keys' "
-            "first (or run the script with --head on it)."
-        )
-    fps = sequencer.scene_fps(scene)
-    start = scene.frame_start if start_frame is None else int(start_frame)
-
-    objects = head_objects(head)
-    options = dataclasses.replace(options or LipSyncOptions(), fps=fps)
-    rig, target_warning = None, ""
-    if options.living().any:  # the eyes, the head's pivot and the target matter only to the living layers
-        rig, target = living.rig_and_target(context, head, objects, gaze_target)
-        setup, target_warning = rig.gaze_setup(target)
-        options = dataclasses.replace(options, gaze_setup=setup)
-    progress(0.05, "Reading the text and speaking it")
-    spoken = lip_sync(source, options)
-    timeline, synthesis, tracks = spoken.timeline, spoken.synthesis, spoken.tracks
-    action_name = action_name_for(spoken.utterance)
-    wav_path = None
-    if synthesis is not None:
-        progress(0.45, "Saving the speech audio")
-        wav_path = sequencer.write_speech_wav(action_name, synthesis, audio_folder, package)
-
-    # From here on Blender data changes; nothing below raises LipSyncError for bad input.
-    # The head and eyes first: their keying reads the rest pose, which the scene evaluates at once while
-    # the shape keys are not yet animated (after them, that evaluation takes a tenth of a second and more).
-    progress(0.6, "Turning the head and eyes")
-    moved = living.key_living_motion(context, rig, tracks, start)
-    progress(0.7, f"Keying {len(tracks.tracks)} shape-key tracks")
-    written = keyframes.write_weight_tracks(objects, tracks, start, action_name)
-    _keep_record(head, source, spoken, start)
-    progress(0.85, "Placing the speech in the sequencer")
-    forget_conversation(scene)
-    strip_name = None
-    frame_count = shown_frame_count(timeline.duration, fps)
-    if wav_path is not None:
-        strip_name = sequencer.place_speech_strip(scene, wav_path, start, timeline.duration)
-    else:
-        sequencer.remove_speech_strip(scene)
-        scene.pop(sequencer.SPEECH_PATH_PROPERTY, None)
-    range_warnings = sequencer.fit_frame_range(scene, start, frame_count)
-    progress(1.0, "Animation generated")
-    return GenerateResult(
-        action_names=tuple(w.action_name for w in written),
-        wav_path=str(wav_path) if wav_path else None,
-        strip_name=strip_name,
-        frame_start=start,
-        frame_end=start + frame_count - 1,
-        duration=timeline.duration,
-        phone_count=len(timeline.phones),
-        timing=timeline.timing,
-        fps=fps,
-        timeline=timeline,
-        tracks=tracks,
-        warnings=spoken.warnings
-        + range_warnings
-        + moved.warnings
-        + own_keys_held_warning(head)
-        + ((target_warning,) if target_warning and options.living().gaze > 0 else ()),
-    )
-
-
-RECORD_PROPERTY = "tr_lipsync_animation"  # on the action of the head's keys: what Generate made
 
 
 def own_keys_held(head: bpy.types.Object) -> list[tuple[str, float]]:
@@ -288,31 +172,12 @@ def put_own_keys_at_rest(head: bpy.types.Object) -> int:
     return len(held)
 
 
-def _keep_record(head: bpy.types.Object, source: str, spoken, start: int) -> None:
-    """The timeline and settings beside the keys, for exports of the animation the head has."""
-    action = head.data.shape_keys.animation_data.action
-    settings = {
-        name: str(value) if isinstance(value, Path) else value
-        for name, value in dataclasses.asdict(spoken.options).items()
-    }
-    record = AnimationRecord(
-        text=source,
-        timeline=spoken.timeline,
-        fps=spoken.tracks.fps,
-        frame_start=start,
-        frame_count=spoken.tracks.frame_count,
-        settings=settings,
-        key_fingerprint=keyframes.key_fingerprint(head_objects(head)),
-        warnings=spoken.warnings,
-        head_and_eyes=spoken.tracks.head_and_eyes,
-    )
-    action[RECORD_PROPERTY] = record_to_json(record)
+RECORD_PROPERTY = "tr_lipsync_animation"  # on the action of a head's keys: what Generate made
 
 
 def animation_record(head: bpy.types.Object) -> AnimationRecord | None:
     """What Generate made on this head, or None where it has no generated animation."""
-    key = getattr(head.data, "shape_keys", None)
-    action = key.animation_data.action if key is not None and key.animation_data else None
+    action = character.record_holder(head, RECORD_PROPERTY)
     if action is None or RECORD_PROPERTY not in action:
         return None
     return record_from_json(str(action[RECORD_PROPERTY]), f"the action {action.name!r}")
@@ -330,15 +195,6 @@ def frame_head(scene: bpy.types.Scene, head: bpy.types.Object | None) -> dict[st
     if head is None:
         return render.frame_face(scene, [])
     return render.frame_face(scene, head_objects(head), find_rig(head).frame)
-
-
-def forget_conversation(scene: bpy.types.Scene) -> None:
-    """One head speaking after a conversation: the conversation's strips go, and its record (its other
-    characters keep their keys, as any other head does)."""
-    record = conversation_record(scene)
-    if record is not None:
-        sequencer.remove_scene_strips(scene, record.strips)
-        forget_conversation_record(scene)
 
 
 def conversation_heads(scene: bpy.types.Scene) -> list[bpy.types.Object]:

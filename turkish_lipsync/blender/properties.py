@@ -15,6 +15,8 @@ from bpy.props import (
 
 from ..core.base.choices import Choice
 from ..core.faces.key_sources import KEY_SOURCE_CHOICES, RHO_RANGE
+from ..core.faces.rig_mappings import rig_templates
+from ..core.faces.rig_poses import pose_targets
 from ..core.interchange import export_choices
 from ..core.pipeline import (
     AMOUNT_RANGE,
@@ -61,6 +63,24 @@ def _amount(name: str, description: str):
         soft_max=1.5,
         description=description,
     )
+
+
+# The face-rig mappings that come with the extension, then the character's own poses alone.
+OWN_POSES = "own_poses"
+FACE_RIG_ITEMS = (
+    *((template.name, template.title, template.description) for template in rig_templates()),
+    (OWN_POSES, "Own Poses", "Only the poses recorded for this character below"),
+)
+POSE_TARGET_DESCRIPTION = "A viseme, emotion, blink or look key, or an ARKit unit"
+# What a pose may be recorded for (a dynamic enum's items must stay referenced while Blender shows them).
+POSE_TARGET_ITEMS = tuple(
+    (target, target.removeprefix("TR_").replace("_", " "), POSE_TARGET_DESCRIPTION, "NONE", number)
+    for number, target in enumerate(pose_targets())
+)
+
+
+def _pose_target_items(_settings, _context):
+    return POSE_TARGET_ITEMS
 
 
 VOICE_LABELS = {"female": "Female", "male": "Male"}
@@ -134,11 +154,11 @@ class TurkishLipSyncCastMember(bpy.types.PropertyGroup):
         subtype="FACTOR",
         description="How strongly this speaker's emotions show, times the Speech panel's Emotion Strength",
     )
-    recording: StringProperty(
+    recording: StringProperty(  # a path; its button (recording_browser.py) shows only what can be read
         name="Speaker Recording",
-        subtype="FILE_PATH",
-        description="This speaker's track of the scene (WAV, FLAC, OGG), starting where the scene starts and "
-        "silent while the others speak; give one to every speaker, or one Own Recording of the whole scene",
+        description="This speaker's track of the scene (WAV, FLAC, OGG, MP3, M4A, or a video's sound), "
+        "starting where the scene starts and silent while the others speak; give one to every speaker, or "
+        "one Own Recording of the whole scene",
     )
 
 
@@ -228,16 +248,46 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
         soft_max=5.0,
         description="How many times stronger the empowered emotions are (ρ in the thesis, which uses 3)",
     )
+    face_rig: EnumProperty(
+        name="Face Rig",
+        items=FACE_RIG_ITEMS,
+        default=FACE_RIG_ITEMS[0][0],
+        description="The poses of the head's armature that make the visemes and emotions (Use Face Rig "
+        "keeps the choice with the character)",
+    )
+    jaw_bone: StringProperty(
+        name="Jaw Bone",
+        description="The armature's bone that opens the jaw, for the Jaw Bone mapping (empty: found by its "
+        "name)",
+    )
+    pose_target: EnumProperty(
+        name="Pose For",
+        items=_pose_target_items,
+        description="What the recorded pose stands for: a viseme, an emotion, a blink or look, or one of the "
+        "52 ARKit units",
+    )
+    pose_action: PointerProperty(
+        name="Pose Action",
+        type=bpy.types.Action,
+        description="An action or pose asset that holds a pose of the rig, for Record from Action",
+    )
+    pose_frame: IntProperty(
+        name="Pose Frame",
+        default=1,
+        min=-1048574,
+        max=1048574,  # Blender's own frame limits
+        description="The frame of the Pose Action that holds the pose",
+    )
     arkit_keys: BoolProperty(
         name="Keep ARKit Keys",
         default=False,
         description="Also keep the 52 ARKit face-unit shape keys the mouth shapes are built from",
     )
-    recording: StringProperty(
+    recording: StringProperty(  # a path; its button (recording_browser.py) shows only what can be read
         name="Own Recording",
-        subtype="FILE_PATH",
-        description="Your own recording of the same text (WAV, FLAC, OGG): the mouth follows it and it "
-        "becomes the sound (empty: the synthetic voice). With no text, what it says is recognised",
+        description="Your own recording of the same text (WAV, FLAC, OGG, MP3, M4A, or the sound of a video: "
+        "MP4, MOV, MKV, WebM): the mouth follows it and it becomes the sound (empty: the synthetic voice). "
+        "With no text, what it says is recognised",
     )
     audio_folder: StringProperty(
         name="Audio Folder",

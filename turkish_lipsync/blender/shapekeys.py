@@ -291,45 +291,25 @@ def build_shape_keys(
     under Apple's names where the object has no such keys of its own.
     """
     _validate_head(head)
-    if source not in SOURCES:
-        raise HeadError(f"Unknown shape-key source {source!r}; use one of {', '.join(SOURCES)}.")
-    if source == "obj_folder" and obj_folder is None:
-        raise HeadError(
-            "The OBJ-folder source needs a folder of viseme models (a.obj, bpa.obj, ..., Neutral.obj)."
-        )
+    _check_source(source, obj_folder)
     parts = _mesh_parts(head, parts)
     objects = [head, *parts]
-    recipes = load_recipes()
-
     # Compute every array first: nothing is written until all of them exist and are sound.
-    match = _convention_match(head, source, mapping_file, obj_folder)
-    convention = match.convention.title if match is not None else ""
-    if match is not None:
-        used_source = "convention"
-        planned, unit_sets, warnings, key_sources = _plan_from_convention(head, parts, match, recipes)
-    elif source == "obj_folder" or (source == "auto" and obj_folder is not None):
-        used_source, planned, unit_sets, warnings, key_sources = _plan_from_obj_folder(
-            head, parts, obj_folder, recipes
-        )
-    else:
-        used_source, unit_sets, landmarks = _unit_sets(head, parts, source, load_reference_head())
-        planned = {obj.name: _keys(unit_sets.get(obj.name, {}), obj, recipes) for obj in objects}
-        if arkit_keys:
-            _plan_arkit_keys(objects, unit_sets, planned)
-        warnings = _hidden_face_warnings(head, parts, landmarks) if used_source != "arkit" else []
-        key_sources = dict.fromkeys(planned[head.name], used_source)
-    looks = plan_look_keys(head, parts, planned, unit_sets, own_key_names(head))
+    plan = _plan_keys(head, parts, source, obj_folder, mapping_file, arkit_keys)
+    planned, warnings, key_sources = plan.planned, plan.warnings, plan.key_sources
+    looks = plan_look_keys(head, parts, planned, plan.unit_sets, own_key_names(head))
     key_sources.update(looks.sources)
     warnings.extend(looks.warnings)
     missing = (
-        () if used_source in ("obj_folder", "convention") else missing_units(unit_sets.get(head.name, {}))
+        ()
+        if plan.source in ("obj_folder", "convention")
+        else missing_units(plan.unit_sets.get(head.name, {}))
     )
     if missing:
         warnings.append(missing_units_warning(head.name, missing))
     if empowered:  # the emotions stored for keying by hand, thesis eq. 5.2
         planned = {name: empower(keys, rho) for name, keys in planned.items()}
     _check_planned(objects, planned)
-
     for obj in objects:
         for name in _write_keys(obj, planned[obj.name]):
             warnings.append(
@@ -341,14 +321,58 @@ def build_shape_keys(
     }
     return BuildReport(
         head=head.name,
-        source=used_source,
+        source=plan.source,
         keys=tuple(planned[head.name]),
         objects=tuple(obj.name for obj in objects),
         missing_units=missing,
         warnings=tuple(warnings),
         key_sources=key_sources,
-        convention=convention,
+        convention=plan.convention,
     )
+
+
+@dataclass(frozen=True, eq=False)
+class _KeyPlan:
+    """What the build writes: per object its keys' deltas, the units they came from, the warnings so far and
+    where each key came from (and the convention's title, where a convention gave them)."""
+
+    source: str
+    planned: dict
+    unit_sets: dict
+    warnings: list
+    key_sources: dict
+    convention: str = ""
+
+
+def _check_source(source: str, obj_folder) -> None:
+    if source not in SOURCES:
+        raise HeadError(f"Unknown shape-key source {source!r}; use one of {', '.join(SOURCES)}.")
+    if source == "obj_folder" and obj_folder is None:
+        raise HeadError(
+            "The OBJ-folder source needs a folder of viseme models (a.obj, bpa.obj, ..., Neutral.obj)."
+        )
+
+
+def _plan_keys(head, parts, source: str, obj_folder, mapping_file, arkit_keys: bool) -> _KeyPlan:
+    """The keys planned from the source the build uses: the head's own visemes of a convention, the
+    thesis's OBJ models, or ARKit units (its own, the reference's, or transferred)."""
+    objects = [head, *parts]
+    recipes = load_recipes()
+    match = _convention_match(head, source, mapping_file, obj_folder)
+    if match is not None:
+        planned, unit_sets, warnings, key_sources = _plan_from_convention(head, parts, match, recipes)
+        return _KeyPlan("convention", planned, unit_sets, warnings, key_sources, match.convention.title)
+    if source == "obj_folder" or (source == "auto" and obj_folder is not None):
+        used_source, planned, unit_sets, warnings, key_sources = _plan_from_obj_folder(
+            head, parts, obj_folder, recipes
+        )
+        return _KeyPlan(used_source, planned, unit_sets, warnings, key_sources)
+    used_source, unit_sets, landmarks = _unit_sets(head, parts, source, load_reference_head())
+    planned = {obj.name: _keys(unit_sets.get(obj.name, {}), obj, recipes) for obj in objects}
+    if arkit_keys:
+        _plan_arkit_keys(objects, unit_sets, planned)
+    warnings = _hidden_face_warnings(head, parts, landmarks) if used_source != "arkit" else []
+    return _KeyPlan(used_source, planned, unit_sets, warnings, dict.fromkeys(planned[head.name], used_source))
 
 
 def _convention_match(head, source: str, mapping_file, obj_folder) -> ConventionMatch | None:

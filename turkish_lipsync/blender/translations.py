@@ -59,8 +59,9 @@ TURKISH = {
     "Choose a head with its own ARKit shape keys (the reference head has none)": (
         "Kendi ARKit şekil anahtarları olan bir kafa seçin (referans kafada bunlar yok)"
     ),
-    "Table timing cannot follow a recording: choose Phone or Word timing": (
-        "Tablo zamanlaması bir kayda uyamaz: Ses ya da Sözcük zamanlamasını seçin"
+    "Table timing uses no speech, so it cannot follow a recording: choose Phone or Word timing": (
+        "Tablo zamanlaması konuşma kullanmaz, bu yüzden bir kayda uyamaz: Ses ya da Sözcük "
+        "zamanlamasını seçin"
     ),
     "The head has no landmark markers": "Kafada yüz işaretçisi yok",
     # properties
@@ -184,11 +185,24 @@ TURKISH = {
         "Güçlendirilmiş duyguların kaç kat daha güçlü olduğu (tezdeki ρ; tez 3 kullanır)"
     ),
     "Own Recording": "Kendi Kaydınız",
-    "Your own recording of the same text (WAV, FLAC, OGG): the mouth follows it and it "
-    "becomes the sound (empty: the synthetic voice). With no text, what it says is recognised": (
-        "Aynı metni okuduğunuz kendi kaydınız (WAV, FLAC, OGG): ağız ona uyar ve ses olarak o "
-        "kullanılır (boş: yapay ses). Metin yoksa kaydın söyledikleri sesten tanınır"
+    "Your own recording of the same text (WAV, FLAC, OGG, MP3, M4A, or the sound of a video: "
+    "MP4, MOV, MKV, WebM): the mouth follows it and it becomes the sound (empty: the synthetic voice). "
+    "With no text, what it says is recognised": (
+        "Aynı metni okuduğunuz kendi kaydınız (WAV, FLAC, OGG, MP3, M4A ya da bir videonun sesi: MP4, MOV, "
+        "MKV, WebM): ağız ona uyar ve ses olarak o kullanılır (boş: yapay ses). Metin yoksa kaydın "
+        "söyledikleri sesten tanınır"
     ),
+    "Choose Recording": "Kayıt Seç",
+    "Browse for a recording: WAV, FLAC, OGG, MP3, M4A or AAC, or a video with sound (MP4, MOV, MKV, "
+    "WebM); only these are shown": (
+        "Bir kayıt seçin: WAV, FLAC, OGG, MP3, M4A ya da AAC veya sesli bir video (MP4, MOV, MKV, WebM); "
+        "yalnızca bunlar gösterilir"
+    ),
+    "Relative Path": "Göreli Yol",
+    "Store the path relative to the saved .blend file, so the two can move together": (
+        "Yolu kayıtlı .blend dosyasına göre saklar; ikisi birlikte taşınabilir"
+    ),
+    "Choose a speaker in the cast first": "Önce oyunculardan bir konuşmacı seçin",
     "Audio Folder": "Ses Klasörü",
     "Where the speech WAV is saved (empty: a folder next to the saved .blend file)": (
         "Konuşma WAV dosyasının kaydedileceği yer (boş: kayıtlı .blend dosyasının yanındaki bir klasör)"
@@ -359,16 +373,105 @@ TURKISH = {
         "çarpılır"
     ),
     "Speaker Recording": "Konuşmacı Kaydı",
-    "This speaker's track of the scene (WAV, FLAC, OGG), starting where the scene starts and silent while "
-    "the others speak; give one to every speaker, or one Own Recording of the whole scene": (
-        "Bu konuşmacının sahnedeki kaydı (WAV, FLAC, OGG): sahneyle birlikte başlar, ötekiler konuşurken "
-        "sessizdir; her konuşmacıya bir tane verin ya da bütün sahnenin tek bir Kendi Kaydı'nı"
+    "This speaker's track of the scene (WAV, FLAC, OGG, MP3, M4A, or a video's sound), "
+    "starting where the scene starts and silent while the others speak; give one to every speaker, or "
+    "one Own Recording of the whole scene": (
+        "Bu konuşmacının sahnedeki kaydı (WAV, FLAC, OGG, MP3, M4A ya da bir videonun sesi): sahneyle "
+        "birlikte başlar, ötekiler konuşurken sessizdir; her konuşmacıya bir tane verin ya da bütün sahnenin "
+        "tek bir Kendi Kaydı'nı"
     ),
     "Line Recordings": "Satır Kayıtları",
     "A folder of recordings, one per line of the script, in the order of their file names (empty: the lines "
     "are synthesised, or the Own Recording holds the whole scene)": (
         "Metnin her satırı için bir kayıt içeren, dosya adlarının sırasıyla okunan bir klasör (boş: satırlar "
         "sentezlenir ya da Kendi Kaydı bütün sahneyi tutar)"
+    ),
+    # the face rig and linked characters
+    "Face Rig": "Yüz Donanımı",
+    "Use Face Rig": "Yüz Donanımını Kullan",
+    "Stop Using Face Rig": "Yüz Donanımını Bırak",
+    "Record Pose": "Pozu Kaydet",
+    "Record from Action": "Eylemden Kaydet",
+    "Clear Pose": "Pozu Temizle",
+    "Make Keys Linkable": "Anahtarları Bağlanabilir Yap",
+    "Keep the chosen face-rig mapping with the head's armature: Generate then moves its bones": (
+        "Seçilen yüz donanımı eşlemesini kafanın iskeletinde saklar: Üret artık onun kemiklerini oynatır"
+    ),
+    "Remove the face-rig set-up and its recorded poses from the armature, and the rig's speech keys": (
+        "Yüz donanımı ayarını ve kaydedilmiş pozlarını iskeletten, donanımın konuşma anahtarlarını da "
+        "kaldırır"
+    ),
+    "Record the armature's current pose as the pose of the chosen viseme, emotion or ARKit unit": (
+        "İskeletin şimdiki pozunu seçilen vizemin, duygunun ya da ARKit biriminin pozu olarak kaydeder"
+    ),
+    "Record the pose the Pose Action (or pose asset) holds at the Pose Frame as the chosen target's pose": (
+        "Poz Eylemi'nin (ya da poz varlığının) Poz Karesi'ndeki pozunu seçilen hedefin pozu olarak kaydeder"
+    ),
+    "Forget this recorded pose (the mapping's own pose of its target, if any, is used again)": (
+        "Bu kaydedilmiş pozu unutur (eşlemenin bu hedef için kendi pozu varsa yeniden o kullanılır)"
+    ),
+    "Drive the head's lip-sync keys by its own properties, so that shots that link it can animate them": (
+        "Kafanın dudak senkronu anahtarlarını kendi özellikleriyle sürer; onu bağlayan çekimler de onları "
+        "canlandırabilir"
+    ),
+    "The poses of the head's armature that make the visemes and emotions (Use Face Rig keeps the choice "
+    "with the character)": (
+        "Kafanın iskeletinde vizemleri ve duyguları oluşturan pozlar (Yüz Donanımını Kullan seçimi "
+        "karakterle "
+        "birlikte saklar)"
+    ),
+    "Jaw Bone": "Çene Kemiği",
+    "The armature's bone that opens the jaw, for the Jaw Bone mapping (empty: found by its name)": (
+        "Çene Kemiği eşlemesi için iskeletin çeneyi açan kemiği (boş: adından bulunur)"
+    ),
+    "One bone opens and closes the jaw; the lips follow it (game characters)": (
+        "Çeneyi tek bir kemik açıp kapatır; dudaklar onu izler (oyun karakterleri)"
+    ),
+    "Rigify Face": "Rigify Yüzü",
+    "Rigify's face rig: jaw, lip, lid and brow controls (generated from the human meta-rig)": (
+        "Rigify'ın yüz donanımı: çene, dudak, göz kapağı ve kaş denetimleri (insan meta iskeletinden "
+        "üretilir)"
+    ),
+    "Own Poses": "Kendi Pozları",
+    "Only the poses recorded for this character below": "Yalnızca aşağıda bu karakter için kaydedilen pozlar",
+    "Pose For": "Pozun Hedefi",
+    "What the recorded pose stands for: a viseme, an emotion, a blink or look, or one of the 52 ARKit "
+    "units": (
+        "Kaydedilen pozun neyi karşıladığı: bir vizem, bir duygu, göz kırpma ya da bakış, veya 52 ARKit "
+        "biriminden biri"
+    ),
+    "The target whose recorded pose is cleared": "Kaydedilmiş pozu temizlenecek hedef",
+    "Pose Action": "Poz Eylemi",
+    "An action or pose asset that holds a pose of the rig, for Record from Action": (
+        "Eylemden Kaydet için donanımın bir pozunu tutan eylem ya da poz varlığı"
+    ),
+    "Pose Frame": "Poz Karesi",
+    "The frame of the Pose Action that holds the pose": "Poz Eylemi'nde pozu tutan kare",
+    "The head has no armature: give it an Armature modifier or an armature parent": (
+        "Kafanın iskeleti yok: ona bir İskelet değiştiricisi ya da iskelet ebeveyni verin"
+    ),
+    "The armature is linked: set up its face rig in the character's own file": (
+        "İskelet bağlı: yüz donanımını karakterin kendi dosyasında ayarlayın"
+    ),
+    "The armature has no face-rig set-up to remove": "İskelette kaldırılacak bir yüz donanımı ayarı yok",
+    "Switch to Object or Pose Mode first": "Önce Nesne ya da Poz Kipine geçin",
+    "Choose the Pose Action in the Face Rig section": "Yüz Donanımı bölümünde Poz Eylemi'ni seçin",
+    "The head is linked: make its keys linkable in the character's own file": (
+        "Kafa bağlı: anahtarlarını karakterin kendi dosyasında bağlanabilir yapın"
+    ),
+    "The head is linked and its library has no lip-sync keys or face rig yet: build them in the character's "
+    "own file": (
+        "Kafa bağlı ve kütüphanesinde henüz dudak senkronu anahtarı ya da yüz donanımı yok: onları "
+        "karakterin "
+        "kendi dosyasında oluşturun"
+    ),
+    "The head is linked and its keys are not linkable: press Make Keys Linkable in the character's own "
+    "file": (
+        "Kafa bağlı ve anahtarları bağlanabilir değil: karakterin kendi dosyasında Anahtarları Bağlanabilir "
+        "Yap'a basın"
+    ),
+    "The head has no lip-sync shape keys or face rig yet: build the keys first": (
+        "Kafada henüz dudak senkronu şekil anahtarı ya da yüz donanımı yok: önce anahtarları oluşturun"
     ),
 }
 # The cast's voices, numbered per gender as the panel lists them.

@@ -19,11 +19,8 @@ from .pipeline import (
     MOTION_CHOICES,
     TIMING_CHOICES,
     LipSyncOptions,
-    LipSyncResult,
     identifiers,
-    lip_sync,
 )
-from .text.script import read_script
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -101,7 +98,8 @@ def _add_source_arguments(parser: argparse.ArgumentParser) -> None:
         "--audio",
         type=Path,
         metavar="RECORDING",
-        help="a recording of the text to align; without a text, what it says is recognised from the audio",
+        help="a recording of the text to align (WAV, FLAC, OGG, MP3; M4A and videos' sound with PyAV); "
+        "without a text, what it says is recognised from the audio",
     )
     add_living_arguments(parser)
     parser.add_argument(
@@ -184,11 +182,26 @@ def options_from(args: argparse.Namespace) -> LipSyncOptions:
     return LipSyncOptions.from_attributes(args, recording=args.audio, **setup)
 
 
-def _lip_sync(args: argparse.Namespace) -> LipSyncResult:
-    result = lip_sync(read_source(args.file, args.text, args.cues, args.audio), options_from(args))
-    for warning in result.warnings:
+def _perform(args: argparse.Namespace):
+    """The source's scene (one head, or a script's cast), its warnings printed."""
+    from .scene import perform
+
+    scene = perform(read_source(args.file, args.text, args.cues, args.audio), options_from(args))
+    for warning in scene.warnings:
         print(f"warning: {warning}", file=sys.stderr)
-    return result
+    return scene
+
+
+def _write_sound(path: Path | None, scene) -> None:
+    """The scene's sound as a WAV at path (none asked for: nothing written)."""
+    if path is None:
+        return
+    sound = scene.sound()
+    if sound is None:
+        raise LipSyncError("--wav needs speech: use --timing phone or word, or give --audio with --cues")
+    from .speech import write_wav
+
+    write_wav(path, sound)
 
 
 def _run_syllables(args: argparse.Namespace) -> int:
@@ -209,65 +222,49 @@ def _run_normalize(args: argparse.Namespace) -> int:
 
 
 def _run_timeline(args: argparse.Namespace) -> int:
+    """One head's timeline (and weight tracks with --format json); for a script with speakers, its lines
+    on the scene's timeline, then each speaker's own timeline."""
     check_paths(args, wav=args.wav)
-    source = read_source(args.file, args.text, args.cues, args.audio)
-    script = read_script(source) if source.strip() else None
-    if script is not None:
-        return _run_scene_timeline(args, script)
-    result = _lip_sync(args)
-    if args.wav:
-        if result.synthesis is None:
-            raise LipSyncError("--wav needs a speech engine: use --timing phone or word")
-        from .speech import write_wav
-
-        write_wav(args.wav, result.synthesis)
-    if args.format == "json":
-        data = timeline_as_dict(result.timeline, args.fps) | {"tracks": tracks_as_dict(result.tracks)}
-        print(json.dumps(data, ensure_ascii=False, indent=1))
-    else:
-        print(timeline_as_tsv(result.timeline, args.fps))
+    scene = _perform(args)
+    _write_sound(args.wav, scene)
+    if scene.solo:
+        character = scene.characters[0]
+        if args.format == "json":
+            data = timeline_as_dict(character.timeline, args.fps) | {
+                "tracks": tracks_as_dict(character.tracks)
+            }
+            print(json.dumps(data, ensure_ascii=False, indent=1))
+        else:
+            print(timeline_as_tsv(character.timeline, args.fps))
+        return 0
+    print(_scene_json(scene, args.fps) if args.format == "json" else _scene_tsv(scene, args.fps))
     return 0
 
 
-def _run_scene_timeline(args: argparse.Namespace, script) -> int:
-    """A script with speakers: its lines on the scene's timeline, then each speaker's own timeline."""
-    from .scene import cast_for, scene_speech
-    from .scene.speech import SceneSources
+def _scene_json(scene, fps: float) -> str:
+    speech, cast = scene.speech, scene.speech.cast
+    data = {
+        "duration": round(speech.duration, 4),
+        "cast": [
+            {
+                "name": r.name,
+                "gender": r.gender,
+                "voice": r.voice.variant,
+                "pitch": r.voice.pitch,
+                "rate": r.voice.rate,
+            }
+            for r in cast.roles
+        ],
+        "lines": [_line_as_dict(line, cast) for line in speech.lines],
+        "speakers": {
+            role.name: timeline_as_dict(speech.speaker_timeline(role.key), fps) for role in cast.roles
+        },
+    }
+    return json.dumps(data, ensure_ascii=False, indent=1)
 
-    options = options_from(args)
-    cast = cast_for(script, emotion_strength=options.emotion_strength)
-    sources = SceneSources(scene_recording=options.recording, cues=options.cues)
-    speech = scene_speech(script, cast, options, sources)
-    for warning in speech.warnings:
-        print(f"warning: {warning}", file=sys.stderr)
-    if args.wav:
-        mix = speech.mix()
-        if mix is None:
-            raise LipSyncError("--wav needs a speech engine: use --timing phone or word")
-        from .speech import write_wav
 
-        write_wav(args.wav, mix)
-    if args.format == "json":
-        data = {
-            "duration": round(speech.duration, 4),
-            "cast": [
-                {
-                    "name": r.name,
-                    "gender": r.gender,
-                    "voice": r.voice.variant,
-                    "pitch": r.voice.pitch,
-                    "rate": r.voice.rate,
-                }
-                for r in cast.roles
-            ],
-            "lines": [_line_as_dict(line, cast) for line in speech.lines],
-            "speakers": {
-                role.name: timeline_as_dict(speech.speaker_timeline(role.key), args.fps)
-                for role in cast.roles
-            },
-        }
-        print(json.dumps(data, ensure_ascii=False, indent=1))
-        return 0
+def _scene_tsv(scene, fps: float) -> str:
+    speech, cast = scene.speech, scene.speech.cast
     lines = [
         f"# scene\tlines {len(speech.lines)}\tspeakers {len(cast.roles)}\tduration {speech.duration:.3f}"
     ]
@@ -275,15 +272,14 @@ def _run_scene_timeline(args: argparse.Namespace, script) -> int:
     for line in speech.lines:
         entry = _line_as_dict(line, cast)
         lines.append(
-            f"{entry['line']}\t{entry['start']:.3f}\t{entry['end']:.3f}\t{entry['speaker']}\t{entry['addressee']}\t"
-            f"{entry['text']}"
+            f"{entry['line']}\t{entry['start']:.3f}\t{entry['end']:.3f}\t{entry['speaker']}\t"
+            f"{entry['addressee']}\t{entry['text']}"
         )
     for role in cast.roles:
         lines.append("")
         lines.append(f"# speaker {role.name}\tvoice {role.voice.variant}")
-        lines.append(timeline_as_tsv(speech.speaker_timeline(role.key), args.fps))
-    print("\n".join(lines))
-    return 0
+        lines.append(timeline_as_tsv(speech.speaker_timeline(role.key), fps))
+    return "\n".join(lines)
 
 
 def _line_as_dict(line, cast) -> dict:
@@ -299,98 +295,65 @@ def _line_as_dict(line, cast) -> dict:
 
 
 def _run_export(args: argparse.Namespace) -> int:
-    from .interchange import export_text, write_export
-
-    check_paths(args, out=args.out, wav=args.wav)
-    source = read_source(args.file, args.text, args.cues, args.audio)
-    script = read_script(source) if source.strip() else None
-    if script is not None:
-        return _run_scene_export(args, script)
-    result = _lip_sync(args)
-    sound_file = ""
-    if args.wav:
-        if result.synthesis is None:
-            raise LipSyncError("--wav needs speech: use --timing phone or word, or give --audio with --cues")
-        from .speech import write_wav
-
-        write_wav(args.wav, result.synthesis)
-        sound_file = _relative_to(args.wav, args.out.parent if args.out else Path.cwd())
-    contents, warnings = export_text(
-        args.export_format,
-        result.timeline,
-        result.tracks,
-        sound_file=sound_file,
-        text=read_source(args.file, args.text, args.cues, args.audio)
-        if args.export_format == "papagayo-pgo"
-        else "",
-    )
-    for warning in warnings:
-        print(f"warning: {warning}", file=sys.stderr)
-    if args.out is None:
-        sys.stdout.write(contents)
-    else:
-        write_export(args.out, contents)
-    return 0
-
-
-def _run_scene_export(args: argparse.Namespace, script) -> int:
-    """A script with speakers: a Papagayo project with one voice per character, or a file per character
-    (OUT_<Name>.ext) of any other format, the core's own scene (default heads on the arc, camera in front)."""
+    """One head's cue or CSV file; for a script with speakers a Papagayo project with one voice per
+    character, or a file per character (OUT_<Name>.ext) of any other format, the core's own scene (default
+    heads on the arc, camera in front)."""
     from .interchange import export_format_named, export_text, write_export
-    from .scene import cast_for, converse
-    from .scene.speech import SceneSources
     from .speech.cues.papagayo_pgo import voices_as_pgo
 
-    options = options_from(args)
-    cast = cast_for(script, emotion_strength=options.emotion_strength)
-    scene = converse(
-        script, cast, options, sources=SceneSources(scene_recording=options.recording, cues=options.cues)
-    )
-    for warning in scene.warnings:
-        print(f"warning: {warning}", file=sys.stderr)
-    sound_file = ""
-    if args.wav:
-        mix = scene.speech.mix()
-        if mix is None:
-            raise LipSyncError("--wav needs speech: use --timing phone or word")
-        from .speech import write_wav
-
-        write_wav(args.wav, mix)
-        sound_file = _relative_to(args.wav, args.out.parent if args.out else Path.cwd())
-    if args.export_format == "papagayo-pgo":
-        voices = [
-            (
-                c.role.name,
-                c.timeline,
-                "\n".join(
-                    " ".join(w.text for w in line.utterance.words)
-                    for line in scene.speech.lines
-                    if line.speaker == c.role.key
-                ),
-            )
-            for c in scene.characters
-        ]
-        contents = voices_as_pgo(voices, options.fps, sound_file, scene.speech.duration)
-        if args.out is None:
-            sys.stdout.write(contents)
-        else:
-            write_export(args.out, contents)
+    check_paths(args, out=args.out, wav=args.wav)
+    scene = _perform(args)
+    _write_sound(args.wav, scene)
+    sound_file = _relative_to(args.wav, args.out.parent if args.out else Path.cwd()) if args.wav else ""
+    if args.export_format == "papagayo-pgo" and not scene.solo:
+        contents = voices_as_pgo(
+            [(c.role.name, c.timeline, _spoken_text(scene, c.role.key)) for c in scene.characters],
+            scene.options.fps,
+            sound_file,
+            scene.speech.duration,
+        )
+        _write_or_print(args.out, contents)
         return 0
-    if args.out is None:
+    if args.out is None and not scene.solo:
         raise LipSyncError(
             f"A script with speakers gives a {args.export_format} file per character: give --out (each is "
             "written beside it, named after the character)."
         )
     suffix = export_format_named(args.export_format).suffix
+    source = read_source(args.file, args.text, args.cues, args.audio) if scene.solo else ""
     for character in scene.characters:
         contents, warnings = export_text(
-            args.export_format, character.timeline, character.tracks, sound_file=sound_file
+            args.export_format,
+            character.timeline,
+            character.tracks,
+            sound_file=sound_file,
+            text=source if args.export_format == "papagayo-pgo" else "",
         )
+        named = f"{character.role.name}: " if character.role.name else ""
         for warning in warnings:
-            print(f"warning: {character.role.name}: {warning}", file=sys.stderr)
-        name = "_".join(character.role.name.split())
-        write_export(args.out.with_name(f"{args.out.stem}_{name}{suffix}"), contents)
+            print(f"warning: {named}{warning}", file=sys.stderr)
+        if scene.solo:
+            _write_or_print(args.out, contents)
+        else:
+            name = "_".join(character.role.name.split())
+            write_export(args.out.with_name(f"{args.out.stem}_{name}{suffix}"), contents)
     return 0
+
+
+def _spoken_text(scene, key: str) -> str:
+    """A speaker's lines as the words they say, a line a row."""
+    return "\n".join(
+        " ".join(w.text for w in line.utterance.words) for line in scene.speech.lines if line.speaker == key
+    )
+
+
+def _write_or_print(path: Path | None, contents: str) -> None:
+    from .interchange import write_export
+
+    if path is None:
+        sys.stdout.write(contents)
+    else:
+        write_export(path, contents)
 
 
 def _relative_to(path: Path, folder: Path) -> str:
@@ -404,8 +367,9 @@ def _relative_to(path: Path, folder: Path) -> str:
 def _run_quality(args: argparse.Namespace) -> int:
     from .motion.quality import compare_modes, format_quality
 
-    result = _lip_sync(args)
-    report = compare_modes(result.timeline, args.fps, args.emotion_strength)
+    scene = _perform(args)
+    timeline = scene.characters[0].timeline if scene.solo else scene.speech.scene_timeline()
+    report = compare_modes(timeline, args.fps, args.emotion_strength)
     print(json.dumps(report, indent=1) if args.format == "json" else format_quality(report))
     return 0
 

@@ -16,7 +16,10 @@ from .base.errors import LipSyncError
 from .base.model import Timeline, Utterance, WeightTracks
 from .motion import motion_choices, weight_tracks
 from .motion.living import GazeSetup, LivingOptions, living_tracks
+from .speech.aligner_settings import DEFAULT_ALIGNER, AlignerSettings
+from .speech.recognition.settings import DEFAULT_RECOGNISER, RecogniserSettings
 from .speech.sources import SpeechRequest, speak
+from .speech.timeline import check_timing_follows
 from .text.utterance import unspoken_warning
 
 TIMING_CHOICES = (
@@ -66,6 +69,8 @@ class LipSyncOptions:
     expression_amount: float = 1.0
     seed: int = 0
     gaze_setup: GazeSetup = dataclasses.field(default_factory=GazeSetup)
+    aligner: AlignerSettings = DEFAULT_ALIGNER  # how a recording is aligned to its text
+    recogniser: RecogniserSettings = DEFAULT_RECOGNISER  # how a recording alone is heard
 
     @classmethod
     def from_attributes(cls, source: object, **given) -> LipSyncOptions:
@@ -107,10 +112,7 @@ class LipSyncOptions:
         if self.recording is not None:
             object.__setattr__(self, "recording", Path(self.recording))
             # With a cue file the recording is only its sound, whatever the timing says.
-            if self.timing == "table" and self.cues is None:
-                raise LipSyncError(
-                    "Table timing uses no speech, so it cannot follow a recording; choose phone or word."
-                )
+            check_timing_follows(self.timing, self.cues is None)
 
     def living(self) -> LivingOptions:
         """The living layers' amounts for this motion model (0 where a layer is off)."""
@@ -158,6 +160,8 @@ def lip_sync(source: str, options: LipSyncOptions | None = None) -> LipSyncResul
         cues=options.cues,
         engine=options.engine,
         fps=options.fps,
+        aligner=options.aligner,
+        recogniser=options.recogniser,
     )
     utterance, speech = speak(request)
     tracks = weight_tracks(

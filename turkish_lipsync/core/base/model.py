@@ -5,7 +5,8 @@ Stages hand each other these frozen values; nothing here knows about Blender.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -179,6 +180,58 @@ class Timeline:
     timing: str  # "phone", "word", "table" or "recording"
     # Onsets of the phones the engine reported, where an engine ran (for quality checks).
     engine_onsets: tuple[float, ...] = ()
+
+    def retimed(self, moved: Callable[[float], float], duration: float | None = None) -> Timeline:
+        """The timeline with every time it holds (phones, words, emotions, emphases, the engine's onsets)
+        mapped by `moved`, and the duration given (its own if None)."""
+        return replace(
+            self,
+            phones=tuple(replace(p, start=moved(p.start), end=moved(p.end)) for p in self.phones),
+            words=tuple(replace(w, start=moved(w.start), end=moved(w.end)) for w in self.words),
+            emotions=tuple(replace(e, start=moved(e.start), end=moved(e.end)) for e in self.emotions),
+            emphases=tuple((moved(a), moved(b)) for a, b in self.emphases),
+            duration=self.duration if duration is None else duration,
+            engine_onsets=tuple(moved(onset) for onset in self.engine_onsets),
+        )
+
+    def shifted(self, offset: float, duration: float) -> Timeline:
+        """The timeline moved `offset` seconds later, on a timeline `duration` long (a line in a scene)."""
+        return self.retimed(lambda time: time + offset, duration)
+
+    def remapped(self, old: tuple[float, ...], new: tuple[float, ...]) -> Timeline:
+        """The times within old[0]..old[-1] moved linearly onto `new` (knots in order), the rest kept."""
+
+        def moved(time: float) -> float:
+            return float(np.interp(time, old, new)) if old[0] <= time <= old[-1] else time
+
+        return self.retimed(moved)
+
+    @staticmethod
+    def joined(timelines: Sequence[Timeline], duration: float, timing: str = "") -> Timeline:
+        """Timelines already on one time axis as one: their words and letters numbered on from one to the
+        next, the engine's onsets in order; `timing` (the first's if empty) names the result's."""
+        phones, words, emotions, emphases, onsets = [], [], [], [], []
+        word_base = letter_base = 0
+        for timeline in timelines:
+            phones += [
+                replace(p, word_index=p.word_index + word_base, letter_index=p.letter_index + letter_base)
+                for p in timeline.phones
+            ]
+            words += [replace(w, index=w.index + word_base) for w in timeline.words]
+            emotions += timeline.emotions
+            emphases += timeline.emphases
+            onsets += timeline.engine_onsets
+            word_base += len(timeline.words)
+            letter_base += len(timeline.phones)
+        return Timeline(
+            tuple(phones),
+            tuple(words),
+            tuple(emotions),
+            tuple(emphases),
+            duration,
+            timing or (timelines[0].timing if timelines else "phone"),
+            tuple(sorted(onsets)),
+        )
 
 
 # ---------------------------------------------------------------- weight tracks (tracks.py, motion.py)

@@ -37,6 +37,10 @@ class Registry(Generic[T]):
         self._entries[name] = instance
         return cls
 
+    def unregister(self, name: str) -> None:
+        """Forget an entry registered from outside the package (the Blender layer's, when it unregisters)."""
+        self._entries.pop(name, None)
+
     def entries(self) -> dict[str, T]:
         """Every entry by name, ordered by their `order` (where they have one), then by name."""
         if not self._loaded:

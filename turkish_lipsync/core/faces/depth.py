@@ -69,41 +69,10 @@ class DepthMap:
             )
         image = np.full(rows * columns, -np.inf)
         tf = forward[triangles]
-        start, running = 0, np.cumsum(counts)
-        while start < len(triangles):
-            before = running[start - 1] if start else 0
-            stop = max(int(np.searchsorted(running, before + CHUNK_SAMPLES, "right")), start + 1)
-            if stop == start + 1 and counts[start] > CHUNK_SAMPLES:
-                # One triangle bigger than a chunk: its box a band of rows at a time.
-                step = max(1, CHUNK_SAMPLES // max(int(u1[start] - u0[start] + 1), 1))
-                for first in range(int(v0[start]), int(v1[start]) + 1, step):
-                    last = min(first + step - 1, int(v1[start]))
-                    band = slice(start, stop)
-                    self._rasterise_chunk(
-                        image,
-                        columns,
-                        tu[band],
-                        tv[band],
-                        tf[band],
-                        u0[band],
-                        np.array([first]),
-                        u1[band],
-                        np.array([last]),
-                    )
-            else:
-                chunk = slice(start, stop)
-                self._rasterise_chunk(
-                    image,
-                    columns,
-                    tu[chunk],
-                    tv[chunk],
-                    tf[chunk],
-                    u0[chunk],
-                    v0[chunk],
-                    u1[chunk],
-                    v1[chunk],
-                )
-            start = stop
+        for chunk, first_rows, last_rows in _chunks(counts, u0, u1, v0, v1):
+            self._rasterise_chunk(
+                image, columns, tu[chunk], tv[chunk], tf[chunk], u0[chunk], first_rows, u1[chunk], last_rows
+            )
         image = image.reshape(rows, columns)
         image[~np.isfinite(image)] = np.nan
         return image
@@ -146,6 +115,23 @@ class DepthMap:
     def point(self, row: int, column: int) -> np.ndarray:
         """The surface point seen at a pixel, in head coordinates."""
         return np.array([self.x_of(column), -self.front[row, column], self.z_of(row)])
+
+
+def _chunks(counts: np.ndarray, u0: np.ndarray, u1: np.ndarray, v0: np.ndarray, v1: np.ndarray):
+    """(triangles, their first rows, their last rows) of about CHUNK_SAMPLES pixels each, in order: a run
+    of whole triangles' boxes, or one triangle bigger than a chunk a band of its box's rows at a time."""
+    start, running = 0, np.cumsum(counts)
+    while start < len(counts):
+        before = running[start - 1] if start else 0
+        stop = max(int(np.searchsorted(running, before + CHUNK_SAMPLES, "right")), start + 1)
+        chunk = slice(start, stop)
+        if stop == start + 1 and counts[start] > CHUNK_SAMPLES:
+            step = max(1, CHUNK_SAMPLES // max(int(u1[start] - u0[start] + 1), 1))
+            for first in range(int(v0[start]), int(v1[start]) + 1, step):
+                yield chunk, np.array([first]), np.array([min(first + step - 1, int(v1[start]))])
+        else:
+            yield chunk, v0[chunk], v1[chunk]
+        start = stop
 
 
 def box_blur(image: np.ndarray, radius: int) -> np.ndarray:

@@ -4,6 +4,8 @@ brows above them."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from ..base.errors import HeadError
@@ -14,6 +16,23 @@ EYE_HEIGHT = 0.05
 # Under the chin the profile falls back more than UNDER_CHIN_FALL within UNDER_CHIN_RUN (face sizes).
 UNDER_CHIN_FALL = 0.04
 UNDER_CHIN_RUN = 0.02
+
+
+@dataclass(frozen=True, eq=False)
+class _Socket:
+    """An eye socket in the depth map: the window it was sought in (rows top..bottom, columns
+    first..last), its bowl depth there, its deepest pixel and its outline (pixels of the window)."""
+
+    side: str
+    direction: int  # +1 left of the middle (+X), -1 right
+    top: int
+    bottom: int
+    first: int
+    last: int
+    depth: np.ndarray
+    seed: tuple
+    rows: np.ndarray
+    columns: np.ndarray
 
 
 class FaceReader:
@@ -203,61 +222,76 @@ class FaceReader:
         recess = box_blur(self.filled, self.pixels(0.04)) - self.filled
         points = {}
         for side, direction in (("left", 1), ("right", -1)):
-            near, far = mid + direction * self.pixels(0.03), mid + direction * self.pixels(0.26)
-            first, last = max(min(near, far), 0), max(near, far)
-            socket = bowl[top:bottom, first : last + 1]
-            if socket.size == 0 or socket.max() <= 0.002 * self.size:
-                raise HeadError(
-                    f"No {side} eye found beside the nose (no socket where an eye should be). "
-                    "Turn the head so its face looks toward -Y with Z up, or place the landmark markers."
-                )
-            seed = np.unravel_index(np.argmax(socket), socket.shape)
-            window = recess[top:bottom, first : last + 1]
-            blob = _grow_blob(window > min(0.015 * self.size, 0.5 * window[seed]), seed)
-            rows, columns = np.nonzero(blob)
-            if rows.size == 0:
-                raise HeadError(
-                    f"No {side} eye found beside the nose (its socket is too shallow to outline). "
-                    "Turn the head so its face looks toward -Y with Z up, or place the landmark markers."
-                )
-            distance = np.abs(first + columns - mid)
-            inner_column, outer_column = distance.min(), distance.max()
-            inner_row = top + int(np.median(rows[distance == inner_column]))
-            outer_row = top + int(np.median(rows[distance == outer_column]))
-            # The opening narrows below a pixel toward the corners; its crease goes on to where the lids meet.
-            threshold, steps = 0.004 * self.size, self.pixels(0.04)
-            inner = self.follow_crease(
-                inner_row, mid + direction * int(inner_column), -direction, threshold, steps
-            )
-            outer = self.follow_crease(
-                outer_row, mid + direction * int(outer_column), direction, threshold, steps
-            )
-            opening = self._eye_opening(top, bottom, first, last, seed, mid)
-            if opening is not None:
-                inner, outer = opening
-                # The lids' margins above and below the middle of the opening, where a blink meets.
-                upper_margin, lower_margin = self.lid_margins
-                points[f"upper_lid_{side}"] = self.depth.point(*upper_margin)
-                points[f"lower_lid_{side}"] = self.depth.point(*lower_margin)
-            elif socket[seed] < 0.01 * self.size or abs(outer[1] - inner[1]) < self.pixels(0.07):
-                # Closed, smooth eyes (a low-poly mask): no opening or crease to read the corners from.
-                # Faces put the eye centres about a fifth of the face's width either side of the middle,
-                # and an eye is about as wide as the distance from its centre to the middle.
-                row = top + int(seed[0])
-                covered = np.flatnonzero(self.valid[row])
-                centre = 0.2 * (covered[-1] - covered[0])
-                inner = (row, mid + direction * int(round(0.5 * centre)))
-                outer = (row, mid + direction * int(round(1.5 * centre)))
+            socket = self._eye_socket(side, direction, top, bottom, mid, bowl, recess)
+            inner, outer = self._eye_corners(socket, mid, points)
             points[f"eye_inner_{side}"] = self._surface_near(*inner)
             points[f"eye_outer_{side}"] = self._surface_near(*outer)
             centre_column = (inner[1] + outer[1]) // 2
             # The socket's recess may run on up a flat forehead: the eye ends a little above its corners.
             corners_row = min(inner[0], outer[0])
-            eye_top = min(corners_row, max(top + rows.min(), corners_row - self.pixels(EYE_HEIGHT)))
+            eye_top = min(corners_row, max(top + socket.rows.min(), corners_row - self.pixels(EYE_HEIGHT)))
             brow_rows = np.arange(max(eye_top - self.pixels(0.1), 0), eye_top)
             brow_row = int(brow_rows[np.argmax(self.filled[brow_rows, centre_column])])
             points[f"brow_{side}"] = self.depth.point(brow_row, centre_column)
         return points
+
+    def _eye_socket(
+        self, side: str, direction: int, top: int, bottom: int, mid: int, bowl: np.ndarray, recess: np.ndarray
+    ) -> _Socket:
+        """The eye socket beside the nose on one side: its deepest point and its outline."""
+        near, far = mid + direction * self.pixels(0.03), mid + direction * self.pixels(0.26)
+        first, last = max(min(near, far), 0), max(near, far)
+        depth = bowl[top:bottom, first : last + 1]
+        if depth.size == 0 or depth.max() <= 0.002 * self.size:
+            raise HeadError(
+                f"No {side} eye found beside the nose (no socket where an eye should be). "
+                "Turn the head so its face looks toward -Y with Z up, or place the landmark markers."
+            )
+        seed = np.unravel_index(np.argmax(depth), depth.shape)
+        window = recess[top:bottom, first : last + 1]
+        blob = _grow_blob(window > min(0.015 * self.size, 0.5 * window[seed]), seed)
+        rows, columns = np.nonzero(blob)
+        if rows.size == 0:
+            raise HeadError(
+                f"No {side} eye found beside the nose (its socket is too shallow to outline). "
+                "Turn the head so its face looks toward -Y with Z up, or place the landmark markers."
+            )
+        return _Socket(side, direction, top, bottom, first, last, depth, seed, rows, columns)
+
+    def _eye_corners(self, socket: _Socket, mid: int, points: dict) -> tuple:
+        """The eye's (inner, outer) corner pixels: the ends of the eyeball seen through the lids (their
+        margins go into points), else where the crease between the lids fades, else (closed, smooth
+        eyes) where faces put them."""
+        top, direction, rows = socket.top, socket.direction, socket.rows
+        distance = np.abs(socket.first + socket.columns - mid)
+        inner_column, outer_column = distance.min(), distance.max()
+        inner_row = top + int(np.median(rows[distance == inner_column]))
+        outer_row = top + int(np.median(rows[distance == outer_column]))
+        # The opening narrows below a pixel toward the corners; its crease goes on to where the lids meet.
+        threshold, steps = 0.004 * self.size, self.pixels(0.04)
+        inner = self.follow_crease(
+            inner_row, mid + direction * int(inner_column), -direction, threshold, steps
+        )
+        outer = self.follow_crease(
+            outer_row, mid + direction * int(outer_column), direction, threshold, steps
+        )
+        opening = self._eye_opening(top, socket.bottom, socket.first, socket.last, socket.seed, mid)
+        if opening is not None:
+            # The lids' margins above and below the middle of the opening, where a blink meets.
+            upper_margin, lower_margin = self.lid_margins
+            points[f"upper_lid_{socket.side}"] = self.depth.point(*upper_margin)
+            points[f"lower_lid_{socket.side}"] = self.depth.point(*lower_margin)
+            return opening
+        if socket.depth[socket.seed] < 0.01 * self.size or abs(outer[1] - inner[1]) < self.pixels(0.07):
+            # Closed, smooth eyes (a low-poly mask): no opening or crease to read the corners from.
+            # Faces put the eye centres about a fifth of the face's width either side of the middle,
+            # and an eye is about as wide as the distance from its centre to the middle.
+            row = top + int(socket.seed[0])
+            covered = np.flatnonzero(self.valid[row])
+            centre = 0.2 * (covered[-1] - covered[0])
+            inner = (row, mid + direction * int(round(0.5 * centre)))
+            outer = (row, mid + direction * int(round(1.5 * centre)))
+        return inner, outer
 
     def _eye_opening(self, top: int, bottom: int, first: int, last: int, seed, mid: int) -> tuple | None:
         """(inner, outer) corner pixels of the eyeball seen through the lids, nearest the socket's

@@ -78,6 +78,33 @@ def split_between(vertex_count: int, edges, lengths, first: np.ndarray, second: 
     return owner, sure
 
 
+@dataclass(frozen=True, eq=False)
+class _Skin:
+    """The skin's edges to grow labels over, and which vertices the front view sees."""
+
+    vertices: np.ndarray
+    on_skin: np.ndarray
+    edges: np.ndarray
+    lengths: np.ndarray
+    hidden: np.ndarray  # behind the lips, lids or nose, seen from the front
+
+    def split(self, first, second, allowed, central):
+        """split_between over the skin's edges."""
+        return split_between(len(self.vertices), self.edges, self.lengths, first, second, allowed, central)
+
+
+@dataclass(frozen=True, eq=False)
+class _MouthLine:
+    """Where the lips meet: the mouth's middle and width, and each vertex's height over the line."""
+
+    middle_x: float
+    width: float
+    seam_height: float  # z of the line at the midline
+    lip_height: float
+    above: np.ndarray  # per vertex: how far above the line between the lips
+    inner_front: float  # y of the lips' inner edges (the front of the gap between them)
+
+
 def find_face_parts(
     vertices: np.ndarray, triangles: np.ndarray, skin: np.ndarray, landmarks: Mapping[str, np.ndarray]
 ) -> FaceParts:
@@ -90,79 +117,106 @@ def find_face_parts(
     edges, lengths = edge_graph(count, skin_triangles, vertices)
     label = np.full(count, -1)
     label[skin] = 0
+    mouth = _mouth_line(vertices, lm)
+    depth = DepthMap(vertices, skin_triangles, max(mouth.width / 60, 1e-9))
+    hidden_by = hidden_depth(vertices, depth)
+    face = _Skin(vertices, on_skin, edges, lengths, hidden_by > 0.04 * mouth.width)
+    owner, sure_mouth = _split_lips(face, lm, mouth)
+    label[owner == 0] = PART_LABELS.index("upper_lip")
+    label[owner == 1] = PART_LABELS.index("lower_lip")
+    inside = _inside_mouth(vertices, hidden_by, owner, mouth)
+    lower_side = smooth_over_edges((owner == 1).astype(np.float64), edges, inside > 0, 30)
+    sure = sure_mouth & (label > 0)
+    for side in ("left", "right"):
+        _split_lids(face, lm, side, label, sure)
+    return FaceParts(
+        label=label,
+        seen=~face.hidden,
+        sure=sure,
+        inside_mouth=inside,
+        lower_jaw=lower_side,
+        seam_height=mouth.seam_height,
+        middle_x=mouth.middle_x,
+    )
+
+
+def _mouth_line(vertices: np.ndarray, lm: Mapping[str, np.ndarray]) -> _MouthLine:
     middle_x = 0.5 * (lm["mouth_corner_left"][0] + lm["mouth_corner_right"][0])
     mouth_width = float(np.linalg.norm(lm["mouth_corner_left"] - lm["mouth_corner_right"]))
-    depth = DepthMap(vertices, skin_triangles, max(mouth_width / 60, 1e-9))
-    hidden = hidden_depth(vertices, depth) > 0.04 * mouth_width
-
     seam = _seam_height(lm, middle_x)
-    x, y, z = vertices[:, 0], vertices[:, 1], vertices[:, 2]
     lip_height = max(
         lm["upper_lip"][2] - seam(middle_x), seam(middle_x) - lm["lower_lip"][2], 0.05 * mouth_width
     )
-    centre = np.array([middle_x, 0.5 * (lm["upper_lip"][1] + lm["lower_lip"][1]), seam(middle_x)])
-    mouth_region = on_skin & (np.linalg.norm(vertices - centre, axis=1) < MOUTH_REACH * mouth_width)
-    across = np.abs(x - middle_x) < 0.35 * mouth_width
-    above = z - seam(x)
+    return _MouthLine(
+        middle_x=middle_x,
+        width=mouth_width,
+        seam_height=float(seam(middle_x)),
+        lip_height=lip_height,
+        above=vertices[:, 2] - seam(vertices[:, 0]),
+        inner_front=0.5 * (lm["upper_lip_inner"][1] + lm["lower_lip_inner"][1]),
+    )
+
+
+def _split_lips(
+    face: _Skin, lm: Mapping[str, np.ndarray], mouth: _MouthLine
+) -> tuple[np.ndarray, np.ndarray]:
+    """(owner, sure) per vertex: 0 the upper lip, 1 the lower, -1 neither (split_between)."""
+    vertices, hidden, above, lip_height = face.vertices, face.hidden, mouth.above, mouth.lip_height
+    x, y = vertices[:, 0], vertices[:, 1]
+    centre = np.array([mouth.middle_x, 0.5 * (lm["upper_lip"][1] + lm["lower_lip"][1]), mouth.seam_height])
+    mouth_region = face.on_skin & (np.linalg.norm(vertices - centre, axis=1) < MOUTH_REACH * mouth.width)
+    across = np.abs(x - mouth.middle_x) < 0.35 * mouth.width
     upper_seed = np.flatnonzero(
         mouth_region & across & ~hidden & (above > 0.35 * lip_height) & (above < 1.5 * lip_height)
     )
     lower_seed = np.flatnonzero(
         mouth_region & across & ~hidden & (above < -0.35 * lip_height) & (above > -1.5 * lip_height)
     )
-    owner, sure_mouth = split_between(
-        count, edges, lengths, upper_seed, lower_seed, mouth_region, np.abs(x - middle_x) < 0.35 * mouth_width
-    )
+    owner, sure = face.split(upper_seed, lower_seed, mouth_region, across)
     # On the lips' visible front, between the corners, the mouth line itself decides: a strip of faces
     # closing a mask's mouth joins the lips there, and the growth alone may hand it to either side.
-    inner_front = 0.5 * (lm["upper_lip_inner"][1] + lm["lower_lip_inner"][1])
-    front = (owner >= 0) & across & ~hidden & (y <= inner_front + 0.02 * mouth_width)
+    front = (owner >= 0) & across & ~hidden & (y <= mouth.inner_front + 0.02 * mouth.width)
     front &= (np.abs(above) < lip_height) & (np.abs(above) > 0.05 * lip_height)
     owner[front] = np.where(above[front] > 0, 0, 1)
-    label[owner == 0] = PART_LABELS.index("upper_lip")
-    label[owner == 1] = PART_LABELS.index("lower_lip")
+    return owner, sure
 
-    # Inside the mouth: hidden from the front behind the lips, or seen through the gap between them but
-    # well behind their inner edge (teeth showing between parted lips).
-    hidden_by = hidden_depth(vertices, depth)
-    in_gap = (np.abs(x - middle_x) < 0.4 * mouth_width) & (np.abs(above) < lip_height)
-    deep = np.maximum(hidden_by, np.where(in_gap, y - inner_front, 0.0))
-    inside = np.clip((deep - 0.04 * mouth_width) / (0.2 * mouth_width), 0.0, 1.0)
-    inside[owner < 0] = 0.0
-    lower_side = smooth_over_edges((owner == 1).astype(np.float64), edges, inside > 0, 30)
-    sure = sure_mouth & (label > 0)
 
-    for side in ("left", "right"):
-        inner, outer = lm[f"eye_inner_{side}"], lm[f"eye_outer_{side}"]
-        eye_width = float(np.linalg.norm(outer - inner))
-        eye_centre = 0.5 * (inner + outer)
-        slope = (outer[2] - inner[2]) / (outer[0] - inner[0]) if outer[0] != inner[0] else 0.0
-        lid_line = eye_centre[2] + slope * (x - eye_centre[0])
-        region = on_skin & (np.linalg.norm(vertices - eye_centre, axis=1) < EYE_REACH * eye_width)
-        region &= label <= 0
-        within = np.abs(x - eye_centre[0]) < 0.3 * eye_width
-        rise = z - lid_line
-        upper = np.flatnonzero(
-            region & within & ~hidden & (rise > 0.15 * eye_width) & (rise < 0.45 * eye_width)
-        )
-        lower = np.flatnonzero(
-            region & within & ~hidden & (rise < -0.12 * eye_width) & (rise > -0.4 * eye_width)
-        )
-        owner, sure_eye = split_between(
-            count, edges, lengths, upper, lower, region, np.abs(x - eye_centre[0]) < 0.35 * eye_width
-        )
-        sure[owner >= 0] = sure_eye[owner >= 0]
-        label[owner == 0] = PART_LABELS.index(f"upper_lid_{side}")
-        label[owner == 1] = PART_LABELS.index(f"lower_lid_{side}")
-    return FaceParts(
-        label=label,
-        seen=~hidden,
-        sure=sure,
-        inside_mouth=inside,
-        lower_jaw=lower_side,
-        seam_height=float(seam(middle_x)),
-        middle_x=middle_x,
+def _inside_mouth(
+    vertices: np.ndarray, hidden_by: np.ndarray, owner: np.ndarray, mouth: _MouthLine
+) -> np.ndarray:
+    """0 on the outer face, rising to 1 deep inside the mouth: hidden from the front behind the lips, or
+    seen through the gap between them but well behind their inner edge (teeth between parted lips)."""
+    width = mouth.width
+    in_gap = (np.abs(vertices[:, 0] - mouth.middle_x) < 0.4 * width) & (
+        np.abs(mouth.above) < mouth.lip_height
     )
+    deep = np.maximum(hidden_by, np.where(in_gap, vertices[:, 1] - mouth.inner_front, 0.0))
+    inside = np.clip((deep - 0.04 * width) / (0.2 * width), 0.0, 1.0)
+    inside[owner < 0] = 0.0
+    return inside
+
+
+def _split_lids(
+    face: _Skin, lm: Mapping[str, np.ndarray], side: str, label: np.ndarray, sure: np.ndarray
+) -> None:
+    """Label the side's upper and lower lid (where the lips did not) and say where that is sure."""
+    vertices, hidden = face.vertices, face.hidden
+    x, z = vertices[:, 0], vertices[:, 2]
+    inner, outer = lm[f"eye_inner_{side}"], lm[f"eye_outer_{side}"]
+    eye_width = float(np.linalg.norm(outer - inner))
+    eye_centre = 0.5 * (inner + outer)
+    slope = (outer[2] - inner[2]) / (outer[0] - inner[0]) if outer[0] != inner[0] else 0.0
+    lid_line = eye_centre[2] + slope * (x - eye_centre[0])
+    region = face.on_skin & (np.linalg.norm(vertices - eye_centre, axis=1) < EYE_REACH * eye_width)
+    region &= label <= 0
+    within = np.abs(x - eye_centre[0]) < 0.3 * eye_width
+    rise = z - lid_line
+    upper = np.flatnonzero(region & within & ~hidden & (rise > 0.15 * eye_width) & (rise < 0.45 * eye_width))
+    lower = np.flatnonzero(region & within & ~hidden & (rise < -0.12 * eye_width) & (rise > -0.4 * eye_width))
+    owner, sure_eye = face.split(upper, lower, region, np.abs(x - eye_centre[0]) < 0.35 * eye_width)
+    sure[owner >= 0] = sure_eye[owner >= 0]
+    label[owner == 0] = PART_LABELS.index(f"upper_lid_{side}")
+    label[owner == 1] = PART_LABELS.index(f"lower_lid_{side}")
 
 
 def _seam_height(lm: Mapping[str, np.ndarray], middle_x: float):

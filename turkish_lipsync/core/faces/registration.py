@@ -4,7 +4,7 @@ The landmarks place the reference (a similarity fit, and a warp where the propor
 fit turns teeth and eyes as solids. The warp is local: a thin-plate spline (kernel |r|, whose pull grows
 with distance) let the brows' 7 mm of disagreement between Vitruvian and the reference bend its mouth
 (pucker and smile against its artists' keys 0.63 and 0.62; local 0.71 and 0.73), and on the reference
-bent into 24 other faces (scripts/measure_transfer.py) the local warp gives mean cosine 0.970 against
+bent into 24 other faces (lab/measure/transfer.py) the local warp gives mean cosine 0.970 against
 the thin-plate's 0.970, the worst face 0.938 against 0.924. An affine fit under the local pulls (for a
 face wider all over) lost on both (Vitruvian 0.67 and 0.67, the bent faces 0.968 and 0.935).
 A non-rigid ICP on top (pairs of closest points, a smoothing spline through them) brought the surfaces

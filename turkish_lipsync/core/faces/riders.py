@@ -15,6 +15,8 @@ a third of the way open.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .closest import closest_points, nearest_vertices
@@ -62,6 +64,54 @@ def carry_riders(
     pieces = [np.asarray(piece, np.int64) for piece in pieces if len(piece)]
     if not pieces or len(anchorable) == 0:
         return
+    riding = _riding(vertices, triangles, pieces, anchorable, eye_width, pivots, rooted)
+    if riding is None:
+        return
+    for deltas in result.values():
+        if np.any(deltas[riding.around]):
+            riding.carry(vertices, deltas)
+
+
+@dataclass(frozen=True, eq=False)
+class _Riding:
+    """The rider vertices that ride the skin, and where: each rides its base's closest point of the skin
+    (corners and weights), turning as the skin within two edges of its anchor does, or about a pivot."""
+
+    riders: np.ndarray
+    fade: np.ndarray  # how fully each rides (1 near the skin, fading with distance)
+    corners: np.ndarray  # (R, 3) the skin triangle's corners under each rider's base
+    weights: np.ndarray  # (R, 3) barycentric weights of the base's closest point
+    anchor_points: np.ndarray
+    offset: np.ndarray  # each rider from its anchor point
+    centres: np.ndarray  # per rider: the eyeball's centre it turns about (NaN: it turns with the skin)
+    neighbourhood: np.ndarray  # (anchor number, skin vertex) pairs within two edges of each anchor
+    anchor_count: int
+    which: np.ndarray  # per rider: its anchor's number
+    around: np.ndarray  # the skin vertices whose motion moves a rider
+    sheets: np.ndarray  # the riders that ride where they touch (shells, tear lines, brow cards)
+    sheet_edges: np.ndarray  # their own edges (indices into sheets)
+
+    def carry(self, vertices: np.ndarray, deltas: np.ndarray) -> None:
+        """Write the riders' motion under one key into its deltas."""
+        motion = (deltas[self.corners] * self.weights[:, :, None]).sum(1)
+        turns = _turns(vertices, deltas, self.neighbourhood, self.anchor_count)[self.which]
+        pivoting = np.isfinite(self.centres[:, 0])
+        if pivoting.any():
+            before = self.anchor_points[pivoting] - self.centres[pivoting]
+            turns[pivoting] = _turns_between(before, before + motion[pivoting])
+        turned = np.einsum("nij,nj->ni", turns - np.eye(3), self.offset)
+        deltas[self.riders] = self.fade[:, None] * (motion + turned)
+        if len(self.sheets):
+            # Sheets are smoothed over their own edges: neighbours riding different places (a shell's
+            # rim under the lid, the next row on the lining) would tear them.
+            movable = np.ones(len(self.sheets), bool)
+            deltas[self.sheets] = smooth_over_edges(
+                deltas[self.sheets], self.sheet_edges, movable, SHEET_SWEEPS
+            )
+
+
+def _riding(vertices, triangles, pieces, anchorable, eye_width, pivots, rooted) -> _Riding | None:
+    """Which rider vertices ride the skin, how fully and where; None where none does."""
     riders = np.concatenate(pieces)
     piece_of = np.repeat(np.arange(len(pieces)), [len(piece) for piece in pieces])
     reach = RIDE_FAR * eye_width
@@ -75,38 +125,40 @@ def carry_riders(
     fade = fade * np.clip((ALONG_FAR * eye_width - along) / ((ALONG_FAR - ALONG_NEAR) * eye_width), 0, 1)
     keep = (owner >= 0) & (fade > 0)
     if not keep.any():
-        return
+        return None
     riders, owner, fade, piece_of = riders[keep], owner[keep], fade[keep], piece_of[keep]
     corners, weights = corners[owner], weights[owner]  # each vertex rides its base's point of the skin
     anchors = corners[np.arange(len(corners)), np.argmax(weights, axis=1)]
-    anchor_points = (vertices[corners] * weights[:, :, None]).sum(1)
-    centres = np.array([np.full(3, np.nan) if pivot is None else pivot for pivot in pivots])[piece_of]
-    pivoting = np.isfinite(centres[:, 0])
     distinct, which = np.unique(anchors, return_inverse=True)
     neighbourhood = _two_rings(vertices, triangles, anchorable, distinct)
-    offset = vertices[riders] - anchor_points
-    around = np.unique(np.concatenate((neighbourhood[:, 1], corners.ravel())))
-    # Sheets that ride where they touch (shells, tear lines, brow cards) are smoothed over their own
-    # edges: neighbours riding different places (a shell's rim under the lid, the next row on the
-    # lining) would tear them.
+    anchor_points = (vertices[corners] * weights[:, :, None]).sum(1)
     sheets = riders[~rooted[piece_of]]
+    return _Riding(
+        riders=riders,
+        fade=fade,
+        corners=corners,
+        weights=weights,
+        anchor_points=anchor_points,
+        offset=vertices[riders] - anchor_points,
+        centres=np.array([np.full(3, np.nan) if pivot is None else pivot for pivot in pivots])[piece_of],
+        neighbourhood=neighbourhood,
+        anchor_count=len(distinct),
+        which=which,
+        around=np.unique(np.concatenate((neighbourhood[:, 1], corners.ravel()))),
+        sheets=sheets,
+        sheet_edges=_own_edges(vertices, triangles, sheets)[0],
+    )
+
+
+def _own_edges(
+    vertices: np.ndarray, triangles: np.ndarray, piece: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The edges of the triangles among a piece's vertices (as indices into the piece), and their lengths."""
     local = np.full(len(vertices), -1, np.int64)
-    local[sheets] = np.arange(len(sheets))
+    local[piece] = np.arange(len(piece))
     own = triangles[(local[triangles] >= 0).all(1)]
-    sheet_edges = local[edge_graph(len(vertices), own, vertices)[0]]
-    for deltas in result.values():
-        if not np.any(deltas[around]):
-            continue
-        motion = (deltas[corners] * weights[:, :, None]).sum(1)
-        turns = _turns(vertices, deltas, neighbourhood, len(distinct))[which]
-        if pivoting.any():
-            before = anchor_points[pivoting] - centres[pivoting]
-            turns[pivoting] = _turns_between(before, before + motion[pivoting])
-        turned = np.einsum("nij,nj->ni", turns - np.eye(3), offset)
-        deltas[riders] = fade[:, None] * (motion + turned)
-        if len(sheets):
-            movable = np.ones(len(sheets), bool)
-            deltas[sheets] = smooth_over_edges(deltas[sheets], sheet_edges, movable, SHEET_SWEEPS)
+    edges, lengths = edge_graph(len(vertices), own, vertices)
+    return local[edges], lengths
 
 
 def _closest_skin(vertices, triangles, anchorable, points, reach):
@@ -137,11 +189,7 @@ def _closest_skin(vertices, triangles, anchorable, points, reach):
 def _nearest_base(vertices, triangles, riders, base) -> np.ndarray:
     """For each rider vertex, the distance along the pieces' own edges to the base vertex nearest it, and
     that vertex (an index into riders; -1 where no edge joins it to a base)."""
-    local = np.full(len(vertices), -1, np.int64)
-    local[riders] = np.arange(len(riders))
-    own = triangles[(local[triangles] >= 0).all(1)]
-    edges, lengths = edge_graph(len(vertices), own, vertices)
-    edges = local[edges]
+    edges, lengths = _own_edges(vertices, triangles, riders)
     return nearest_seed(len(riders), edges, lengths, np.flatnonzero(base), np.ones(len(riders), bool))
 
 

@@ -72,49 +72,14 @@ def join_videos(
     try:
         for chunk in chunks:
             inputs.append(_open(av, Path(chunk)))
-        streams = []
-        for chunk, container in zip(chunks, inputs, strict=True):
-            if not container.streams.video:
-                raise VideoError(f"{chunk} holds no video stream; render this chunk again.")
-            streams.append(container.streams.video[0])
-        first = _signature(streams[0])
-        for chunk, stream in zip(chunks, streams, strict=True):
-            if (
-                _signature(stream) != first
-                or stream.codec_context.extradata != streams[0].codec_context.extradata
-            ):
-                raise VideoError(
-                    f"{chunk} was encoded differently from {chunks[0]} ({_signature(stream)} against "
-                    f"{first}): render every chunk from the same .blend with the same render.py settings."
-                )
+        streams = _same_video_streams(chunks, inputs)
         rate = Fraction(streams[0].average_rate)
         out.parent.mkdir(parents=True, exist_ok=True)
-        chunk_frames = []
         with av.open(os.fspath(partial), "w", format="mp4") as output:
             video_out = output.add_stream_from_template(streams[0])
             audio_out = output.add_stream("aac", rate=AUDIO_RATE, layout="mono") if audio else None
-            frames = 0
-            last_dts = None
-            for chunk, container, stream in zip(chunks, inputs, streams, strict=True):
-                offset = round(Fraction(frames) / rate / stream.time_base)
-                count = 0
-                for packet in container.demux(stream):
-                    if packet.dts is None:  # the demuxer's end-of-stream marker
-                        continue
-                    packet.pts += offset
-                    packet.dts += offset
-                    seconds = float(packet.dts * stream.time_base)
-                    if last_dts is not None and seconds <= last_dts:
-                        raise VideoError(
-                            f"{chunk} overlaps the chunk before it (a frame at {seconds:.3f} s again): give "
-                            "each frame range once, in order."
-                        )
-                    last_dts = seconds
-                    packet.stream = video_out
-                    output.mux(packet)
-                    count += 1
-                chunk_frames.append(count)
-                frames += count
+            chunk_frames = _copy_video(chunks, inputs, streams, output, video_out, rate)
+            frames = sum(chunk_frames)
             seconds = float(frames / rate)
             if audio_out is not None:
                 _encode_audio(
@@ -126,6 +91,57 @@ def join_videos(
             container.close()
         partial.unlink(missing_ok=True)
     return JoinResult(out, frames, seconds, tuple(chunk_frames))
+
+
+def _same_video_streams(chunks: list[Path], inputs: list) -> list:
+    """Each chunk's video stream, all encoded alike (codec, size, pixel format, rate, codec set-up)."""
+    streams = []
+    for chunk, container in zip(chunks, inputs, strict=True):
+        if not container.streams.video:
+            raise VideoError(f"{chunk} holds no video stream; render this chunk again.")
+        streams.append(container.streams.video[0])
+    first = _signature(streams[0])
+    for chunk, stream in zip(chunks, streams, strict=True):
+        if (
+            _signature(stream) != first
+            or stream.codec_context.extradata != streams[0].codec_context.extradata
+        ):
+            raise VideoError(
+                f"{chunk} was encoded differently from {chunks[0]} ({_signature(stream)} against "
+                f"{first}): render every chunk from the same .blend with the same render.py settings."
+            )
+    return streams
+
+
+def _copy_video(
+    chunks: list[Path], inputs: list, streams: list, output, video_out, rate: Fraction
+) -> list[int]:
+    """The chunks' packets muxed one after another, each chunk's times moved on by the frames before it;
+    returns each chunk's frame count. A chunk that overlaps the one before is refused."""
+    chunk_frames: list[int] = []
+    frames = 0
+    last_dts = None
+    for chunk, container, stream in zip(chunks, inputs, streams, strict=True):
+        offset = round(Fraction(frames) / rate / stream.time_base)
+        count = 0
+        for packet in container.demux(stream):
+            if packet.dts is None:  # the demuxer's end-of-stream marker
+                continue
+            packet.pts += offset
+            packet.dts += offset
+            seconds = float(packet.dts * stream.time_base)
+            if last_dts is not None and seconds <= last_dts:
+                raise VideoError(
+                    f"{chunk} overlaps the chunk before it (a frame at {seconds:.3f} s again): give each "
+                    "frame range once, in order."
+                )
+            last_dts = seconds
+            packet.stream = video_out
+            output.mux(packet)
+            count += 1
+        chunk_frames.append(count)
+        frames += count
+    return chunk_frames
 
 
 def _encode_audio(

@@ -1,6 +1,11 @@
-"""A scene of several characters from one script: each speaks its lines and listens to the others.
+"""A scene from a text: one head speaking it, or several characters from one script, each speaking its
+lines and listening to the others.
 
-`converse(script, cast, options)` is to a conversation what `lip_sync` is to one head: the script's lines
+`perform(source, options)` is the one entry for both: a text with no speakers is a cast of one (the head
+speaks it all: `lip_sync`, with the living layers of one face to the camera), a script with speakers a
+conversation. Either way the result is a SceneResult: the scene's speech and a Character per speaker
+(its timeline, weight tracks and voice), which the command line, the exports and the Blender layer take
+alike. `converse(script, cast, options)` is the conversation's part: the script's lines
 spoken in each speaker's voice (or found in recordings) on one timeline (speech.py), then for every
 character its own weight tracks (its mouth moves only in its lines) with the living layers of a
 conversation (core/motion/living/conversation.py: whom it looks at, its head turned toward them, nods while
@@ -24,10 +29,10 @@ from ..motion import weight_tracks
 from ..motion.frames import sparse_track
 from ..motion.living.conversation import Turn, conversation_living_tracks
 from ..motion.living.parameters import living_parameters
-from ..pipeline import LipSyncOptions
+from ..pipeline import LipSyncOptions, LipSyncResult, lip_sync
 from ..speech import Synthesis
-from ..text.script import Script, read_script
-from .cast import Cast, Role, RoleChoice, cast_for
+from ..text.script import CAMERA, Script, read_script
+from .cast import Cast, Role, RoleChoice, Voice, cast_for
 from .layout import Standing, default_standings, face_path, surroundings
 from .speech import SceneLine, SceneSources, SceneSpeech, SoundPiece, speak_scene, with_faint_emotions
 
@@ -51,6 +56,52 @@ class SceneResult:
 
     def character(self, key: str) -> Character:
         return next(c for c in self.characters if c.role.key == key)
+
+    @property
+    def solo(self) -> bool:
+        """Whether this is one head speaking a text with no speakers (a cast of one)."""
+        return self.speech.script is None
+
+    def sound(self) -> Synthesis | None:
+        """Everything the scene says on its timeline (a cast of one: its speech as it is; None without
+        audio)."""
+        return self.characters[0].voice if self.solo else self.speech.mix()
+
+
+# The one role of a text with no speakers: the head speaks it in the default voice.
+SOLO_ROLE = Role(key="", name="", gender="", voice=Voice(""))
+
+
+def perform(
+    source: str,
+    options: LipSyncOptions | None = None,
+    *,
+    cast: Cast | None = None,
+    sources: SceneSources | None = None,
+    standings: dict[str, Standing] | None = None,
+    camera: np.ndarray | None = None,
+) -> SceneResult:
+    """The source spoken and every character moved: a script with speakers as a conversation (the cast by
+    default from the script; sources by default the options' recording or cue file, as the whole scene's),
+    any other text by one head (a cast of one: the options' recording or cue file is its own)."""
+    options = options or LipSyncOptions()
+    script = read_script(source) if source.strip() else None
+    if script is None:
+        return solo_scene(lip_sync(source, options))
+    cast = cast or cast_for(script, emotion_strength=options.emotion_strength)
+    return converse(script, cast, options, sources=sources, standings=standings, camera=camera)
+
+
+def solo_scene(result: LipSyncResult) -> SceneResult:
+    """One head's lip sync as a scene of one character: its one line said to the camera."""
+    timeline, synthesis = result.timeline, result.synthesis
+    line = SceneLine(0, SOLO_ROLE.key, CAMERA, timeline, result.utterance)
+    pieces = () if synthesis is None else (SoundPiece("speech", SOLO_ROLE.key, 0.0, synthesis, 0),)
+    speech = SceneSpeech(
+        None, Cast((SOLO_ROLE,)), (line,), pieces, timeline.duration, timeline.timing, result.warnings
+    )
+    character = Character(SOLO_ROLE, timeline, result.tracks, synthesis)
+    return SceneResult(result.options, speech, (character,), result.warnings)
 
 
 def listener_tracks(
@@ -116,6 +167,7 @@ def scene_speech(
         engine=options.engine,
         sources=sources,
         seed=options.seed,
+        aligner=options.aligner,
     )
 
 
@@ -186,6 +238,7 @@ __all__ = [
     "Standing",
     "cast_for",
     "converse",
+    "perform",
     "read_script",
     "scene_motion",
     "scene_speech",

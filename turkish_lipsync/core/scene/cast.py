@@ -15,9 +15,9 @@ from pathlib import Path
 from ..base.errors import LipSyncError
 from ..base.model import Style, Utterance
 from ..text.jsml import markup_error
-from ..text.script import Script, speaker_key
+from ..text.script import Script, ScriptSpeaker, speaker_key
 from ..text.tables import turkish_lower
-from .tables import conversation_table
+from .tables import Voices, conversation_table
 
 GENDERS = ("female", "male")
 PITCH_RANGE = (0.5, 2.0)
@@ -95,10 +95,29 @@ def cast_for(
         raise LipSyncError(
             f"The cast names {', '.join(unknown)}, who never speaks in the script; the speakers are {names}."
         )
+    genders = _genders(script, choices, table.names)
+    roles = []
+    taken: dict[str, int] = dict.fromkeys(GENDERS, 0)
+    for speaker in script.speakers:
+        gender = genders[speaker.key]
+        number = taken[gender]  # the n-th speaker of the gender takes the n-th voice and steps
+        taken[gender] += 1
+        choice = choices.get(speaker.key, RoleChoice())
+        voice = _voice(script, speaker, choice, table.voices, gender, number)
+        strength = emotion_strength if choice.emotion_strength is None else choice.emotion_strength
+        if not 0.0 <= strength <= 1.0:
+            raise LipSyncError(f"The emotion strength {strength:g} of {speaker.name} is outside 0..1.")
+        roles.append(Role(speaker.key, speaker.name, gender, voice, choice.head, strength, choice.recording))
+    return Cast(tuple(roles))
+
+
+def _genders(script: Script, choices: dict[str, RoleChoice], names: dict[str, str]) -> dict[str, str]:
+    """Each speaker's gender: the user's choice, the script's, a known given name's, else the gender the
+    cast has fewest of."""
     genders: dict[str, str | None] = {}
     for speaker in script.speakers:
         choice = choices.get(speaker.key, RoleChoice())
-        gender = choice.gender or speaker.gender or _gender_of_name(speaker.name, table.names)
+        gender = choice.gender or speaker.gender or _gender_of_name(speaker.name, names)
         if gender is not None and gender not in GENDERS:
             raise LipSyncError(f"The gender {gender!r} of {speaker.name} is not one of {', '.join(GENDERS)}.")
         genders[speaker.key] = gender
@@ -106,49 +125,26 @@ def cast_for(
         if gender is None:
             counts = {g: sum(1 for other in genders.values() if other == g) for g in GENDERS}
             genders[key] = min(GENDERS, key=lambda g: counts[g])
-    roles = []
-    taken: dict[str, int] = dict.fromkeys(GENDERS, 0)
-    for speaker in script.speakers:
-        choice = choices.get(speaker.key, RoleChoice())
-        gender = genders[speaker.key]
-        number = taken[gender]
-        taken[gender] += 1
-        variants = table.voices.of(gender)
-        written = choice.variant or speaker.variant
-        variant = (
-            _variant(written, variants, script, speaker) if written else variants[number % len(variants)]
-        )
-        pitch = (
-            choice.pitch
-            if choice.pitch is not None
-            else table.voices.pitch_steps[number % len(table.voices.pitch_steps)]
-        )
-        rate = (
-            choice.rate
-            if choice.rate is not None
-            else table.voices.rate_steps[number % len(table.voices.rate_steps)]
-        )
-        for what, value, bounds in (("pitch", pitch, PITCH_RANGE), ("rate", rate, RATE_RANGE)):
-            if not bounds[0] <= value <= bounds[1]:
-                raise LipSyncError(
-                    f"The voice {what} {value:g} of {speaker.name} is outside {bounds[0]:g}..{bounds[1]:g}; "
-                    "choose a multiplier such as 0.9 or 1.1."
-                )
-        strength = emotion_strength if choice.emotion_strength is None else choice.emotion_strength
-        if not 0.0 <= strength <= 1.0:
-            raise LipSyncError(f"The emotion strength {strength:g} of {speaker.name} is outside 0..1.")
-        roles.append(
-            Role(
-                speaker.key,
-                speaker.name,
-                gender,
-                Voice(variant, pitch, rate),
-                choice.head,
-                strength,
-                choice.recording,
+    return genders
+
+
+def _voice(
+    script: Script, speaker: ScriptSpeaker, choice: RoleChoice, voices: Voices, gender: str, number: int
+) -> Voice:
+    """The speaker's voice: the chosen or written variant, pitch and rate, else the number-th of the
+    gender's variants and steps (conversation.toml)."""
+    variants = voices.of(gender)
+    written = choice.variant or speaker.variant
+    variant = _variant(written, variants, script, speaker) if written else variants[number % len(variants)]
+    pitch = choice.pitch if choice.pitch is not None else voices.pitch_steps[number % len(voices.pitch_steps)]
+    rate = choice.rate if choice.rate is not None else voices.rate_steps[number % len(voices.rate_steps)]
+    for what, value, bounds in (("pitch", pitch, PITCH_RANGE), ("rate", rate, RATE_RANGE)):
+        if not bounds[0] <= value <= bounds[1]:
+            raise LipSyncError(
+                f"The voice {what} {value:g} of {speaker.name} is outside {bounds[0]:g}..{bounds[1]:g}; "
+                "choose a multiplier such as 0.9 or 1.1."
             )
-        )
-    return Cast(tuple(roles))
+    return Voice(variant, pitch, rate)
 
 
 def _gender_of_name(name: str, names: dict[str, str]) -> str | None:

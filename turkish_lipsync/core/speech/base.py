@@ -8,7 +8,7 @@ engine only has to say which phone symbols may realise each letter (`letter_symb
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from threading import Lock
 from typing import ClassVar
 
@@ -31,6 +31,12 @@ class PhoneEvent:
     # the engine reports at the burst (with_closures moves the start back over it).
     closure: float = 0.0
 
+    def moved(self, seconds: float, words: int) -> PhoneEvent:
+        """The event `seconds` later and `words` words on (a piece of a text spoken after the others)."""
+        return replace(
+            self, start=self.start + seconds, end=self.end + seconds, word_index=self.word_index + words
+        )
+
 
 @dataclass(frozen=True)
 class WordEvent:
@@ -38,6 +44,10 @@ class WordEvent:
 
     start: float
     word_index: int
+
+    def moved(self, seconds: float, words: int) -> WordEvent:
+        """The event `seconds` later and `words` words on."""
+        return replace(self, start=self.start + seconds, word_index=self.word_index + words)
 
 
 @dataclass(frozen=True, eq=False)

@@ -24,7 +24,7 @@ import numpy as np
 from ..base.errors import TextError
 from ..base.model import Timeline, Utterance
 from ..text.utterance import build_utterance
-from .audio import read_audio
+from .audio import read_audio, to_pcm16
 from .base import Synthesis
 from .cues import CueFileError, CueSource, MouthCue, read_cue_file
 from .cues.shapes import REST, shape_for_viseme
@@ -104,8 +104,7 @@ def speech_from_cues(
     synthesis = None
     if audio is not None:
         samples, rate = read_audio(audio)
-        pcm = np.clip(np.round(samples * 32768), -32768, 32767).astype(np.int16)  # 16-bit WAVs exactly
-        synthesis = Synthesis(pcm, rate, (), (), "recording")
+        synthesis = Synthesis(to_pcm16(samples), rate, (), (), "recording")
     return utterance, Speech(timeline, synthesis, warnings)
 
 

@@ -35,81 +35,16 @@ from .acoustic.features import recogniser_features, speech_stretch
 from .acoustic.labels import CLASS_INDEX, SILENCE
 from .acoustic.network import load_network
 from .align import phone_letter_spans
+from .aligner_settings import DEFAULT_ALIGNER, AlignerSettings
 from .audio import MAX_OUTPUT_RATE, clipping, read_audio, resample, resampled_pcm
 from .base import PhoneEvent, SpeechEngine, Synthesis, WordEvent
 from .dtw import Pauses, coarse_dtw_path, dtw_path
 from .features import ANALYSIS_RATE, HOP, frame_count
 from .judgement import Fit, PhraseMatch, judge
-from .letter_warp import letter_warp
+from .letter_warp import LetterFit, letter_warp
 from .speech_detector import detect_speech
 from .timewarp import TimeWarp, warp_synthesis
 from .voice_activity import above_floor, clean_speech_frames, runs, speech_frames, under_speech
-
-# Frames (100 ms) of the WebRTC-based mask below which a person's short word may be all it missed: Silero's
-# detector (trained on people) decides then.
-LEAST_SPEECH_FRAMES = 10
-MAX_LENGTH_RATIO = 4.0  # recordings with this many times more or less speech than the synthetic are refused
-LENGTH_SLACK = 3.0  # seconds of speech beyond that ratio a recording may have or lack (syllables drawn out)
-CHUNK_LETTERS = 3_000  # about 5 minutes of speech synthesised at a time (split at sentences)
-SENTENCE_PAUSE = 0.3  # seconds: a word after a pause this long may start a chunk
-PADDING_FRAMES = 50  # silence added around the synthetic speech beyond the recording's own lead and tail
-# The DTW's features are the square roots of the posteriors times HEARD_SCALE: two frames heard alike
-# are 0 apart, frames heard as different classes 3.5 (2.5 x the Hellinger distance's sqrt(2)). On the tune
-# part's lists of eight read with pauses, scales of 1, 2.5 and 4 gave item onsets p90 of 1,343, 224 and
-# 179 ms with the DTW alone (its costs below were set for distances of 1-3 a frame).
-HEARD_SCALE = 2.5
-SILENCE_IN_SPEECH = 0.05  # silence's posterior is this many times smaller where a voice is detected
-SPEECH_EDGE_FRAMES = 5  # the letters' alignment trusts the detector's speech this far inside its runs
-# Added to silence's score where the letters are placed (acoustic/forced.py): on the tune part's lists of
-# eight, with no bias an item the network heard as silence was left out (onsets p90 1,343 ms), at -3
-# some still were (p90 82, max 1,752 ms), at -8 none (p90 20 ms).
-SPEAKER_SILENCE_BIAS = -8.0
-# Where a pause may hold quiet speech (a voice in the background, a room's tail), silence gains this much:
-# at 2.0 the network of the fourth round (scripts/train_recogniser.py), hearing a background talker's
-# vowel in a hesitation as the next word's, started that word 100 ms early in half of eSpeak NG's
-# renditions of the take (tests/core/test_speech_recording_person.py); at 3.0 in none of ten. The tune
-# part's lists of eight as before (onsets 10 / 56 / 129 ms); the report part's p90 69 -> 74 ms: a quiet s
-# that starts an item is taken for a pause the more (docs/developer/measured/people.md).
-QUIET_SILENCE_BIAS = 3.0
-# A sound dying away (a room's tail after a word, a vowel's end) keeps no silence bias: from where the level
-# falls past FADING_DB under the speaker's loud frames until it rises RISING_DB from the lowest it reached
-# (the next sound's onset). The speech detector calls a reverberant room's tail speech, and the bias then
-# drew the first letter of the word after a comma's pause into the tail (tuning takes, m5 voice in a 0.4 s
-# room: 150-190 ms early). Synthetic held-out takes: reverberant room max 215 -> 97 ms, misplaced 7 -> 5;
-# live room 195 -> 182, 5 -> 4 (held-out voices: 209 -> 74, 6 -> 4); people's figures as before but a take.
-FADING_DB = 15.0
-RISING_DB = 3.0
-# A run of the detector's speech starts where the word does, not at the first of its frames the network
-# hears as silence (LEADING_SILENCE_SURE or surer) this far under the speaker (LEADING_QUIET_DB): a noise
-# gate or an edit opening on the room, a microphone's handling noise or a breath before a voiced onset,
-# which WebRTC's detector takes for speech where it rises out of digital silence. On the report part's
-# lists of eight read with pauses (French syllables whose clips open on 150-500 ms of room 35 dB under
-# the vowel), item onsets 16 / 74 / 271 -> 13 / 47 / 271 ms; the tune part's 10 / 56 / 129 either way
-# (at 0.8: max 157); LEADING_QUIET_DB of 20-30 dB gives p90 48-52.
-LEADING_SILENCE_SURE = 0.9
-LEADING_QUIET_DB = 25.0
-ORDER_FRAMES = 3_000  # the text's order is tested on the first 30 seconds of a long take
-# Cost of a DTW step that stretches one signal (in units of the feature distance, 0-3.5 a frame): keeps
-# the path near the diagonal where the distances do not decide.
-STEP_PENALTY = 2.0
-PAUSE_COST = 1.0  # per frame of a pause one signal makes and the other does not
-BOUNDARY_SLACK = 1  # frames either side of a synthetic word onset where a recorded pause may be held
-# A stretch of recorded silence, or of "speech" this close to the noise floor (150 ms), is a pause: a voice
-# in the background or a room's tail fills it, and the voice activity detector takes that for speech.
-FLOOR_PAUSE_DB = 10.0
-FLOOR_PAUSE_FRAMES = 15
-# "Speech" this far under the speaker's loud frames for 200 ms may be a pause too (a voice in the
-# background in a quiet take), or the speaker's own quiet sounds (a slow voice's "ülm" in a reverberant
-# room): holding a word boundary through it costs FAR_UNDER_HOLD_COST a frame, which only a stretch
-# that matches nothing of the text is worth. (Person's takes, held-out voices: a hesitation filled so
-# was keyed 665 ms early, a comma's pause 178 ms, before this; at PAUSE_COST a reverberant take's
-# quiet word start was held as a pause, 323 ms late. With the acoustic model placing the letters, a
-# comma's pause of 200-300 ms that a voice in the background or a room's tail fills drew the next word
-# into it at 300 ms: tuning takes misplaced, talker 22 -> 8, live room 6 -> 1 of 120 at 200 ms; 150 ms
-# put a quiet item of a people's list into a pause, 1.9 s late.)
-UNDER_SPEECH_PAUSE_DB = 15.0
-UNDER_SPEECH_PAUSE_FRAMES = 20
-FAR_UNDER_HOLD_COST = 12.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -123,6 +58,19 @@ class RecordingAlignment:
 
 
 @dataclass(frozen=True, eq=False)
+class RecordingFit:
+    """A take aligned to its text, not yet judged: the synthetic phones, the warp to recorded time, the
+    recording with the warped events, how its frames fit the text, its name and its clipping."""
+
+    phone_events: tuple[PhoneEvent, ...]
+    warp: TimeWarp
+    synthesis: Synthesis
+    fit: Fit
+    name: str
+    clipped: str
+
+
+@dataclass(frozen=True, eq=False)
 class _Reference:
     """The synthetic rendition of the whole text: its events (its audio is only analysed, never kept)."""
 
@@ -130,35 +78,63 @@ class _Reference:
     word_events: tuple[WordEvent, ...]
 
 
-def synthesize_reference(utterance: Utterance, engine: SpeechEngine) -> tuple[_Reference, np.ndarray]:
-    """The text spoken chunk by chunk (sentences up to CHUNK_LETTERS letters), only its 16 kHz copy kept."""
+@dataclass(frozen=True, eq=False)
+class RecordedAudio:
+    """A recording already in memory: mono float samples in [-1, 1], their rate, and the name messages
+    give it (its file, or a line of a scene's recording)."""
+
+    samples: np.ndarray
+    sample_rate: int
+    name: str
+
+
+@dataclass(frozen=True, eq=False)
+class _HeardRecording:
+    """The user's audio (kept at its own rate up to 48 kHz as 16-bit PCM) and what is heard in it, per
+    analysis frame."""
+
+    output: np.ndarray
+    output_rate: int
+    clipped: str
+    speech: np.ndarray
+    loudness: np.ndarray  # dB above the floor
+    under_speech: np.ndarray  # dB under the speaker's loud frames
+    log_posteriors: np.ndarray
+    features: np.ndarray  # the DTW's
+
+
+@dataclass(frozen=True, eq=False)
+class _TextFound:
+    """The text found in the recording as a whole: the DTW's path and what it was drawn through."""
+
+    lead: int  # synthetic frames padded before the rendition
+    synthetic_speech: np.ndarray  # padded
+    path_x: np.ndarray
+    path_y: np.ndarray
+    pause: np.ndarray  # per recorded frame: the speaker may pause here
+    order_ratio: float
+
+
+def synthesize_reference(
+    utterance: Utterance, engine: SpeechEngine, settings: AlignerSettings = DEFAULT_ALIGNER
+) -> tuple[_Reference, np.ndarray]:
+    """The text spoken chunk by chunk (sentences up to chunk_letters letters), only its 16 kHz copy kept."""
     pieces: list[np.ndarray] = []
     phones: list[PhoneEvent] = []
     words: list[WordEvent] = []
     offset = 0.0
-    for part, first_word in _chunks(utterance):
+    for part, first_word in _chunks(utterance, settings):
         spoken = engine.synthesize(part)
         pieces.append(resample(spoken.samples, spoken.sample_rate, ANALYSIS_RATE, 1 / 32768))
-        phones.extend(
-            replace(
-                event,
-                start=event.start + offset,
-                end=event.end + offset,
-                word_index=event.word_index + first_word,
-            )
-            for event in spoken.phone_events
-        )
-        words.extend(
-            replace(event, start=event.start + offset, word_index=event.word_index + first_word)
-            for event in spoken.word_events
-        )
+        phones.extend(event.moved(offset, first_word) for event in spoken.phone_events)
+        words.extend(event.moved(offset, first_word) for event in spoken.word_events)
         offset += spoken.duration
     analysis = np.concatenate(pieces) if pieces else np.zeros(0, np.float32)
     return _Reference(tuple(phones), tuple(words)), analysis
 
 
-def _chunks(utterance: Utterance) -> list[tuple[Utterance, int]]:
-    """Pieces of the utterance (each with its first word's index), cut at sentence pauses past CHUNK_LETTERS.
+def _chunks(utterance: Utterance, settings: AlignerSettings) -> list[tuple[Utterance, int]]:
+    """Pieces of the utterance (each with its first word's index), cut at sentence pauses past chunk_letters.
 
     The pause between two pieces moves to the end of the first, so the voice ends it as a sentence.
     """
@@ -166,7 +142,7 @@ def _chunks(utterance: Utterance) -> list[tuple[Utterance, int]]:
     bounds = [0]
     letters = 0
     for index, word in enumerate(words):
-        if index and letters >= CHUNK_LETTERS and word.pause_before >= SENTENCE_PAUSE:
+        if index and letters >= settings.chunk_letters and word.pause_before >= settings.sentence_pause:
             bounds.append(index)
             letters = 0
         letters += word.letter_count
@@ -183,99 +159,153 @@ def _chunks(utterance: Utterance) -> list[tuple[Utterance, int]]:
     return pieces
 
 
-def align_recording(utterance: Utterance, path: str | Path, engine: SpeechEngine) -> RecordingAlignment:
-    """Align the synthetic rendition of the utterance to the user's recording of it; see the module text."""
-    path = Path(path)
-    native, native_rate = read_audio(path)
+def align_recording(
+    utterance: Utterance,
+    recording: str | Path | RecordedAudio,
+    engine: SpeechEngine,
+    settings: AlignerSettings = DEFAULT_ALIGNER,
+) -> RecordingAlignment:
+    """Align the synthetic rendition of the utterance to the user's recording of it (a file, or samples
+    already read), and judge the fit; see the module text."""
+    fitted = fit_recording(utterance, recording, engine, settings)
+    phrases, warnings = judge(
+        utterance, fitted.phone_events, fitted.warp, fitted.fit, fitted.name, fitted.clipped, settings
+    )
+    return RecordingAlignment(fitted.warp, fitted.synthesis, phrases, warnings)
+
+
+def fit_recording(
+    utterance: Utterance,
+    recording: str | Path | RecordedAudio,
+    engine: SpeechEngine,
+    settings: AlignerSettings = DEFAULT_ALIGNER,
+) -> RecordingFit:
+    """The alignment before its judgement: what judgement.judge reads (a tuning run judges it again with
+    other settings)."""
+    if isinstance(recording, RecordedAudio):
+        native, native_rate, name = recording.samples, recording.sample_rate, recording.name
+    else:
+        native, native_rate = read_audio(recording)
+        name = str(recording)
     # The synthetic rendition is made and heard in a thread of its own while the recording is heard:
     # eSpeak NG and numpy's matrix products release the interpreter, so on two cores the two overlap.
     with ThreadPoolExecutor(max_workers=1) as pool:
-        rendition = pool.submit(_synthetic_analysis, utterance, engine)
-        # The user's audio is kept at its own rate (up to 48 kHz) as 16-bit PCM, the float copy dropped.
-        output_rate = min(native_rate, MAX_OUTPUT_RATE)
-        output = resampled_pcm(native, native_rate, output_rate)
-        clipped = clipping(native)
-        del native
-        recorded = resample(output, output_rate, ANALYSIS_RATE, 1 / 32768)
-        frames = frame_count(recorded.size)
-        recorded_speech, recorded_loudness, recorded_under_speech, log_posteriors = _heard_around_speech(
-            path, recorded, frames
-        )
-        recorded_speech = _from_first_sound(recorded_speech, log_posteriors, recorded_under_speech)
-        y = heard_features(_speech_not_silence(log_posteriors, recorded_speech))
-        del recorded
+        rendition = pool.submit(_synthetic_analysis, utterance, engine, settings)
+        heard = _hear_recording(native, native_rate, name, settings)
+        del native  # a file's float copy (the caller's samples stay theirs)
         reference, x, synthetic_speech = rendition.result()
-    _check_lengths(path, recorded_speech, synthetic_speech)
-    spoken = np.flatnonzero(recorded_speech)
-    lead = int(spoken[0]) + PADDING_FRAMES
-    tail = len(recorded_speech) - int(spoken[-1]) + PADDING_FRAMES
-    x = np.concatenate((_silence(lead, x.shape[1]), x, _silence(tail, x.shape[1])))
-    synthetic_speech = np.pad(synthetic_speech, (lead, tail))
-    order_ratio = _order_ratio(x, synthetic_speech, y)
-    word_onsets = _word_onsets(reference)
-    pauses = _pauses(
-        word_onsets, lead, synthetic_speech, recorded_speech, recorded_loudness, recorded_under_speech
-    )
-    path_x, path_y = coarse_dtw_path(x, y, step_penalty=STEP_PENALTY, pauses=pauses)
-    # Silence, or a stretch a voice in the background or a room's tail may fill: the speaker may pause.
-    recorded_pause = np.isfinite(pauses.y_hold_cost)
-    duration = output.size / output_rate
-    synthetic_starts, synthetic_ends, _ = phone_letter_spans(
-        utterance,
-        Synthesis(output[:0], output_rate, reference.phone_events, reference.word_events, ""),
-        engine,
-    )
-    letters = letter_warp(
-        utterance,
-        synthetic_starts,
-        synthetic_ends,
-        log_posteriors,
-        _silence_bias(recorded_speech, recorded_pause, recorded_under_speech),
-        load_network(),
-        path_x,
-        path_y,
-        lead,
-        duration,
-    )
+    _check_lengths(name, heard.speech, synthetic_speech, settings)
+    found = _find_text(reference, x, synthetic_speech, heard, settings)
+    letters = _place_letters(utterance, engine, reference, heard, found, settings)
     if letters is None:
         raise AudioError(
-            f"recording {path} is too short for the text's letters, so it cannot read this text; check that "
+            f"recording {name} is too short for the text's letters, so it cannot read this text; check that "
             "the recording and the text belong together"
         )
     synthesis = warp_synthesis(
-        Synthesis(output, output_rate, reference.phone_events, reference.word_events, "recording"),
+        Synthesis(
+            heard.output, heard.output_rate, reference.phone_events, reference.word_events, "recording"
+        ),
         letters.warp,
-        output,
+        heard.output,
     )
-    # What a pause holds (a voice in the background, a room's tail) is not the speaker's: not judged.
-    judged = recorded_speech & ~recorded_pause
     fit = Fit(
-        path_x,
-        path_y,
+        found.path_x,
+        found.path_y,
         letters.mismatch,
         letters.heard_letters,
         letters.frame_words,
-        synthetic_speech,
-        judged,
-        recorded_under_speech,
-        lead,
-        order_ratio,
+        found.synthetic_speech,
+        heard.speech & ~found.pause,  # what a pause holds (a background voice, a room's tail) is not judged
+        heard.under_speech,
+        found.lead,
+        found.order_ratio,
     )
-    phrases, warnings = judge(utterance, reference.phone_events, letters.warp, fit, path, clipped)
-    return RecordingAlignment(letters.warp, synthesis, phrases, warnings)
+    return RecordingFit(reference.phone_events, letters.warp, synthesis, fit, name, heard.clipped)
+
+
+def _place_letters(
+    utterance: Utterance,
+    engine: SpeechEngine,
+    reference: _Reference,
+    heard: _HeardRecording,
+    found: _TextFound,
+    settings: AlignerSettings,
+) -> LetterFit | None:
+    """Each letter where the network hears it, within reach of the DTW's path (letter_warp.py)."""
+    synthetic_starts, synthetic_ends, _ = phone_letter_spans(
+        utterance,
+        Synthesis(heard.output[:0], heard.output_rate, reference.phone_events, reference.word_events, ""),
+        engine,
+    )
+    return letter_warp(
+        utterance,
+        synthetic_starts,
+        synthetic_ends,
+        heard.log_posteriors,
+        _silence_bias(heard.speech, found.pause, heard.under_speech, settings),
+        load_network(),
+        found.path_x,
+        found.path_y,
+        found.lead,
+        heard.output.size / heard.output_rate,
+    )
+
+
+def _hear_recording(
+    native: np.ndarray, native_rate: int, name: str, settings: AlignerSettings
+) -> _HeardRecording:
+    """The user's audio at its own rate as 16-bit PCM (the float copy is the caller's to drop), and what
+    the speech detector and the acoustic model hear in it."""
+    output_rate = min(native_rate, MAX_OUTPUT_RATE)
+    output = resampled_pcm(native, native_rate, output_rate)
+    recorded = resample(output, output_rate, ANALYSIS_RATE, 1 / 32768)
+    speech, loudness, under, log_posteriors = _heard_around_speech(
+        name, recorded, frame_count(recorded.size), settings
+    )
+    speech = _from_first_sound(speech, log_posteriors, under, settings)
+    features = heard_features(_speech_not_silence(log_posteriors, speech, settings), settings)
+    return _HeardRecording(
+        output, output_rate, clipping(native), speech, loudness, under, log_posteriors, features
+    )
+
+
+def _find_text(
+    reference: _Reference,
+    x: np.ndarray,
+    synthetic_speech: np.ndarray,
+    heard: _HeardRecording,
+    settings: AlignerSettings,
+) -> _TextFound:
+    """The DTW of the synthetic rendition (padded by silence) against the recording, a pause possible at
+    any word boundary and wherever the recording is silent or holds only quiet speech."""
+    spoken = np.flatnonzero(heard.speech)
+    lead = int(spoken[0]) + settings.padding_frames
+    tail = len(heard.speech) - int(spoken[-1]) + settings.padding_frames
+    x = np.concatenate((_silence(lead, x.shape[1], settings), x, _silence(tail, x.shape[1], settings)))
+    synthetic_speech = np.pad(synthetic_speech, (lead, tail))
+    y = heard.features
+    order_ratio = _order_ratio(x, synthetic_speech, y, settings)
+    pauses = _pauses(
+        _word_onsets(reference), lead, synthetic_speech, heard.speech, heard.loudness, heard.under_speech,
+        settings,
+    )  # fmt: skip
+    path_x, path_y = coarse_dtw_path(x, y, step_penalty=settings.step_penalty, pauses=pauses)
+    # Silence, or a stretch a voice in the background or a room's tail may fill: the speaker may pause.
+    return _TextFound(lead, synthetic_speech, path_x, path_y, np.isfinite(pauses.y_hold_cost), order_ratio)
 
 
 def _heard_around_speech(
-    path: Path, recorded: np.ndarray, frames: int
+    name: str, recorded: np.ndarray, frames: int, settings: AlignerSettings
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The recording's speech frames, dB above its floor, dB under its speech and log posteriors, each
     measured on the stretch around its speech (acoustic.features.speech_stretch); beyond it, silence at
     the floor."""
-    speech = _checked_speech(path, recorded, speech_frames(recorded, frames))
+    speech = _checked_speech(name, recorded, speech_frames(recorded, frames), settings)
     first, stop = speech_stretch(speech)
     if (first, stop) != (0, frames):
         recorded = recorded[first * HOP : stop * HOP if stop < frames else recorded.size]
-        speech = _checked_speech(path, recorded, speech_frames(recorded, stop - first))
+        speech = _checked_speech(name, recorded, speech_frames(recorded, stop - first), settings)
     around = (first, frames - stop)
     under = under_speech(recorded, stop - first)
     return (
@@ -304,38 +334,41 @@ def _silence_around(log_posteriors: np.ndarray, before: int, after: int) -> np.n
 
 
 def _silence_bias(
-    recorded_speech: np.ndarray, recorded_pause: np.ndarray, recorded_under_speech: np.ndarray
+    recorded_speech: np.ndarray,
+    recorded_pause: np.ndarray,
+    recorded_under_speech: np.ndarray,
+    settings: AlignerSettings,
 ) -> np.ndarray:
     """What the speech detector adds to silence's score in each recorded frame, for placing the letters:
-    SPEAKER_SILENCE_BIAS well inside the speaker's speech but where a sound dies away, QUIET_SILENCE_BIAS
+    speaker_silence_bias well inside the speaker's speech but where a sound dies away, quiet_silence_bias
     where speech so quiet or so near the noise floor that a pause may hold it (a voice in the background,
     a room's tail)."""
-    bias = np.where(recorded_speech & recorded_pause, QUIET_SILENCE_BIAS, 0.0)
-    speaking = _inner(recorded_speech & ~recorded_pause, SPEECH_EDGE_FRAMES)
-    bias[speaking & ~fading(recorded_under_speech)] = SPEAKER_SILENCE_BIAS
+    bias = np.where(recorded_speech & recorded_pause, settings.quiet_silence_bias, 0.0)
+    speaking = _inner(recorded_speech & ~recorded_pause, settings.speech_edge_frames)
+    bias[speaking & ~fading(recorded_under_speech, settings)] = settings.speaker_silence_bias
     return bias
 
 
-def fading(under_speech_db: np.ndarray) -> np.ndarray:
-    """The frames of a sound dying away (see FADING_DB), given how far each lies under the loud frames."""
+def fading(under_speech_db: np.ndarray, settings: AlignerSettings = DEFAULT_ALIGNER) -> np.ndarray:
+    """The frames of a sound dying away (see fading_db), given how far each lies under the loud frames."""
     level = -np.asarray(under_speech_db, np.float64)
-    below = level <= -FADING_DB
+    below = level <= -settings.fading_db
     found = np.zeros(level.size, bool)
-    starts = np.flatnonzero(below[1:] & ~below[:-1]) + 1  # the level falls past FADING_DB here
+    starts = np.flatnonzero(below[1:] & ~below[:-1]) + 1  # the level falls past settings.fading_db here
     for start, end in zip(starts, np.append(starts[1:], level.size), strict=False):
-        after = level[start:end]  # a fade ends before the level can fall past FADING_DB again
-        rising = (after >= np.minimum.accumulate(after) + RISING_DB) | ~below[start:end]
+        after = level[start:end]  # a fade ends before the level can fall past settings.fading_db again
+        rising = (after >= np.minimum.accumulate(after) + settings.rising_db) | ~below[start:end]
         found[start : start + (int(np.argmax(rising)) if rising.any() else after.size)] = True
     return found
 
 
 def _from_first_sound(
-    speech: np.ndarray, log_posteriors: np.ndarray, under_speech_db: np.ndarray
+    speech: np.ndarray, log_posteriors: np.ndarray, under_speech_db: np.ndarray, settings: AlignerSettings
 ) -> np.ndarray:
-    """The speech frames with each run's leading frames of room dropped (see LEADING_SILENCE_SURE); a run
+    """The speech frames with each run's leading frames of room dropped (see leading_silence_sure); a run
     that is room throughout is left whole: whether it is speech is the detector's call."""
-    room = (log_posteriors[:, CLASS_INDEX[SILENCE]] >= np.log(LEADING_SILENCE_SURE)) & (
-        under_speech_db >= LEADING_QUIET_DB
+    room = (log_posteriors[:, CLASS_INDEX[SILENCE]] >= np.log(settings.leading_silence_sure)) & (
+        under_speech_db >= settings.leading_quiet_db
     )
     trimmed = speech.copy()
     for start, stop in runs(speech):
@@ -355,35 +388,37 @@ def _inner(speech: np.ndarray, edge: int) -> np.ndarray:
     return inner
 
 
-def _speech_not_silence(log_posteriors: np.ndarray, speech: np.ndarray) -> np.ndarray:
-    """The posteriors with silence made SILENCE_IN_SPEECH times less likely where the speech detector
+def _speech_not_silence(
+    log_posteriors: np.ndarray, speech: np.ndarray, settings: AlignerSettings
+) -> np.ndarray:
+    """The posteriors with silence made silence_in_speech times less likely where the speech detector
     hears speech: the network, unsure of a voice unlike any it learnt from, hears silence sooner than
     a wrong letter, and the DTW would then hold the text's pauses against the speaker's words."""
     adjusted = log_posteriors.copy()
-    adjusted[speech, CLASS_INDEX[SILENCE]] += np.log(SILENCE_IN_SPEECH)
+    adjusted[speech, CLASS_INDEX[SILENCE]] += np.log(settings.silence_in_speech)
     adjusted -= np.log(np.exp(adjusted).sum(axis=1, keepdims=True))
     return adjusted
 
 
-def heard_features(log_posteriors: np.ndarray) -> np.ndarray:
-    """The DTW's features: the square roots of the posteriors, scaled by HEARD_SCALE."""
-    return (HEARD_SCALE * np.sqrt(np.exp(log_posteriors))).astype(np.float32)
+def heard_features(log_posteriors: np.ndarray, settings: AlignerSettings = DEFAULT_ALIGNER) -> np.ndarray:
+    """The DTW's features: the square roots of the posteriors, scaled by heard_scale."""
+    return (settings.heard_scale * np.sqrt(np.exp(log_posteriors))).astype(np.float32)
 
 
-def _silence(frames: int, classes: int) -> np.ndarray:
+def _silence(frames: int, classes: int, settings: AlignerSettings) -> np.ndarray:
     """Features of frames in which nothing but silence is heard."""
     heard = np.zeros((frames, classes), np.float32)
-    heard[:, CLASS_INDEX[SILENCE]] = HEARD_SCALE
+    heard[:, CLASS_INDEX[SILENCE]] = settings.heard_scale
     return heard
 
 
 def _synthetic_analysis(
-    utterance: Utterance, engine: SpeechEngine
+    utterance: Utterance, engine: SpeechEngine, settings: AlignerSettings
 ) -> tuple[_Reference, np.ndarray, np.ndarray]:
     """The synthetic rendition's events, what is heard in it and its speech frames (its audio dropped)."""
-    reference, analysis = synthesize_reference(utterance, engine)
+    reference, analysis = synthesize_reference(utterance, engine, settings)
     frames = frame_count(analysis.size)
-    heard = heard_features(heard_log_posteriors(analysis, frames))
+    heard = heard_features(heard_log_posteriors(analysis, frames), settings)
     return reference, heard, clean_speech_frames(analysis, frames)
 
 
@@ -402,12 +437,13 @@ def _pauses(
     recorded_speech: np.ndarray,
     recorded_loudness: np.ndarray,
     recorded_under_speech: np.ndarray,
+    settings: AlignerSettings,
 ) -> Pauses:
     """Where the recording may pause though the synthetic speech does not: at any word boundary.
 
     A person hesitates between words where the text has no comma, and leaves out pauses it has: the
     DTW may hold a synthetic word boundary through a recorded pause, and a synthetic pause against
-    any recorded frame, at PAUSE_COST a frame. With a voice in the background or in a live room a
+    any recorded frame, at pause_cost a frame. With a voice in the background or in a live room a
     pause is not silent: a long enough stretch close to the recording's noise floor (which a steady
     background voice is part of), or far under the speaker's own loud frames (a background voice in a
     quiet take, a room's tail), is a pause too.
@@ -415,36 +451,42 @@ def _pauses(
     box = np.ones(5) / 5
     free = ~synthetic_speech
     boundaries = lead + np.round(word_onsets[1:] * ANALYSIS_RATE / HOP).astype(np.int64)
-    for offset in range(-BOUNDARY_SLACK, BOUNDARY_SLACK + 1):
+    for offset in range(-settings.boundary_slack, settings.boundary_slack + 1):
         free[np.clip(boundaries + offset, 0, free.size - 1)] = True
-    near_floor = ~recorded_speech | (np.convolve(recorded_loudness, box, "same") < FLOOR_PAUSE_DB)
+    near_floor = ~recorded_speech | (np.convolve(recorded_loudness, box, "same") < settings.floor_pause_db)
     # Only the detector's "speech" counts here: a silence joined to the quiet start of the word after it
     # would take that start for a pause.
-    far_under = recorded_speech & (np.convolve(recorded_under_speech, box, "same") > UNDER_SPEECH_PAUSE_DB)
+    far_under = recorded_speech & (
+        np.convolve(recorded_under_speech, box, "same") > settings.under_speech_pause_db
+    )
     hold = np.full(recorded_speech.size, np.inf)
     for quiet, shortest, cost in (
-        (far_under, UNDER_SPEECH_PAUSE_FRAMES, FAR_UNDER_HOLD_COST),
-        (near_floor, FLOOR_PAUSE_FRAMES, PAUSE_COST),
+        (far_under, settings.under_speech_pause_frames, settings.far_under_hold_cost),
+        (near_floor, settings.floor_pause_frames, settings.pause_cost),
     ):
         for start, stop in runs(quiet):
             if stop - start >= shortest:
                 hold[start:stop] = cost
-    hold[~recorded_speech] = PAUSE_COST
-    return Pauses(free, ~synthetic_speech, hold, PAUSE_COST)
+    hold[~recorded_speech] = settings.pause_cost
+    return Pauses(free, ~synthetic_speech, hold, settings.pause_cost)
 
 
-def _checked_speech(path: Path, recorded: np.ndarray, speech: np.ndarray) -> np.ndarray:
+def _checked_speech(
+    name: str, recorded: np.ndarray, speech: np.ndarray, settings: AlignerSettings
+) -> np.ndarray:
     """The recording's speech frames; where the WebRTC-based mask holds less than a short word, those of
     the detector trained on people (speech_detector.py), and the take is silent only if it finds none."""
-    if np.count_nonzero(speech) >= LEAST_SPEECH_FRAMES:
+    if np.count_nonzero(speech) >= settings.least_speech_frames:
         return speech
     detection = detect_speech(recorded, speech.size)
     if not detection.found:
-        raise AudioError(f"recording {path} is silent (no speech found); record the text again")
+        raise AudioError(f"recording {name} is silent (no speech found); record the text again")
     return detection.speech
 
 
-def _check_lengths(path: Path, recorded_speech: np.ndarray, synthetic_speech: np.ndarray) -> None:
+def _check_lengths(
+    name: str, recorded_speech: np.ndarray, synthetic_speech: np.ndarray, settings: AlignerSettings
+) -> None:
     recorded_frames = np.flatnonzero(recorded_speech)
     synthetic_frames = np.flatnonzero(synthetic_speech)
     if synthetic_frames.size == 0:
@@ -454,30 +496,32 @@ def _check_lengths(path: Path, recorded_speech: np.ndarray, synthetic_speech: np
     recorded_seconds = recorded_frames.size * HOP / ANALYSIS_RATE
     synthetic_seconds = synthetic_frames.size * HOP / ANALYSIS_RATE
     if not (
-        synthetic_seconds / MAX_LENGTH_RATIO - LENGTH_SLACK
+        synthetic_seconds / settings.max_length_ratio - settings.length_slack
         <= recorded_seconds
-        <= synthetic_seconds * MAX_LENGTH_RATIO + LENGTH_SLACK
+        <= synthetic_seconds * settings.max_length_ratio + settings.length_slack
     ):
         raise AudioError(
-            f"recording {path} has {recorded_seconds:.1f} s of speech but the text takes about "
-            f"{synthetic_seconds:.1f} s to say (more than {MAX_LENGTH_RATIO:g} times apart); check that the "
-            "recording reads exactly this text"
+            f"recording {name} has {recorded_seconds:.1f} s of speech but the text takes about "
+            f"{synthetic_seconds:.1f} s to say (more than {settings.max_length_ratio:g} times apart); check "
+            "that the recording reads exactly this text"
         )
 
 
-def _order_ratio(x: np.ndarray, synthetic_speech: np.ndarray, y: np.ndarray) -> float:
+def _order_ratio(
+    x: np.ndarray, synthetic_speech: np.ndarray, y: np.ndarray, settings: AlignerSettings
+) -> float:
     """The DTW cost of the first 30 seconds over the cost with the text's sounds in reverse order: near 1
     when the recording says something else, whatever the voice."""
-    excerpt = slice(0, ORDER_FRAMES)
-    return _coarse_cost(x[excerpt], y[excerpt]) / _coarse_cost(
-        _reversed_speech(x[excerpt], synthetic_speech[excerpt]), y[excerpt]
+    excerpt = slice(0, settings.order_frames)
+    return _coarse_cost(x[excerpt], y[excerpt], settings) / _coarse_cost(
+        _reversed_speech(x[excerpt], synthetic_speech[excerpt]), y[excerpt], settings
     )
 
 
-def _coarse_cost(x: np.ndarray, y: np.ndarray) -> float:
+def _coarse_cost(x: np.ndarray, y: np.ndarray, settings: AlignerSettings) -> float:
     """Mean distance per step of the DTW path between the starts of x and y at a quarter frame rate."""
     coarse_x, coarse_y = x[::4], y[::4]
-    path_x, path_y = dtw_path(coarse_x, coarse_y, step_penalty=STEP_PENALTY)
+    path_x, path_y = dtw_path(coarse_x, coarse_y, step_penalty=settings.step_penalty)
     return float(np.sqrt(((coarse_x[path_x] - coarse_y[path_y]) ** 2).sum(axis=1)).mean())
 
 

@@ -37,7 +37,8 @@ STATE = 128  # the LSTM's width
 # wheel's silero_vad_16k.safetensors holds another checkpoint, whose probabilities differ from these by up to
 # 0.54 (measured on people's syllables; upstream issue snakers4/silero-vad#768), so it is not used.
 WEIGHTS_NAME = "silero_vad_16k_op15.onnx"
-BUNDLED_FOLDER = "silero_vad_data"  # at the extension's root, beside head_data/ (scripts/build_extension.py)
+# At the extension's root, beside head_data/ (tools/release/build_extension.py puts it there).
+BUNDLED_FOLDER = "silero_vad_data"
 EXTENSION_ROOT = Path(__file__).resolve().parents[3]
 BLOCK_CHUNKS = 2048  # chunks (about a minute) whose convolutions are computed at a time: bounds the memory
 LAYER_SHAPES = {
@@ -59,28 +60,40 @@ LAYER_SHAPES = {
 }
 ONNX_FLOAT = 1  # TensorProto.DataType FLOAT
 
-# Speech and silence, in the spirit of Silero's own get_speech_timestamps: a run starts at a chunk whose
-# probability reaches SPEECH_THRESHOLD and ends where it falls under SILENCE_THRESHOLD, unless the speech
-# threshold is reached again within SHORTEST_SILENCE. Silero drops runs under 250 ms; a person's word of
-# 0.2 s gives a run of two to five chunks, and so does a blip in music: a run of CERTAIN_SPEECH is speech
-# wherever it lies, shorter runs (from SHORTEST_WORD) only when the runs together hold WORD_ENERGY_SHARE
-# of the take's sound above its floor (a short word alone in a quiet or hissing room, not a blip inside
-# music or noise). Chosen on the tuning part of the people's recordings (scripts/measure_detection.py
-# --tune; docs/developer/measured/detection.md).
-# Figures: misses among the 1143 tuning clips' 0.2 s cores, and the tuning noise and music taken for speech.
-SPEECH_THRESHOLD = 0.3  # Silero's 0.5 missed 81 cores, 0.3 46; 0.2 took synthetic music for speech
-SILENCE_THRESHOLD = 0.2  # SPEECH_THRESHOLD less Silero's 0.15 (rounded): a stop closure stays speech
-SHORTEST_SILENCE = 0.1  # seconds: Silero's default; shorter dips are closures and breaths between words
-CERTAIN_SPEECH = 0.38  # seconds (12 chunks): the longest run in noise or music was 9 chunks; 0.25 s took one
-SHORTEST_WORD = 0.06  # seconds (2 chunks): a single chunk is a click or a blip (0.1 s missed 90 cores)
-WORD_ENERGY_SHARE = 0.5  # of the sound above the floor (its quietest tenth of chunks); music's runs held 0.1
-SPEECH_PADDING = 0.03  # seconds each side (Silero's default): a word's onset lies in the chunk before its run
-# Each take's loud chunks (its 95th percentile of chunk energy) are brought to this level (dB full scale)
-# before the network hears it: it misses more words the quieter they are (cores missed: 162 at -20 dB, 84
-# at -10, 46 at -5, 35 at -2), and a take recorded 30 dB too quietly is heard as if it were not. At -5 dB
-# a take's peaks lie about full scale; -2 dB would feed the network samples far beyond it.
-LOUD_LEVEL_DB = -5.0
-MOST_GAIN_DB = 60.0  # a take whose loud chunks lie under -65 dB holds nothing but its quantisation noise
+
+@dataclass(frozen=True)
+class DetectorSettings:
+    """Speech and silence, in the spirit of Silero's own get_speech_timestamps: a run starts at a chunk
+    whose probability reaches speech_threshold and ends where it falls under silence_threshold, unless the
+    speech threshold is reached again within shortest_silence. A run of certain_speech is speech wherever
+    it lies; shorter runs (from shortest_word) only when the runs together hold word_energy_share of the
+    take's sound above its floor (a short word alone in a quiet or hissing room, not a blip inside music
+    or noise). How each was chosen: docs/developer/aligner-settings.md."""
+
+    speech_threshold: float = 0.3
+    """A run of speech starts at a chunk whose probability reaches this ..."""
+    silence_threshold: float = 0.2
+    """... and ends where it falls under this (a stop's closure stays speech) ..."""
+    shortest_silence: float = 0.1
+    """... for this many seconds (shorter dips are closures and breaths between words)."""
+    certain_speech: float = 0.38
+    """Seconds: a run this long is speech wherever it lies."""
+    shortest_word: float = 0.06
+    """Seconds: a shorter run is a click or a blip."""
+    word_energy_share: float = 0.5
+    """Shorter runs than certain_speech are speech when together they hold this share of the take's sound
+    above its floor (its quietest tenth of chunks)."""
+    speech_padding: float = 0.03
+    """Seconds each side of a run: a word's onset lies in the chunk before it."""
+    loud_level_db: float = -5.0
+    """Each take's loud chunks (its 95th percentile of chunk energy) are brought to this level (dB full
+    scale) before the network hears it ..."""
+    most_gain_db: float = 60.0
+    """... by this much at most (a take whose loud chunks lie lower holds nothing but its quantisation
+    noise)."""
+
+
+DEFAULT_DETECTOR = DetectorSettings()
 
 
 class DetectorWeights:
@@ -283,15 +296,17 @@ class SpeechDetection:
         return runs(self.speech)
 
 
-def detect_speech(samples: np.ndarray, frames: int | None = None) -> SpeechDetection:
+def detect_speech(
+    samples: np.ndarray, frames: int | None = None, settings: DetectorSettings = DEFAULT_DETECTOR
+) -> SpeechDetection:
     """Speech probability and decision for each of `frames` analysis frames of 16 kHz samples in [-1, 1].
 
     `frames` defaults to features.frame_count(samples.size); frames past the samples are silence. The
-    take is brought to LOUD_LEVEL_DB first (the probabilities are those of the take at that level).
+    take is brought to loud_level_db first (the probabilities are those of the take at that level).
     """
     frames = frame_count(samples.size) if frames is None else frames
-    probabilities, energies = levelled_probabilities(samples)
-    speech = speech_chunks(probabilities, energies)
+    probabilities, energies = levelled_probabilities(samples, settings)
+    speech = speech_chunks(probabilities, energies, settings)
     if probabilities.size == 0:
         return SpeechDetection(np.zeros(frames, np.float32), np.zeros(frames, bool))
     centres = np.arange(frames) * HOP + WINDOW // 2
@@ -300,48 +315,58 @@ def detect_speech(samples: np.ndarray, frames: int | None = None) -> SpeechDetec
     return SpeechDetection(np.where(inside, probabilities[chunk], 0), np.where(inside, speech[chunk], False))
 
 
-def levelled_probabilities(samples: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Silero's chunk probabilities of the take brought to LOUD_LEVEL_DB, and the chunks' energies."""
+def levelled_probabilities(
+    samples: np.ndarray, settings: DetectorSettings = DEFAULT_DETECTOR
+) -> tuple[np.ndarray, np.ndarray]:
+    """Silero's chunk probabilities of the take brought to loud_level_db, and the chunks' energies."""
     energies = _chunk_energies(samples)
     if not energies.any():  # digital silence (or nothing): no level to bring anywhere
         return chunk_probabilities(samples), energies
     loud = 10 * np.log10(np.percentile(energies, 95) / CHUNK)
-    return chunk_probabilities(samples, 10 ** (min(MOST_GAIN_DB, LOUD_LEVEL_DB - loud) / 20)), energies
+    return chunk_probabilities(
+        samples, 10 ** (min(settings.most_gain_db, settings.loud_level_db - loud) / 20)
+    ), energies
 
 
-def speech_chunks(probabilities: np.ndarray, energies: np.ndarray) -> np.ndarray:
+def speech_chunks(
+    probabilities: np.ndarray, energies: np.ndarray, settings: DetectorSettings = DEFAULT_DETECTOR
+) -> np.ndarray:
     """Which 32 ms chunks are speech, from their probabilities and sound energies (see the constants)."""
     seconds = CHUNK / ANALYSIS_RATE
-    padding = int(round(SPEECH_PADDING / seconds))
+    padding = int(round(settings.speech_padding / seconds))
     spans = [
         (start, stop)
-        for start, stop in _hysteresis_runs(probabilities, int(round(SHORTEST_SILENCE / seconds)))
-        if (stop - start) * seconds >= SHORTEST_WORD - 1e-9
+        for start, stop in _hysteresis_runs(
+            probabilities, int(round(settings.shortest_silence / seconds)), settings
+        )
+        if (stop - start) * seconds >= settings.shortest_word - 1e-9
     ]
     padded = np.zeros(probabilities.size, bool)
     for start, stop in spans:
         padded[max(0, start - padding) : stop + padding] = True
     above_floor = np.maximum(energies - np.percentile(energies, 10), 0) if energies.size else energies
     total = above_floor.sum()  # zero for a sound that never changes: nothing in it stands out as a word
-    if total > 0 and above_floor[padded].sum() >= WORD_ENERGY_SHARE * total:
+    if total > 0 and above_floor[padded].sum() >= settings.word_energy_share * total:
         return padded
     speech = np.zeros(probabilities.size, bool)
     for start, stop in spans:
-        if (stop - start) * seconds >= CERTAIN_SPEECH - 1e-9:
+        if (stop - start) * seconds >= settings.certain_speech - 1e-9:
             speech[max(0, start - padding) : stop + padding] = True
     return speech
 
 
-def _hysteresis_runs(probabilities: np.ndarray, shortest_silence: int) -> list[tuple[int, int]]:
-    """(start, stop) chunk pairs: from a chunk reaching SPEECH_THRESHOLD to the first of SHORTEST_SILENCE
-    chunks in which it is not reached again, starting under SILENCE_THRESHOLD (Silero's state machine)."""
+def _hysteresis_runs(
+    probabilities: np.ndarray, shortest_silence: int, settings: DetectorSettings
+) -> list[tuple[int, int]]:
+    """(start, stop) chunk pairs: from a chunk reaching speech_threshold to the first of shortest_silence
+    chunks in which it is not reached again, starting under silence_threshold (Silero's state machine)."""
     spans = []
     start = dip = None
     for index, probability in enumerate(probabilities.tolist()):
-        if probability >= SPEECH_THRESHOLD:
+        if probability >= settings.speech_threshold:
             dip = None
             start = index if start is None else start
-        elif start is not None and probability < SILENCE_THRESHOLD:
+        elif start is not None and probability < settings.silence_threshold:
             dip = index if dip is None else dip
             if index - dip >= shortest_silence:
                 spans.append((start, dip))

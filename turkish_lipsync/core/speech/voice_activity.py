@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..base.errors import AudioError
+from .audio import to_pcm16
 from .features import ANALYSIS_RATE, HOP
 
 # The loud frames are brought to this level (dB full scale) for the detector, which has absolute thresholds:
@@ -129,8 +130,7 @@ def _webrtc(samples: np.ndarray, count: int, gain: float) -> np.ndarray:
     step = 2 * HOP  # bytes of one hop of 16-bit PCM
     for begin in range(0, count, 1 << 14):  # 16-bit PCM made a block of hops at a time
         stop = min(begin + (1 << 14), count)
-        block = np.clip(np.round(samples[begin * HOP : stop * HOP] * (gain * 32767)), -32768, 32767)
-        pcm = block.astype("<i2").tobytes()
+        pcm = to_pcm16(samples[begin * HOP : stop * HOP] * gain).astype("<i2").tobytes()
         speech[begin:stop] = [
             detector.is_speech(pcm[index * step : (index + 1) * step], ANALYSIS_RATE)
             for index in range(stop - begin)

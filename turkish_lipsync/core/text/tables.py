@@ -90,91 +90,93 @@ _NUMBER_WORDS = (
 )
 
 
-@cache
-def text_tables() -> Tables:
-    """shapekeys/abbreviations.toml and shapekeys/units.toml, validated once."""
-    words_table = load_table("abbreviations")
-    units_table = load_table("units")
+class _TableFile:
+    """One data file's sections read as spoken Turkish; what is not is refused with the file and key."""
 
-    def section(table: dict, file: str, name: str) -> dict:
-        value = table.get(name)
+    def __init__(self, name: str) -> None:
+        self.file = f"{name}.toml"
+        self.table = load_table(name)
+
+    def error(self, message: str) -> DataError:
+        return DataError(f"data file {DATA_DIR / self.file}: {message}")
+
+    def section(self, name: str) -> dict:
+        value = self.table.get(name)
         if not isinstance(value, dict):
-            raise DataError(f"data file {DATA_DIR / file}: section [{name}] is missing")
+            raise self.error(f"section [{name}] is missing")
         return value
 
-    def spoken(file: str, where: str, value: object) -> str:
+    def spoken(self, where: str, value: object) -> str:
         if not isinstance(value, str) or not value or not set(value) <= TURKISH_LETTERS | {" "}:
-            raise DataError(
-                f"data file {DATA_DIR / file}: {where} must be lowercase Turkish words, got {value!r}"
-            )
+            raise self.error(f"{where} must be lowercase Turkish words, got {value!r}")
         return value
 
-    def mapping(table: dict, file: str, name: str) -> dict[str, str]:
-        return {
-            key: spoken(file, f"[{name}] {key!r}", value) for key, value in section(table, file, name).items()
-        }
+    def mapping(self, name: str) -> dict[str, str]:
+        return {key: self.spoken(f"[{name}] {key!r}", value) for key, value in self.section(name).items()}
 
-    def word_list(table: dict, file: str, name: str, key: str, length: int | None = None) -> tuple[str, ...]:
-        values = section(table, file, name).get(key)
+    def word_list(self, name: str, key: str, length: int | None = None) -> tuple[str, ...]:
+        values = self.section(name).get(key)
         if not isinstance(values, list) or length is not None and len(values) != length:
             count = f"{length} " if length is not None else ""
-            raise DataError(f"data file {DATA_DIR / file}: [{name}] {key} must be a list of {count}words")
-        return tuple(value and spoken(file, f"[{name}] {key}", value) for value in values)
+            raise self.error(f"[{name}] {key} must be a list of {count}words")
+        return tuple(value and self.spoken(f"[{name}] {key}", value) for value in values)
 
-    def records(table: dict, file: str, name: str, kind: type) -> dict:
+    def records(self, name: str, kind: type) -> dict:
         """A section of inline tables, each giving the spoken fields of kind (a dataclass)."""
         names = tuple(field.name for field in fields(kind))
         found = {}
-        for key, value in section(table, file, name).items():
+        for key, value in self.section(name).items():
             if not isinstance(value, dict):
-                shape = ", ".join(names)
-                raise DataError(f"data file {DATA_DIR / file}: [{name}] {key!r} must be {{ {shape} }}")
+                raise self.error(f"[{name}] {key!r} must be {{ {', '.join(names)} }}")
             found[key] = kind(
-                **{field: spoken(file, f"[{name}] {key!r} {field}", value.get(field)) for field in names}
+                **{field: self.spoken(f"[{name}] {key!r} {field}", value.get(field)) for field in names}
             )
         return found
 
-    main = "abbreviations.toml"
-    units = "units.toml"
-    numbers = section(words_table, main, "numbers")
-    scales = word_list(words_table, main, "numbers", "scales")
+
+@cache
+def text_tables() -> Tables:
+    """shapekeys/abbreviations.toml and shapekeys/units.toml, validated once."""
+    main, units = _TableFile("abbreviations"), _TableFile("units")
+    numbers = main.section("numbers")
+    scales = main.word_list("numbers", "scales")
     if len(scales) < 2:
-        raise DataError(f"data file {DATA_DIR / main}: [numbers] scales must list at least '' and 'bin'")
-    acronyms = section(words_table, main, "acronyms")
+        raise main.error("[numbers] scales must list at least '' and 'bin'")
+    acronyms = main.section("acronyms")
     for key in ("read_as_words", "particles"):
         if not isinstance(acronyms.get(key, []), list):
-            raise DataError(f"data file {DATA_DIR / main}: [acronyms] {key} must be a list")
-    letter_names = mapping(words_table, main, "letter_names")
+            raise main.error(f"[acronyms] {key} must be a list")
+    letter_names = main.mapping("letter_names")
     missing = sorted(TURKISH_LETTERS - set(letter_names))
     if missing:
-        raise DataError(f"data file {DATA_DIR / main}: [letter_names] lacks {', '.join(missing)}")
-    currencies = records(units_table, units, "currencies", Currency)
-    per_time = records(units_table, units, "per_time", PerTimeUnit)
+        raise main.error(f"[letter_names] lacks {', '.join(missing)}")
+    currencies = units.records("currencies", Currency)
+    per_time = units.records("per_time", PerTimeUnit)
     return Tables(
-        abbreviations=mapping(words_table, main, "abbreviations"),
-        units_after_number=mapping(units_table, units, "after_number"),
+        abbreviations=main.mapping("abbreviations"),
+        units_after_number=units.mapping("after_number"),
         per_time_units=per_time,
         currencies=currencies,
         read_as_words=frozenset(acronyms.get("read_as_words", [])),
-        spoken_in_full=mapping(words_table, main, "spoken_in_full"),
+        spoken_in_full=main.mapping("spoken_in_full"),
         particles=frozenset(acronyms.get("particles", [])),
         letter_names=letter_names,
-        foreign_letters=mapping(words_table, main, "foreign_letters"),
-        symbols=mapping(words_table, main, "symbols"),
-        address_words=mapping(words_table, main, "address_words"),
-        top_level_domains=frozenset(word_list(words_table, main, "addresses", "top_level_domains")),
-        directions=mapping(units_table, units, "directions"),
-        fixed_expressions=mapping(words_table, main, "fixed_expressions"),
-        digits=word_list(words_table, main, "numbers", "digits", 10),
-        tens=word_list(words_table, main, "numbers", "tens", 10),
-        hundred=spoken(main, "[numbers] hundred", numbers.get("hundred")),
+        foreign_letters=main.mapping("foreign_letters"),
+        symbols=main.mapping("symbols"),
+        address_words=main.mapping("address_words"),
+        top_level_domains=frozenset(main.word_list("addresses", "top_level_domains")),
+        directions=units.mapping("directions"),
+        fixed_expressions=main.mapping("fixed_expressions"),
+        digits=main.word_list("numbers", "digits", 10),
+        tens=main.word_list("numbers", "tens", 10),
+        hundred=main.spoken("[numbers] hundred", numbers.get("hundred")),
         scales=scales,
-        words={key: spoken(main, f"[numbers] {key}", numbers.get(key)) for key in _NUMBER_WORDS},
-        months=word_list(words_table, main, "dates", "months", 12),
-        regnal_titles=frozenset(word_list(words_table, main, "roman_numerals", "titles")),
-        stems_before_suffix=mapping(words_table, main, "stems_before_suffix"),
-        soften_always=frozenset(word_list(words_table, main, "suffixes", "soften_always")),
-        soften_never=frozenset(word_list(words_table, main, "suffixes", "soften_never")),
+        words={key: main.spoken(f"[numbers] {key}", numbers.get(key)) for key in _NUMBER_WORDS},
+        months=main.word_list("dates", "months", 12),
+        regnal_titles=frozenset(main.word_list("roman_numerals", "titles")),
+        stems_before_suffix=main.mapping("stems_before_suffix"),
+        soften_always=frozenset(main.word_list("suffixes", "soften_always")),
+        soften_never=frozenset(main.word_list("suffixes", "soften_never")),
     )
 
 

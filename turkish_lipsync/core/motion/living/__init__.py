@@ -115,13 +115,7 @@ def assembled_tracks(
 
     blink_spans: list[tuple[float, float]] = []
     if options.blinks > 0:
-        blink_rng = options.rng("blinks")
-        starts = place_blinks(
-            heard, plan.saccades, timeline.duration, blink_rng, settings["blinks"], options.blinks
-        )
-        planned = tuple(zip(starts, blink_durations(starts, blink_rng, settings["blinks"]), strict=True))
-        closure = _eye_closure(tracks, settings["blinks"]["eye_closure"])
-        curve, blink_spans = blink_curve(planned, fps, frame_count, closure, settings["blinks"])
+        curve, blink_spans = _blinks(tracks, timeline, options, heard, plan, settings["blinks"])
         for name in BLINK_KEYS:
             columns[name] = curve
     if options.expression > 0:
@@ -152,6 +146,23 @@ def assembled_tracks(
         if options.gaze > 0 or options.head > 0
         else None,
     )
+
+
+def _blinks(
+    tracks: WeightTracks,
+    timeline: Timeline,
+    options: LivingOptions,
+    heard: SpeechStructure,
+    plan: GazePlan,
+    settings: dict,
+) -> tuple[np.ndarray, list[tuple[float, float]]]:
+    """The lids' curve and the blinks it keeps (blink_curve), placed at the pauses and phrase ends of the
+    speech heard and with the gaze's saccades."""
+    rng = options.rng("blinks")
+    starts = place_blinks(heard, plan.saccades, timeline.duration, rng, settings, options.blinks)
+    planned = tuple(zip(starts, blink_durations(starts, rng, settings), strict=True))
+    closure = _eye_closure(tracks, settings["eye_closure"])
+    return blink_curve(planned, tracks.fps, tracks.frame_count, closure, settings)
 
 
 def _track(name: str, frames: np.ndarray, values: np.ndarray) -> Track:

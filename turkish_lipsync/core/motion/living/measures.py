@@ -1,5 +1,5 @@
 """Measures of a living face as a viewer sees it: rotations fitted to moving vertices, saccades and blinks
-found in what the scene shows, pauses in the speech's own audio. Used by scripts/measure_living.py and the
+found in what the scene shows, pauses in the speech's own audio. Used by lab/measure/living.py and the
 tests, on vertices sampled from the evaluated scene frame by frame; nothing here reads the keys."""
 
 from __future__ import annotations
@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...base.rotations import angles_of
+from ...speech.audio import levels_under_loud
 from ...speech.voice_activity import runs
 
 SACCADE_SPEED = 20.0  # degrees a second of gaze that count as a saccade, not a fixation
@@ -93,12 +94,9 @@ def blinks(closure: np.ndarray, fps: float) -> list[dict]:
 
 def audio_pauses(samples: np.ndarray, sample_rate: int, shortest: float = 0.2) -> list[tuple[float, float]]:
     """Silences of the audio at least `shortest` long: 10 ms frames 35 dB under its loud end."""
-    audio = np.asarray(samples, np.float64)
     hop = max(1, int(sample_rate * 0.01))
-    count = audio.size // hop
-    power = (audio[: count * hop].reshape(count, hop) ** 2).mean(axis=1)
-    level = 10 * np.log10(np.maximum(power, 1e-12) / max(np.percentile(power, 95), 1e-12))
-    quiet = level < -35.0
+    quiet = levels_under_loud(np.asarray(samples), hop) < -35.0
+    count = quiet.size
     pauses, index = [], 0
     while index < count:
         if not quiet[index]:

@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...speech.audio import decibels_under_loud
+
 ANALYSIS_RATE = 2000  # Hz: the voice's first harmonics, which carry its periodicity
 FRAME_RATE = 25.0  # analysis frames a second: syllables last 100-250 ms (2-6 frames), the head follows slower
 WINDOW_SECONDS = 0.030  # integration window: two periods of the lowest voice
@@ -77,8 +79,7 @@ def measure_prosody(samples: np.ndarray, sample_rate: int) -> Prosody:
     for first in range(0, count, _BLOCK):
         windows = spans[starts[first : first + _BLOCK], :window]
         power[first : first + _BLOCK] = np.einsum("ij,ij->i", windows, windows) / window
-    loud = np.percentile(power, 95) if power.size else 1.0
-    energy = 10.0 * np.log10(np.maximum(power, 1e-12) / max(loud, 1e-12))
+    energy = decibels_under_loud(power)
     f0 = np.full(count, np.nan)
     audible = np.flatnonzero(energy >= SILENCE_DB + 10.0)  # silence has no pitch: not analysed
     lags = np.arange(longest + 2)

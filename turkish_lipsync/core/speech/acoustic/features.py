@@ -11,7 +11,7 @@ A take's own level stands for the voice's long-term spectrum only when the take 
 several vowels. In a syllable or a single word the loudest frames are one vowel, and levelling on them
 takes that vowel's colour away (people's syllables: an i heard as e in 26 of 35 before). A take with little
 speech is therefore levelled half on its own spectrum and half on the long-term spectrum of people's speech
-(LONG_TERM_SPECTRUM_FILE, scripts/train_recogniser.py --spectrum makes it), and wholly on its own from
+(LONG_TERM_SPECTRUM_FILE, lab/train/recogniser.py --spectrum makes it), and wholly on its own from
 OWN_LEVEL_FRAMES frames of speech on.
 """
 

@@ -125,6 +125,27 @@ def force_align(
     scores = np.maximum(log_posteriors, np.log(POSTERIOR_FLOOR)) - PRIOR_WEIGHT * np.log(priors)[None, :]
     if silence_bias is not None:
         scores[:, CLASS_INDEX[SILENCE]] += silence_bias[:frames]
+    last_scores, moves = _viterbi(scores, model, low, high)
+    last = states - 1
+    end = last if last_scores[last + 2] >= last_scores[last + 1] else last - 1
+    if not np.isfinite(last_scores[end + 2]):
+        raise ValueError("no path through the text's model within the band")
+    path = np.empty(frames, np.int64)
+    state = end
+    for frame in range(frames - 1, -1, -1):
+        path[frame] = state
+        if frame:
+            state -= int(moves[frame, state - low[frame]])
+    frame_letters = model.letter_of_state[path]
+    starts, stops = _letter_spans(frame_letters, len(model.first_states))
+    frame_scores = heard[np.arange(frames), model.classes[path]]
+    return ForcedAlignment(starts, stops, frame_letters, frame_scores)
+
+
+def _transitions(model: LetterModel) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per state, the log cost of staying in it, of entering it from the state before, and of entering
+    it from two before (skipping a pause)."""
+    states = len(model.classes)
     stay = np.where(model.loops, 0.0, -np.inf)
     enter = np.where(model.letter_of_state >= 0, -ENTER_COST, -ENTER_COST - PAUSE_COST)
     # Entering state s from s-2 skips the pause s-1.
@@ -134,8 +155,19 @@ def force_align(
     first_of_letter = np.zeros(states, bool)
     first_of_letter[model.first_states] = True
     enter = np.where(first_of_letter | (model.letter_of_state < 0), enter, 0.0)
+    return stay, enter, jump
+
+
+def _viterbi(
+    scores: np.ndarray, model: LetterModel, low: np.ndarray, high: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The forward pass within the band: the best path's score into each state at the last frame (with
+    two guard states before state 0), and each frame's move into each state of its band (0 stay, 1 from
+    the state before, 2 from two before)."""
+    frames, states = len(scores), len(model.classes)
+    stay, enter, jump = _transitions(model)
     width = int((high - low).max())
-    moves = np.zeros((frames, width), np.int8)  # 0 stay, 1 from the state before, 2 from two before
+    moves = np.zeros((frames, width), np.int8)
     previous = np.full(states + 2, -np.inf)  # two guard states before state 0
     start = np.full(states, -np.inf)
     start[0] = 0.0
@@ -164,26 +196,18 @@ def force_align(
         current[first + 2 : stop + 2] = best
         written[id(current)] = (first + 2, stop + 2)
         moves[frame, : stop - first] = choice
-    last = states - 1
-    end = last if current[last + 2] >= current[last + 1] else last - 1
-    if not np.isfinite(current[end + 2]):
-        raise ValueError("no path through the text's model within the band")
-    path = np.empty(frames, np.int64)
-    state = end
-    for frame in range(frames - 1, -1, -1):
-        path[frame] = state
-        if frame:
-            state -= int(moves[frame, state - low[frame]])
-    frame_letters = model.letter_of_state[path]
-    letters = len(model.first_states)
+    return current, moves
+
+
+def _letter_spans(frame_letters: np.ndarray, letters: int) -> tuple[np.ndarray, np.ndarray]:
+    """Each letter's first frame along the path and the frame after its last (-1 for a letter the path
+    does not visit; letters are visited in order)."""
     starts = np.full(letters, -1, np.int64)
     stops = np.full(letters, -1, np.int64)
     spoken = np.flatnonzero(frame_letters >= 0)
-    # First and last frame of each letter along the path (letters are visited in order).
     owners = frame_letters[spoken]
     change = np.flatnonzero(np.diff(owners, prepend=-2) != 0)
     starts[owners[change]] = spoken[change]
     ends = np.flatnonzero(np.diff(owners, append=-2) != 0)
     stops[owners[ends]] = spoken[ends] + 1
-    frame_scores = heard[np.arange(frames), model.classes[path]]
-    return ForcedAlignment(starts, stops, frame_letters, frame_scores)
+    return starts, stops

@@ -2,7 +2,7 @@
 
 A convolution over FIRST_KERNEL frames, residual blocks of dilated convolutions (each block: a dilated
 convolution, a ReLU, a 1x1 mix added back), then a 1x1 layer to the classes (labels.py) and a softmax.
-It hears RECEPTIVE_RADIUS frames each side. The weights come from scripts/train_recogniser.py (PyTorch,
+It hears RECEPTIVE_RADIUS frames each side. The weights come from lab/train/recogniser.py (PyTorch,
 outside the extension) and ship beside this file; a take is run in blocks with that radius of overlap,
 so its length does not change the memory needed or the result.
 """
@@ -91,7 +91,7 @@ def load_network(path: Path = WEIGHTS_FILE) -> PhoneNetwork:
     if not path.is_file():
         raise DataError(
             f"the recogniser's weights {path} are missing; reinstall the extension, or make them with "
-            "scripts/train_recogniser.py"
+            "lab/train/recogniser.py"
         )
     try:
         with np.load(path, allow_pickle=False) as data:

@@ -3,7 +3,8 @@
 A cue format is one class (`CueFormat`): its name, the file suffixes it is read from, a label for the UI,
 `read` (a file to a `CueSource`) and `write` (a timeline to the file's text). Each lives in a module of its
 own in this package and registers itself with `@register` in `CUE_FORMATS`; the exports (interchange/) and
-the cue timing source (speech/sources/cue_file.py) find them by name or by suffix.
+the cue timing source (speech/sources/cue_file.py) find them by name or by suffix. Rhubarb's JSON and XML
+are one document in two syntaxes (`RhubarbResult`): each parses and writes its own.
 """
 
 from __future__ import annotations
@@ -68,6 +69,29 @@ class CueFormat:
         raise NotImplementedError
 
 
+class RhubarbResult(CueFormat):
+    """Rhubarb Lip Sync's result as a document (its JSON, its XML): metadata (the sound file and the
+    duration) and the mouth cues, each a start, an end and a shape. A subclass parses its syntax into
+    records and writes the cues in it."""
+
+    def read(self, path: Path, fps: float) -> CueSource:
+        records, duration, sound_file = self.parse(path, read_text(path))
+        return source_from_records(path, records, duration, sound_file)
+
+    def parse(self, path: Path, text: str) -> tuple[list[tuple[str, object, object, object]], object, str]:
+        """The document's (where, start, end, shape) records, its duration (None where it gives none)
+        and its sound file."""
+        raise NotImplementedError
+
+    def write(
+        self, timeline: Timeline, fps: float, *, sound_file: str = "", text: str = ""
+    ) -> tuple[str, tuple[str, ...]]:
+        return self.document(mouth_cues(timeline), timeline.duration, sound_file), ()
+
+    def document(self, cues: tuple[MouthCue, ...], duration: float, sound_file: str) -> str:
+        raise NotImplementedError
+
+
 CUE_FORMATS: Registry[CueFormat] = Registry("cue format", __package__, Path(__file__).parent)
 register = CUE_FORMATS.register
 
@@ -120,6 +144,14 @@ def read_text(path: Path) -> str:
             f"{path}: {size / 1e6:.0f} MB is more than a cue file of a day of speech; is it one?"
         )
     return read_user_text(path, "cue file", CueFileError)
+
+
+def read_counted(path: Path) -> str:
+    """The text of a file of a cue a line, refused before it is parsed where it has more lines than
+    MAX_CUES."""
+    text = read_text(path)
+    check_cue_count(path, text.count("\n"))
+    return text
 
 
 def check_cue_count(path: Path, count: int) -> None:

@@ -14,10 +14,9 @@ from .common import (
     CueFormat,
     CueSource,
     MouthCue,
-    check_cue_count,
     frame_of,
     mouth_cues,
-    read_text,
+    read_counted,
     register,
 )
 from .shapes import shape_for_phoneme, shape_table, uses_preston_blair
@@ -39,8 +38,7 @@ class MohoDat(CueFormat):
         Frames count from 1 and must rise from line to line: a file that goes back in time or names frame 0
         is refused with its line.
         """
-        text = read_text(path)
-        check_cue_count(path, text.count("\n"))
+        text = read_counted(path)
         lines = [(number, line.strip()) for number, line in enumerate(text.splitlines(), 1)]
         lines = [(number, line) for number, line in lines if line]
         if not lines or lines[0][1] != MOHO_HEADER:

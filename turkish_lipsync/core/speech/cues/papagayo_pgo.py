@@ -20,9 +20,8 @@ from .common import (
     CueFormat,
     CueSource,
     MouthCue,
-    check_cue_count,
     frame_of,
-    read_text,
+    read_counted,
     register,
 )
 from .shapes import REST, shape_for_phoneme, shape_for_viseme, shape_table, uses_preston_blair
@@ -152,8 +151,7 @@ def read_pgo(path: Path) -> PapagayoDocument:
 
 def read_pgo_voices(path: Path) -> tuple[PapagayoDocument, ...]:
     """Every voice of a Papagayo project (one document each, the project's sound and length shared)."""
-    text = read_text(path)
-    check_cue_count(path, text.count("\n"))
+    text = read_counted(path)
     lines = _Lines(path, text)
     if lines.next("the header").lower() != PAPAGAYO_HEADER:
         raise CueFileError(f"{path}: line 1 must be '{PAPAGAYO_HEADER}': is this a Papagayo project (.pgo)?")

@@ -8,30 +8,20 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from ...base.model import Timeline
-from .common import (
-    CueFileError,
-    CueFormat,
-    CueSource,
-    check_cue_count,
-    mouth_cues,
-    read_text,
-    register,
-    source_from_records,
-)
+from .common import CueFileError, MouthCue, RhubarbResult, check_cue_count, register
 
 
 @register
-class RhubarbJson(CueFormat):
+class RhubarbJson(RhubarbResult):
     name = "rhubarb-json"
     order = 2
     suffixes = (".json",)
     label = "Rhubarb JSON"
     description = "Mouth cues A-H and X as JSON (Godot, Unity, Spine, web players)"
 
-    def read(self, path: Path, fps: float) -> CueSource:
+    def parse(self, path: Path, text: str) -> tuple[list[tuple[str, object, object, object]], object, str]:
         try:
-            document = json.loads(read_text(path))
+            document = json.loads(text)
         except json.JSONDecodeError as error:
             raise CueFileError(f"{path}: line {error.lineno}: not valid JSON ({error.msg})") from None
         entries = document.get("mouthCues") if isinstance(document, dict) else None
@@ -44,16 +34,13 @@ class RhubarbJson(CueFormat):
                 raise CueFileError(f"{path}: mouthCues[{index}] must be an object with start, end and value")
             records.append((f"mouthCues[{index}]", entry.get("start"), entry.get("end"), entry.get("value")))
         metadata = document.get("metadata") if isinstance(document.get("metadata"), dict) else {}
-        return source_from_records(
-            path, records, metadata.get("duration"), str(metadata.get("soundFile", ""))
-        )
+        return records, metadata.get("duration"), str(metadata.get("soundFile", ""))
 
-    def write(self, timeline: Timeline, fps: float, *, sound_file: str = "", text: str = ""):
+    def document(self, cues: tuple[MouthCue, ...], duration: float, sound_file: str) -> str:
         document = {
-            "metadata": {"soundFile": sound_file, "duration": round(timeline.duration, 3)},
+            "metadata": {"soundFile": sound_file, "duration": round(duration, 3)},
             "mouthCues": [
-                {"start": round(cue.start, 3), "end": round(cue.end, 3), "value": cue.shape}
-                for cue in mouth_cues(timeline)
+                {"start": round(cue.start, 3), "end": round(cue.end, 3), "value": cue.shape} for cue in cues
             ],
         }
-        return json.dumps(document, indent=2) + "\n", ()
+        return json.dumps(document, indent=2) + "\n"

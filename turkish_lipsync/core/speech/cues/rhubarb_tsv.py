@@ -10,12 +10,11 @@ from .common import (
     CueFormat,
     CueSource,
     MouthCue,
-    check_cue_count,
     checked_shape,
     checked_time,
     mouth_cues,
     ordered,
-    read_text,
+    read_counted,
     register,
 )
 from .shapes import REST
@@ -32,8 +31,7 @@ class RhubarbTsv(CueFormat):
     def read(self, path: Path, fps: float) -> CueSource:
         """The last cue ends where the file's last line starts."""
         starts: list[tuple[float, str]] = []
-        text = read_text(path)
-        check_cue_count(path, text.count("\n"))
+        text = read_counted(path)
         for number, line in enumerate(text.splitlines(), start=1):
             if not line.strip() or line.lstrip().startswith("#"):
                 continue

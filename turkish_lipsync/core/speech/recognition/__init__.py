@@ -1,7 +1,7 @@
 """Lip sync from the audio alone: the Turkish letters of a recording without its text, and their times.
 
 acoustics.py describes the audio, network.py runs the trained network (numpy alone; the weights beside
-it come from scripts/train_recogniser.py), decoder.py finds the letter sequence (Viterbi with minimum
+it come from lab/train/recogniser.py), decoder.py finds the letter sequence (Viterbi with minimum
 durations and Turkish letter transitions), recogniser.py keeps doubtful closures off the lips and groups
 letters into phrases, transcript.py turns them into the Utterance and Timeline every stage after speech
 takes. `speech_from_audio(path)` does it all for a recording.
@@ -23,19 +23,13 @@ from ..features import ANALYSIS_RATE, HOP
 from ..speech_detector import detect_speech
 from ..timeline import Speech
 from .recogniser import Recognition, recognise
+from .settings import DEFAULT_RECOGNISER, RecogniserSettings
 from .transcript import RECOGNISED_TIMING, heard_timeline, heard_utterance
 
-SILENT_PEAK_DB = -70.0  # a recording never louder than this (dB full scale) holds nothing
-# The confidence (recogniser.py) below which a take is reported as doubtful. Measured on the tuning voices
-# (scripts/measure_recogniser.py --bad): Turkish 0.94-1.0 in noise, after a breath, through MP3, 0.81-0.97
-# in a reverberant room; eSpeak NG's English, German, French and Japanese 0.80-0.91 (Spanish and
-# Azerbaijani, whose sounds are close to Turkish ones, 0.90-0.98). People's voices lie lower whatever their
-# language (MBROLA's two Turkish speakers 0.55-0.76, people's Czech 0.40-0.62 and Dutch 0.53-0.76): no bar
-# tells a person's Turkish from another language, so every person's take is reported, saying so.
-DOUBTFUL_CONFIDENCE = 0.92
 
-
-def speech_from_audio(path: Path | str) -> tuple[Utterance, Speech]:
+def speech_from_audio(
+    path: Path | str, settings: RecogniserSettings = DEFAULT_RECOGNISER
+) -> tuple[Utterance, Speech]:
     """The utterance heard in a recording and its speech: the timeline and the recording as its audio."""
     path = Path(path)
     native, native_rate = read_audio(path)
@@ -45,7 +39,7 @@ def speech_from_audio(path: Path | str) -> tuple[Utterance, Speech]:
     del native
     samples = resample(output, output_rate, ANALYSIS_RATE, 1 / 32768)
     peak = float(np.abs(samples).max(initial=0.0))
-    if 20 * np.log10(peak + 1e-12) < SILENT_PEAK_DB:
+    if 20 * np.log10(peak + 1e-12) < settings.silent_peak_db:
         raise AudioError(f"no speech found in {path}: it is silent; give a recording of someone speaking")
     # Whether anyone speaks is decided by a detector trained on many people's speech in many languages
     # (speech_detector.py), not by how much the recogniser, which has heard few people, makes of it.
@@ -55,7 +49,7 @@ def speech_from_audio(path: Path | str) -> tuple[Utterance, Speech]:
             f"no speech found in {path}: it sounds like silence, noise or music without a voice; "
             "give a recording of someone speaking Turkish, or type the text it says"
         )
-    recognition = _recognised_around_speech(samples, detection.speech)
+    recognition = _recognised_around_speech(samples, detection.speech, settings)
     del samples
     if not recognition.phrases:
         raise AudioError(
@@ -63,16 +57,18 @@ def speech_from_audio(path: Path | str) -> tuple[Utterance, Speech]:
             "unlike Turkish for the recogniser; type the text it says instead"
         )
     utterance = heard_utterance(recognition)
-    timeline = heard_timeline(utterance, recognition, output.size / output_rate)
+    timeline = heard_timeline(utterance, recognition, output.size / output_rate, settings)
     synthesis = Synthesis(output, output_rate, (), (), "recording")
-    return utterance, Speech(timeline, synthesis, _warnings(path, recognition, clipped))
+    return utterance, Speech(timeline, synthesis, _warnings(path, recognition, clipped, settings))
 
 
-def _recognised_around_speech(samples: np.ndarray, speech: np.ndarray) -> Recognition:
+def _recognised_around_speech(
+    samples: np.ndarray, speech: np.ndarray, settings: RecogniserSettings
+) -> Recognition:
     """What is heard in the stretch around the detector's speech (acoustic.features.speech_stretch), timed
     in the whole take: silence beyond it would change how the same speech is heard."""
     first, stop = speech_stretch(speech)
-    recognition = recognise(samples[first * HOP : stop * HOP])
+    recognition = recognise(samples[first * HOP : stop * HOP], settings)
     offset = first * HOP / ANALYSIS_RATE
     return Recognition(
         tuple(
@@ -83,9 +79,11 @@ def _recognised_around_speech(samples: np.ndarray, speech: np.ndarray) -> Recogn
     )
 
 
-def _warnings(path: Path, recognition: Recognition, clipped: str) -> tuple[str, ...]:
+def _warnings(
+    path: Path, recognition: Recognition, clipped: str, settings: RecogniserSettings
+) -> tuple[str, ...]:
     """The low-confidence warning, with the take's clipping (audio.clipping) as the likelier cause."""
-    if recognition.confidence >= DOUBTFUL_CONFIDENCE:
+    if recognition.confidence >= settings.doubtful_confidence:
         return ()
     causes = (
         f"{clipped}; it may also not be Turkish"
@@ -95,9 +93,9 @@ def _warnings(path: Path, recognition: Recognition, clipped: str) -> tuple[str, 
     )
     return (
         f"the speech in {path} was recognised with low confidence ({recognition.confidence:.0%}; eSpeak "
-        f"NG's Turkish gives {DOUBTFUL_CONFIDENCE:.0%} or more, recordings of people less): {causes}; the "
-        "mouth follows what was heard, but give the text it says for exact lip sync",
+        f"NG's Turkish gives {settings.doubtful_confidence:.0%} or more, recordings of people less): "
+        f"{causes}; the mouth follows what was heard, but give the text it says for exact lip sync",
     )
 
 
-__all__ = ["RECOGNISED_TIMING", "Recognition", "recognise", "speech_from_audio"]
+__all__ = ["RECOGNISED_TIMING", "Recognition", "RecogniserSettings", "recognise", "speech_from_audio"]

@@ -1,10 +1,10 @@
 """From frame posteriors to a sequence of letters with their spans: Viterbi over a hidden Markov model.
 
 Each class (a letter or silence, labels.py) is a chain of states as long as its shortest duration in the
-training speech (scaled by DURATION_SCALE, since people speak faster than eSpeak's slowest), so no letter
+training speech (scaled by duration_scale, since people speak faster than eSpeak's slowest), so no letter
 flickers in for a frame; its last state loops. Leaving a class for another costs the log of how often
-the one follows the other in Turkish (the training texts' transitions, LANGUAGE_WEIGHT) plus a fixed
-price per letter (INSERTION_COST), which keeps the mouth from chattering. The posteriors are divided by
+the one follows the other in Turkish (the training texts' transitions, language_weight) plus a fixed
+price per letter (insertion_cost), which keeps the mouth from chattering. The posteriors are divided by
 the classes' priors (a hybrid network-HMM's scaled likelihoods). The state scores and back-pointers are
 one small array per frame, so a take of any length decodes in memory proportional to its frames.
 """
@@ -15,10 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-PRIOR_WEIGHT = 0.8  # posteriors / priors ** PRIOR_WEIGHT
-LANGUAGE_WEIGHT = 0.5
-INSERTION_COST = 1.0  # natural-log units per new segment
-DURATION_SCALE = 0.7
+from .settings import DEFAULT_RECOGNISER, RecogniserSettings
+
 EMISSION_BLOCK = 2048  # frames whose per-state scores are laid out at a time
 
 
@@ -31,16 +29,22 @@ class Segment:
     stop: int  # frame after the last
 
 
-def decode(log_posteriors: np.ndarray, priors: np.ndarray, transitions: np.ndarray, shortest: np.ndarray):
+def decode(
+    log_posteriors: np.ndarray,
+    priors: np.ndarray,
+    transitions: np.ndarray,
+    shortest: np.ndarray,
+    settings: RecogniserSettings = DEFAULT_RECOGNISER,
+):
     """The best segmentation of the frames into classes (tuple of Segment, in order)."""
     frames, classes = log_posteriors.shape
     if frames == 0:
         return ()
-    scores = (log_posteriors - PRIOR_WEIGHT * np.log(priors)[None, :]).astype(np.float64)
+    scores = (log_posteriors - settings.prior_weight * np.log(priors)[None, :]).astype(np.float64)
     follows = transitions / transitions.sum(axis=1, keepdims=True)
-    switch = LANGUAGE_WEIGHT * np.log(follows) - INSERTION_COST
+    switch = settings.language_weight * np.log(follows) - settings.insertion_cost
     np.fill_diagonal(switch, -np.inf)  # a class follows itself by its loop, not by a new segment
-    lengths = np.maximum(1, np.round(shortest * DURATION_SCALE).astype(np.int64))
+    lengths = np.maximum(1, np.round(shortest * settings.duration_scale).astype(np.int64))
     firsts = np.concatenate(([0], np.cumsum(lengths)[:-1]))
     lasts = firsts + lengths - 1
     owner = np.repeat(np.arange(classes), lengths)

@@ -23,12 +23,8 @@ from ..acoustic.labels import (
 )
 from ..acoustic.network import load_network
 from .decoder import Segment, decode
+from .settings import DEFAULT_RECOGNISER, RecogniserSettings
 
-# A bilabial is kept where b, m and p together hold at least this share of its frames' posteriors (and no
-# less than the vowels): on the tuning voices in a reverberant room, 0.5 kept 79 % of the closures, 0.25
-# keeps 85 %, with no more closures on vowels (0.3 %); in noise 95 % and 97 %, none on vowels.
-BILABIAL_SURE = 0.25
-PHRASE_PAUSE = 0.12  # seconds of silence that end a phrase; shorter silences join the letters around them
 BILABIALS = np.array([CLASS_INDEX[letter] for letter in sorted(BILABIAL_LETTERS)])
 VOWELS = np.array([CLASS_INDEX[letter] for letter in sorted(VOWEL_LETTERS)])
 LIPS_APART = np.array(
@@ -57,29 +53,33 @@ class Recognition:
     confidence: float
 
 
-def recognise(samples: np.ndarray) -> Recognition:
+def recognise(samples: np.ndarray, settings: RecogniserSettings = DEFAULT_RECOGNISER) -> Recognition:
     """The letters heard in 16 kHz float samples."""
-    return recognise_posteriors(load_network().log_posteriors(recogniser_features(samples)))
+    return recognise_posteriors(load_network().log_posteriors(recogniser_features(samples)), settings)
 
 
-def recognise_posteriors(log_posteriors: np.ndarray) -> Recognition:
+def recognise_posteriors(
+    log_posteriors: np.ndarray, settings: RecogniserSettings = DEFAULT_RECOGNISER
+) -> Recognition:
     """The letters heard in the network's log posteriors (frames x classes): what a tuning run varies."""
     network = load_network()
-    segments = decode(log_posteriors, network.priors, network.transitions, network.shortest)
-    return _phrases(segments, log_posteriors)
+    segments = decode(log_posteriors, network.priors, network.transitions, network.shortest, settings)
+    return _phrases(segments, log_posteriors, settings)
 
 
-def _phrases(segments: tuple[Segment, ...], log_posteriors: np.ndarray) -> Recognition:
+def _phrases(
+    segments: tuple[Segment, ...], log_posteriors: np.ndarray, settings: RecogniserSettings
+) -> Recognition:
     starts = frame_times(len(log_posteriors)) - FRAME_SECONDS / 2
     phrases: list[list[HeardLetter]] = [[]]
     middles = []
     for segment in segments:
         probabilities = np.exp(log_posteriors[segment.first : segment.stop]).mean(axis=0)
-        label = _doubt_checked(segment.label, probabilities)
+        label = _doubt_checked(segment.label, probabilities, settings)
         start = float(starts[segment.first])
         end = float(starts[segment.stop - 1] + FRAME_SECONDS)
         if label == 0:
-            if end - start >= PHRASE_PAUSE and phrases[-1]:
+            if end - start >= settings.phrase_pause and phrases[-1]:
                 phrases.append([])
             continue
         middles.append(float(np.exp(log_posteriors[(segment.first + segment.stop) // 2, segment.label])))
@@ -91,11 +91,11 @@ def _phrases(segments: tuple[Segment, ...], log_posteriors: np.ndarray) -> Recog
     return Recognition(found, float(np.mean(middles)) if middles else 0.0)
 
 
-def _doubt_checked(label: int, probabilities: np.ndarray) -> int:
+def _doubt_checked(label: int, probabilities: np.ndarray, settings: RecogniserSettings) -> int:
     """The decoded class, unless it would close the lips where the network doubts a closure."""
     if label not in BILABIALS:
         return label
-    if probabilities[BILABIALS].sum() >= BILABIAL_SURE and probabilities[BILABIALS].sum() >= (
+    if probabilities[BILABIALS].sum() >= settings.bilabial_sure and probabilities[BILABIALS].sum() >= (
         probabilities[VOWELS].sum()
     ):
         return label

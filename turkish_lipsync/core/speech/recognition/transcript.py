@@ -15,14 +15,13 @@ from ...base.model import Pause, SpokenWord, Style, Timeline, Utterance
 from ...text.utterance import assemble_utterance
 from ..timing import build_timeline
 from .recogniser import Recognition
+from .settings import DEFAULT_RECOGNISER, RecogniserSettings
 
 RECOGNISED_TIMING = "recognised"
 # The network learnt eSpeak NG's phones, which start a voiceless stop at its burst: the closure before it
-# is heard as the end of the letter before, and given back to the stop, as the aligned timelines do
-# (timewarp.with_closures). In eSpeak NG's speech a closure is a third of the phone before it, at any rate
-# (median 0.30-0.34 over the held-out sentences at -25, 0 and +25 % rate; 32-49 ms).
+# is heard as the end of the letter before, and given back to the stop (closure_share), as the
+# aligned timelines do (timewarp.with_closures).
 VOICELESS_STOPS = frozenset("çkpt")
-CLOSURE_SHARE = 0.33
 
 
 def heard_utterance(recognition: Recognition) -> Utterance:
@@ -43,19 +42,19 @@ def heard_utterance(recognition: Recognition) -> Utterance:
 
 
 def heard_timeline(
-    utterance: Utterance, recognition: Recognition, duration: float, closure_share: float | None = None
+    utterance: Utterance,
+    recognition: Recognition,
+    duration: float,
+    settings: RecogniserSettings = DEFAULT_RECOGNISER,
 ) -> Timeline:
-    """Each letter of the heard utterance timed where it was heard, a voiceless stop from its closure
-    (closure_share of the letter before, CLOSURE_SHARE unless given: 0 where the letters' times already
-    hold the closure)."""
-    share = CLOSURE_SHARE if closure_share is None else closure_share
+    """Each letter of the heard utterance timed where it was heard, a voiceless stop from its closure."""
     starts, ends = [], []
     for phrase in recognition.phrases:
         for number, letter in enumerate(phrase):
             start = letter.start
             if number and letter.letter in VOICELESS_STOPS:
                 before = phrase[number - 1]
-                start -= share * (before.end - before.start)
+                start -= settings.closure_share * (before.end - before.start)
                 ends[-1] = min(ends[-1], start)
             starts.append(start)
             ends.append(letter.end)

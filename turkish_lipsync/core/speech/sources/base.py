@@ -7,6 +7,8 @@ from pathlib import Path
 
 from ...base.model import Utterance
 from ...base.registry import Registry
+from ..aligner_settings import DEFAULT_ALIGNER, AlignerSettings
+from ..recognition.settings import DEFAULT_RECOGNISER, RecogniserSettings
 from ..timeline import Speech
 
 
@@ -21,6 +23,8 @@ class SpeechRequest:
     cues: Path | None = None
     engine: str = "espeak"
     fps: float = 25.0  # for cue files that count frames without saying at what rate
+    aligner: AlignerSettings = DEFAULT_ALIGNER  # how a recording is aligned to its text
+    recogniser: RecogniserSettings = DEFAULT_RECOGNISER  # how a recording alone is heard
 
 
 class TimingSource:

@@ -17,4 +17,4 @@ class RecognisedSource(TimingSource):
         return request.recording is not None and request.cues is None and not request.text.strip()
 
     def speak(self, request: SpeechRequest):
-        return speech_from_audio(request.recording)
+        return speech_from_audio(request.recording, request.recogniser)

@@ -20,6 +20,10 @@ class RecordingSource(TimingSource):
     def speak(self, request: SpeechRequest):
         utterance = with_rate(build_utterance(request.text), request.rate)
         speech = synthesize_timeline(
-            utterance, request.timing, recording=request.recording, engine=request.engine
+            utterance,
+            request.timing,
+            recording=request.recording,
+            engine=request.engine,
+            aligner=request.aligner,
         )
         return utterance, speech

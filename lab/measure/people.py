@@ -1,0 +1,332 @@
+"""How the product does on people's recordings: alignment, speech detection and audio alone.
+
+    python -m lab.measure.people [--part report|tune] [--sets words syllables lists sentences]
+                                     [--sentences N] [--aeneas] [--folder out/people]
+
+The recordings are lab/kit/people.py's (build them first: `python -m lab.kit.people build`). Everything
+acoustic was tuned and trained on its **tune** part; the figures to report come from the **report**
+part (the default), which holds speakers, lines and languages the tuning never saw. Each recording goes
+through the public entries a user's recording goes through (speech.synthesize_timeline with the
+recording, speech.recognition.speech_from_audio without a text), from a 16-bit WAV at the recording's
+own rate.
+
+- words: words said alone (KTuberling's English words; the one-word lines of the game's Dutch and Czech
+  voice acting), with their text (refused / warned / clean) and without (how many "no speech found");
+- syllables (klettres): without a text, "no speech found"; the vowel heard in its class (a / e / i ı /
+  o ö / u ü: the longest vowel heard); for those that start with b, m or p, a b, m or p heard before
+  that vowel; for the rest, how often one is heard there anyway (each over all the syllables and over
+  those that got a timeline);
+- lists: lists of eight words or syllables of one speaker read with pauses (people.lists_of_eight), with
+  their text written with commas: refused / warned, each item's onset against where its sound starts
+  (median / p90 / max), and aeneas' on the same takes with --aeneas;
+- sentences: the voice-acted lines of three words or more (every --sentences-th), with their Turkish
+  spelling (refused / warned / clean), with the next line's spelling (another text: refused or warned),
+  and without a text: "no speech found", the mouth's opening against the mouth aligned to the text
+  (Pearson r on a 10 ms grid, smoothed over 60 ms, as lab/measure/recogniser.py measures it), and the
+  text-aligned b, m, p that a recognised b, m or p overlaps;
+- padded (only when named): the sentences (every --sentences-th) aligned as they come and with 3 s of
+  digital silence before and after (a take exported from an editor's timeline): how many lines' word
+  onsets move by more than 50 ms, and how many are warned either way. The speech is the same: ideally
+  none moves;
+- mbrola-words (only when named, MBROLA installed: lab/kit/diphone_voices.py): two Turkish speakers'
+  diphones saying every distinct word of examples/corpus_tr.txt's held-out sentences alone, with their
+  text (refused / warned / clean, the onset's error) and without ("no speech found").
+
+Not a test: the figures go into docs/developer/measured/people.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import sys
+import tempfile
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+
+from lab.kit import diphone_voices, people
+from lab.kit.corpus import held_out_sentences
+from lab.kit.scores import bilabial_scores, correlation, opening_trajectory
+from lab.kit.takes import write_wav
+from lab.measure.recordings import aeneas_onsets, takes
+from turkish_lipsync.core.base.errors import LipSyncError
+from turkish_lipsync.core.speech import synthesize_timeline
+from turkish_lipsync.core.speech.recognition import speech_from_audio
+from turkish_lipsync.core.text.utterance import build_utterance
+
+VOWEL_CLASSES = {"a": "a", "e": "e", "ı": "iı", "i": "iı", "o": "oö", "ö": "oö", "u": "uü", "ü": "uü"}
+BILABIALS = set("bmp")
+SENTENCE_WORDS = 3  # lines of at least this many words are sentences
+RATE = 16000  # the takes people.py makes are written at this rate
+
+
+ERRORS: Counter = Counter()  # other errors' messages (their first words), shown at the end
+WARNINGS: Counter = Counter()  # warnings' kinds, shown at the end
+
+
+def outcome(error: LipSyncError | None, warnings: tuple[str, ...]) -> str:
+    if error is None:
+        WARNINGS.update(" ".join(warning.split()[:6]) for warning in warnings)
+        return "warned" if warnings else "clean"
+    message = str(error)
+    if "does not read this text" in message:
+        return "refused"
+    if "no speech" in message or "silent" in message:
+        return "no speech"
+    ERRORS[" ".join(message.split()[:3]) + " ... " + " ".join(message.split()[-8:])] += 1
+    return "error"
+
+
+def aligned(text: str, path: Path):
+    """(timeline or None, outcome) of a recording aligned to its text."""
+    try:
+        speech = synthesize_timeline(build_utterance(text), recording=path)
+    except LipSyncError as error:
+        return None, outcome(error, ())
+    return speech.timeline, outcome(None, speech.warnings)
+
+
+def heard(path: Path):
+    """(timeline or None, outcome) of a recording without its text."""
+    try:
+        _, speech = speech_from_audio(path)
+    except LipSyncError as error:
+        return None, outcome(error, ())
+    return speech.timeline, outcome(None, speech.warnings)
+
+
+def shares(counts: Counter, total: int) -> str:
+    order = ("clean", "warned", "refused", "no speech", "error")
+    return ", ".join(f"{name} {counts[name]} ({100 * counts[name] / max(total, 1):.0f} %)" for name in order)
+
+
+def words(part: str, folder: Path) -> list[people.Recording]:
+    said_alone = [r for r in people.recordings(folder, part, "word")]
+    said_alone += [
+        r
+        for r in people.recordings(folder, part, "line")
+        if len(r.turkish.split()) == 1 and len(r.turkish) > 1
+    ]
+    return said_alone
+
+
+def list_items(part: str, folder: Path) -> list[people.Recording]:
+    """The syllables and words of one word that lists of eight are read from (one word an item: the onsets
+    compare)."""
+    items = people.recordings(folder, part, "syllable") + people.recordings(folder, part, "word")
+    return [item for item in items if len(item.turkish.split()) == 1]
+
+
+def sentence_lines(part: str, folder: Path) -> list[people.Recording]:
+    """The voice-acted lines of SENTENCE_WORDS words or more."""
+    return [r for r in people.recordings(folder, part, "line") if len(r.turkish.split()) >= SENTENCE_WORDS]
+
+
+def measure_words(part: str, folder: Path) -> None:
+    chosen = words(part, folder)
+    with_text, without = Counter(), Counter()
+    for recording in chosen:
+        with_text[aligned(recording.turkish, recording.path)[1]] += 1
+        without[heard(recording.path)[1]] += 1
+    sources = Counter(r.source.split("/")[0] for r in chosen)
+    print(f"words said alone ({len(chosen)}: {dict(sources)})")
+    print(f"  with their text: {shares(with_text, len(chosen))}")
+    print(f"  no text:         {shares(without, len(chosen))}")
+
+
+def measure_syllables(part: str, folder: Path) -> None:
+    chosen = people.recordings(folder, part, "syllable")
+    counts, vowel_right, vowels, timed_vowels = Counter(), 0, 0, 0
+    bilabial_heard = bilabial_total = stray_heard = stray_total = 0
+    timed_bilabials = timed_strays = 0
+    for recording in chosen:
+        timeline, result = heard(recording.path)
+        counts[result] += 1
+        spelt_vowels = [letter for letter in recording.turkish if letter in VOWEL_CLASSES]
+        starts_bilabial = recording.turkish[0] in BILABIALS
+        bilabial_total += starts_bilabial
+        stray_total += not starts_bilabial
+        if spelt_vowels:
+            vowels += 1
+        if timeline is None:
+            continue
+        timed_vowels += bool(spelt_vowels)
+        timed_bilabials += starts_bilabial
+        timed_strays += not starts_bilabial
+        phones = timeline.phones
+        heard_vowels = [p for p in phones if p.letter in VOWEL_CLASSES]
+        longest = max(heard_vowels, key=lambda p: p.end - p.start) if heard_vowels else None
+        if spelt_vowels and longest is not None:
+            vowel_right += VOWEL_CLASSES[longest.letter] == VOWEL_CLASSES[spelt_vowels[0]]
+        before = [p for p in phones if longest is None or p.start < longest.start]
+        found = any(p.letter in BILABIALS for p in before)
+        bilabial_heard += found and starts_bilabial
+        stray_heard += found and not starts_bilabial
+    print(f"syllables, no text ({len(chosen)}): {shares(counts, len(chosen))}")
+    print(
+        f"  vowel heard in its class: {vowel_right} of {vowels} "
+        f"({100 * vowel_right / max(vowels, 1):.0f} %); "
+        f"of those with a timeline: {vowel_right} of {timed_vowels} "
+        f"({100 * vowel_right / max(timed_vowels, 1):.0f} %)"
+    )
+    print(
+        f"  b/m/p heard where the syllable starts with one: {bilabial_heard} of {bilabial_total} "
+        f"({100 * bilabial_heard / max(bilabial_total, 1):.0f} %; of those with a timeline "
+        f"{100 * bilabial_heard / max(timed_bilabials, 1):.0f} %); where it does not: {stray_heard} of "
+        f"{stray_total} ({100 * stray_heard / max(stray_total, 1):.0f} %; of those with a timeline "
+        f"{100 * stray_heard / max(timed_strays, 1):.0f} %)"
+    )
+
+
+def measure_lists(part: str, folder: Path, aeneas: bool, scratch: Path) -> None:
+    takes = people.lists_of_eight(list_items(part, folder), np.random.default_rng(8), RATE)
+    counts, errors, theirs = Counter(), [], []
+    for number, take in enumerate(takes):
+        path = write_wav(scratch / f"list{number}.wav", take.samples, RATE)
+        timeline, result = aligned(take.text, path)
+        counts[result] += 1
+        if timeline is not None:
+            found = np.array([word.start for word in timeline.words])
+            if found.size == take.onsets.size:
+                errors.append(np.abs(found - take.onsets))
+        if aeneas:
+            onsets, _ = aeneas_onsets(path, [item.strip(" .") for item in take.text.split(",")])
+            if onsets.size == take.onsets.size:
+                theirs.append(np.abs(onsets - take.onsets))
+    print(
+        f"lists of eight read with pauses ({len(takes)} takes), with their text: {shares(counts, len(takes))}"
+    )
+    for name, found in (("item onsets", errors), ("aeneas", theirs)):
+        if found:
+            ms = 1000 * np.concatenate(found)
+            spread = f"median {np.median(ms):.0f}, p90 {np.percentile(ms, 90):.0f}, max {ms.max():.0f}"
+            print(f"  {name} (ms): {spread} ({len(found)} takes with every item)")
+
+
+def measure_sentences(part: str, folder: Path, every: int, scratch: Path) -> None:
+    lines = sentence_lines(part, folder)
+    for source in sorted({r.source.split("/")[0] for r in lines}):
+        chosen = [r for r in lines if r.source.startswith(source)][::every]
+        same, other, alone = Counter(), Counter(), Counter()
+        openings, closed, bilabials = [], 0, 0
+        for index, recording in enumerate(chosen):
+            timeline, result = aligned(recording.turkish, recording.path)
+            same[result] += 1
+            other[aligned(chosen[(index + 1) % len(chosen)].turkish, recording.path)[1]] += 1
+            found, heard_result = heard(recording.path)
+            alone[heard_result] += 1
+            if timeline is None or found is None:
+                continue
+            duration = max(timeline.duration, found.duration)
+            openings.append(
+                correlation(opening_trajectory(found, duration), opening_trajectory(timeline, duration))
+            )
+            hits, total, _, _ = bilabial_scores(timeline, found, 0.0)
+            closed, bilabials = closed + hits, bilabials + total
+        print(f"sentences, {source} ({len(chosen)} lines of {SENTENCE_WORDS}+ words)")
+        print(f"  with their spelling:      {shares(same, len(chosen))}")
+        print(f"  with another line's text: {shares(other, len(chosen))}")
+        print(f"  no text:                  {shares(alone, len(chosen))}")
+        if openings:
+            print(
+                "  no text, mouth opening r against the text-aligned mouth: "
+                f"median {np.median(openings):.2f} "
+                f"({len(openings)} lines); aligned b/m/p heard: {closed} of {bilabials} "
+                f"({100 * closed / max(bilabials, 1):.0f} %)"
+            )
+
+
+PADDING_SECONDS = 3.0
+MOVED = 0.05  # seconds a word onset may move before the line counts as moved
+
+
+def measure_padded(part: str, folder: Path, every: int, scratch: Path) -> None:
+    lines = sentence_lines(part, folder)
+    for source in sorted({r.source.split("/")[0] for r in lines}):
+        chosen = [r for r in lines if r.source.startswith(source)][::every]
+        largest, not_clean = [], Counter()
+        for recording in chosen:
+            samples = people.read(recording, RATE)
+            silence = np.zeros(int(PADDING_SECONDS * RATE), samples.dtype)
+            plain = write_wav(scratch / "plain.wav", samples, RATE)
+            padded = write_wav(scratch / "padded.wav", np.concatenate((silence, samples, silence)), RATE)
+            timeline, result = aligned(recording.turkish, plain)
+            again, again_result = aligned(recording.turkish, padded)
+            not_clean["as they come"] += result != "clean"
+            not_clean["padded"] += again_result != "clean"
+            if timeline is not None and again is not None:
+                starts = np.array([word.start for word in timeline.words])
+                largest.append(np.abs([word.start - PADDING_SECONDS for word in again.words] - starts).max())
+        moved = int(np.count_nonzero(np.array(largest) > MOVED))
+        print(f"padded, {source} ({len(chosen)} lines, {PADDING_SECONDS:.0f} s of silence each side)")
+        print(
+            f"  lines with a word moved over {1000 * MOVED:.0f} ms: {moved} of {len(chosen)};"
+            f" largest move median {1000 * np.median(largest):.0f} ms, max {1000 * max(largest):.0f} ms"
+        )
+        print(f"  not clean as they come: {not_clean['as they come']}, padded: {not_clean['padded']}")
+
+
+def measure_diphone_words(scratch: Path) -> None:
+    """MBROLA's two Turkish speakers (lab/kit/diphone_voices.py) saying every distinct word of the held-out
+    sentences alone, 0.4 s of silence each side, 40 dB pink noise: with the word's text, and with none."""
+    words = sorted(
+        {word for text in held_out_sentences() for word in re.findall(r"[^\W\d_]+(?:'\w+)?", text)}
+    )
+    rng = np.random.default_rng(4)
+    for voice in ("tr1", "tr2"):
+        with_text, without, errors, named = Counter(), Counter(), [], []
+        for word in words:
+            samples, _ = diphone_voices.speak(word, voice, takes.RATE)
+            take = takes.Take(samples, np.zeros(1), np.zeros(0), np.zeros(1, bool))
+            take = takes.add_noise(takes.padded(take, 0.4, 0.4), 40, "pink", rng)
+            path = write_wav(scratch / "word.wav", take.samples, takes.RATE)
+            timeline, result = aligned(word, path)
+            with_text[result] += 1
+            if timeline is not None:
+                errors.append(abs(timeline.words[0].start - take.words[0]) * 1000)
+            _, alone = heard(path)
+            without[alone] += 1
+            named += [f"{word} ({result})"] if result != "clean" else []
+            named += [f"{word} (no text: {alone})"] if alone == "no speech" else []
+        spread = f"median {np.median(errors):.0f}, p90 {np.percentile(errors, 90):.0f}, max {max(errors):.0f}"
+        print(f"MBROLA {voice}: {len(words)} words said alone")
+        print(f"  with their text: {shares(with_text, len(words))}; onsets (ms): {spread}")
+        print(f"  no text:         {shares(without, len(words))}")
+        print(f"  not clean: {', '.join(named) or 'none'}")
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--part", choices=("tune", "report"), default="report")
+    parser.add_argument("--sets", nargs="+", default=["words", "syllables", "lists", "sentences"])
+    parser.add_argument("--sentences", type=int, default=5, help="measure every Nth sentence")
+    parser.add_argument("--aeneas", action="store_true", help="align the lists with aeneas too")
+    parser.add_argument("--folder", type=Path, default=people.FOLDER)
+    arguments = parser.parse_args(argv)
+    with tempfile.TemporaryDirectory() as scratch:
+        for name in arguments.sets:
+            if name == "words":
+                measure_words(arguments.part, arguments.folder)
+            elif name == "syllables":
+                measure_syllables(arguments.part, arguments.folder)
+            elif name == "lists":
+                measure_lists(arguments.part, arguments.folder, arguments.aeneas, Path(scratch))
+            elif name == "sentences":
+                measure_sentences(arguments.part, arguments.folder, arguments.sentences, Path(scratch))
+            elif name == "padded":
+                measure_padded(arguments.part, arguments.folder, arguments.sentences, Path(scratch))
+            elif name == "mbrola-words":
+                measure_diphone_words(Path(scratch))
+            sys.stdout.flush()
+    for title, counts in (("other errors", ERRORS), ("warnings", WARNINGS)):
+        if counts:
+            print(f"{title}:")
+            for message, count in counts.most_common(8):
+                print(f"  {count:4d}  {message}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,40 @@
+"""The settings of lip sync from the audio alone (the decoder, the doubt kept off the lips, the phrases,
+the closures given back, the warning): one object.
+
+Each value says what it does; how each was chosen is in the manual (docs/developer/aligner-settings.md).
+A call takes its own (`speech_from_audio(path, settings=RecogniserSettings(insertion_cost=2))`); the lab's
+tuning scripts pass them the same way (`--set NAME=VALUE`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class RecogniserSettings:
+    """What the audio-only recogniser may be tuned by (see the module text)."""
+
+    prior_weight: float = 0.8
+    """The decoder divides the posteriors by the classes' priors to this power (scaled likelihoods)."""
+    language_weight: float = 0.5
+    """How much the Turkish letter transitions of the training texts count when leaving a class."""
+    insertion_cost: float = 1.0
+    """Natural-log units per new segment: keeps the mouth from chattering."""
+    duration_scale: float = 0.7
+    """Each class's shortest duration in the training speech, scaled by this (people speak faster than
+    eSpeak's slowest)."""
+    bilabial_sure: float = 0.25
+    """A heard b, m or p is kept where the three together hold this share of its frames' posteriors (and
+    no less than the vowels); else the likeliest letter that leaves the lips apart is taken."""
+    phrase_pause: float = 0.12
+    """Seconds of silence that end a phrase; shorter silences join the letters around them."""
+    closure_share: float = 0.33
+    """The share of the letter before a voiceless stop given back to the stop as its closure."""
+    doubtful_confidence: float = 0.92
+    """Below this confidence a take is reported as recognised with low confidence."""
+    silent_peak_db: float = -70.0
+    """A recording never louder than this (dB full scale) holds nothing."""
+
+
+DEFAULT_RECOGNISER = RecogniserSettings()
