@@ -11,26 +11,46 @@ import numpy as np
 
 from lab.kit import diphone_voices
 from lab.kit.takes import CONDITIONS, RATE, Take, write_wav
-from turkish_lipsync.core.speech import espeak, synthesize_timeline
+from turkish_lipsync.core.speech import espeak, get_engine, synthesize_timeline
+from turkish_lipsync.core.speech.align import phone_letter_spans
 from turkish_lipsync.core.speech.audio import resample
 from turkish_lipsync.core.speech.features import ANALYSIS_RATE
+from turkish_lipsync.core.speech.timing import build_timeline
 from turkish_lipsync.core.text.utterance import build_utterance
 
 
-def speak_variant(text: str, variant: str, pitch: int, rate: int, sample_rate: int = ANALYSIS_RATE):
-    """Float samples of the text in the variant (16 kHz unless asked), and its timeline (the truth)."""
+def speak_variant(
+    text: str, variant: str, pitch: int, rate: int, sample_rate: int = ANALYSIS_RATE, stops_at_bursts=False
+):
+    """Float samples of the text in the variant (16 kHz unless asked), and its timeline (the truth): as the
+    product's, each voiceless stop from its closure, or with stops_at_bursts from its burst (the labels
+    the network learns: burst_timeline)."""
     library = espeak._library()
     utterance = build_utterance(f'<PROS PITCH="{pitch:+d}%" RATE="{rate:+d}%">{text}</PROS>')
     with library.lock:
         library.handle.espeak_SetVoiceByName(f"tr+{variant}".encode())
     try:
-        speech = synthesize_timeline(utterance)
+        if stops_at_bursts:
+            synthesis = get_engine("espeak").synthesize(utterance)
+            timeline = burst_timeline(utterance, synthesis)
+        else:
+            speech = synthesize_timeline(utterance)
+            synthesis, timeline = speech.synthesis, speech.timeline
     finally:
         with library.lock:
             library.handle.espeak_SetVoiceByName(b"tr")
-    synthesis = speech.synthesis
     samples = resample(synthesis.samples.astype(np.float32) / 32768, synthesis.sample_rate, sample_rate)
-    return samples, speech.timeline
+    return samples, timeline
+
+
+def burst_timeline(utterance, synthesis):
+    """The timeline with each voiceless stop from its burst, where eSpeak NG reports it: the network learns
+    the stops there, for the aligner matches the synthetic letters at their bursts and gives each stop its
+    closure after the warp (timewarp.warp_synthesis), and the recogniser gives a stop back a share of the
+    letter before (recognition/transcript.py). (The product's timelines start a stop at its closure.)"""
+    starts, ends, linked = phone_letter_spans(utterance, synthesis, get_engine("espeak"))
+    onsets = tuple(event.start for event in linked.phone_events)
+    return build_timeline(utterance, starts, ends, linked.duration, "phone", onsets)
 
 
 @dataclass(frozen=True)

@@ -32,7 +32,8 @@ weights; torch's CPU kernels may still differ in the last bits between machines)
    extension levels it (acoustic/features.py: a take with little speech partly on people's long-term
    spectrum; the earlier rounds level each clip on itself), SHORT_CLIP_SHARE of eSpeak NG's clips cut to
    one or two words, half of every batch's clips heard through another vocal tract (FINAL_BAND_WARP).
-   Rounds whose weights are in the cache (--cache) are not trained again.
+   Rounds whose weights are in the cache (--cache) are not trained again; the last round's are kept there
+   too, for lab/train/many_voices.py (the round on many people's voices) to go on from.
 7. Written with it: each class's share of the frames (the decoder divides the posteriors by it), the
    letter-to-letter transition counts of the training texts (the decoder's bigram), the shortest
    durations, the training voices and the held-out ones; and beside it the long-term spectrum of the
@@ -45,6 +46,7 @@ import argparse
 import json
 import multiprocessing
 import re
+import shutil
 import sys
 import time
 from pathlib import Path
@@ -146,7 +148,7 @@ def make_clip(job: tuple) -> tuple[np.ndarray, np.ndarray]:
     if not text:
         features = recogniser_features(non_speech(rng), whole_take_level)
         return features.astype(np.float16), np.zeros(len(features), np.uint8)
-    clean, timeline = speak_variant(text, variant, pitch, rate)
+    clean, timeline = speak_variant(text, variant, pitch, rate, stops_at_bursts=True)
     if not short:
         samples, lead, stretch = degrade(clean, rng)
         features = recogniser_features(samples, whole_take_level)
@@ -421,7 +423,7 @@ def train(
         optimiser, max_lr=learning_rate, total_steps=epochs * steps_per_epoch, pct_start=0.15
     )
     feature_tensor = torch.from_numpy(features.astype(np.float32))
-    label_tensor = torch.from_numpy(labels.astype(np.int64))
+    label_tensor = torch.from_numpy(np.where(labels < len(CLASSES), labels.astype(np.int64), -100))
 
     def batch(chosen):
         xs, ys = [], []
@@ -466,7 +468,7 @@ def train(
                 guess = network(x)[0].argmax(0).numpy()
                 truth = labels[starts[clip] : starts[clip] + lengths[clip]]
                 right[data["sources"][clip]] += int((guess == truth).sum())
-                count[data["sources"][clip]] += truth.size
+                count[data["sources"][clip]] += int((truth < len(CLASSES)).sum())  # ignored frames aside
         shares = ", ".join(f"{r / max(c, 1):.3f}" for r, c in zip(right, count, strict=True))
         print(
             f"epoch {epoch + 1}/{epochs}: loss {total / steps_per_epoch:.3f}, "
@@ -480,7 +482,7 @@ def export(network, data, out: Path, seed: int, epochs: int, description: str) -
     state = network.state_dict()
     weights = {name: value.detach().numpy().astype(np.float32) for name, value in state.items()}
     labels, lengths = data["labels"], data["lengths"]
-    priors = np.bincount(labels, minlength=len(CLASSES)).astype(np.float64) + 1
+    priors = np.bincount(labels[labels < len(CLASSES)], minlength=len(CLASSES)).astype(np.float64) + 1
     # The decoder's Turkish letter transitions and shortest durations: from the Turkish texts alone (the
     # first corpus), not from people's speech in other languages spelt in Turkish letters.
     own = data["sources"] == 0
@@ -575,6 +577,7 @@ def main(argv: list[str] | None = None) -> int:
         FINAL_LEARNING_RATE,
         FINAL_BAND_WARP,
     )
+    shutil.copyfile(args.out, args.cache / f"{name}_{args.seed}.npz")  # lab/train/many_voices.py goes on
     return 0
 
 
