@@ -1,6 +1,7 @@
 """Every error and warning a user can meet, read from the code, for the troubleshooting page.
 
-Read with ast from turkish_lipsync/ and the batch script (scripts/render.py, scripts/render_arguments.py):
+Read with ast from turkish_lipsync/ (the batch command's flags in core/batch/, an episode's in core/farm/)
+and scripts/ (the entry points, which hold no message of their own today):
 
 - errors: `raise SomeError(...)` of the add-on's error family (LipSyncError and every subclass, found by
   name; a list of messages too), `raise self.error(...)`/`raise error(...)` helpers that build one,
@@ -31,17 +32,7 @@ from sphinx.util.docutils import SphinxDirective
 
 logger = logging.getLogger(__name__)
 ROOT = Path(__file__).resolve().parents[2]
-SOURCES = (
-    "turkish_lipsync",
-    "scripts/render.py",
-    "scripts/render_arguments.py",
-    "scripts/episode.py",
-    "scripts/episode_manifest.py",
-    "scripts/episode_plan.py",
-    "scripts/episode_tasks.py",
-    "scripts/episode_blender.py",
-    "scripts/farm_jobs.py",
-)
+SOURCES = ("turkish_lipsync", "scripts")
 # Errors raised for the developer (a bug), never shown to a user as a message of ours.
 INTERNAL_ERRORS = {
     "ValueError",
@@ -136,11 +127,12 @@ GROUPS: dict[str, tuple[str, ...]] = {
     "command-line": (
         "turkish_lipsync/core/cli.py",
         "turkish_lipsync/core/base/files.py",
-        "scripts/render.py",
-        "scripts/render_arguments.py",
+        "turkish_lipsync/core/batch/",
+        "turkish_lipsync/blender/batch.py",
+        "scripts/",
     ),
     "data": ("turkish_lipsync/core/base/",),
-    "episodes": ("scripts/episode", "scripts/farm_jobs.py"),
+    "episodes": ("turkish_lipsync/core/farm/", "scripts/episode.py"),
 }
 
 

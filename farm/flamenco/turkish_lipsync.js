@@ -114,7 +114,7 @@ const JOB_TYPE = {
   ],
 };
 
-// BEGIN STEPS: farm/steps.toml, written by `python scripts/farm_jobs.py --write-flamenco`; do not edit
+// BEGIN STEPS: farm/steps.toml, written by `python -m tools.release.flamenco`; do not edit
 const PROGRAM = [
   "{python}",
   "{checkout}/scripts/episode.py"

@@ -1,5 +1,6 @@
 """scripts/render.py end to end, as a pipeline runs it: MP4 with sound, a .blend, a second run on it."""
 
+import json
 import subprocess
 import sys
 
@@ -140,6 +141,8 @@ def test_a_second_run_on_the_saved_blend_changes_only_ours(first_run, tmp_path):
         (("--text", "merhaba", "--no-render", "--head", "/nonexistent/head.obj"), "does not exist"),
         (("--text", "merhaba", "--no-render", "--resolution", "big"), "is not WIDTHxHEIGHT"),
         (("--jsml", "a.jsml", "--text", "merhaba"), "not allowed with"),
+        (("--text", "merhaba", "--no-render", "--built-json", "b.json"), "--save-blend OUT.blend with it"),
+        (("--frames", "1-2", "--out", "c.mp4", "--built-json", "b.json"), "drop --built-json"),
     ],
 )
 def test_errors_are_one_clear_line_and_a_nonzero_exit(arguments, message):
@@ -219,3 +222,19 @@ def test_a_recording_alone_is_recognised(tmp_path):
     generated = next(line for line in result.stdout.splitlines() if line.startswith("Generated"))
     assert int(generated.split()[1]) >= 0.7 * len(truth.phones)
     assert "Traceback" not in result.stderr
+
+
+def test_the_built_json_names_the_saved_scenes_frames_and_speech(tmp_path):
+    """What an episode's build step reads (core/farm/tasks.py): the saved scene's frame range and its WAV."""
+    blend, built = tmp_path / "scene.blend", tmp_path / "built.json"
+    result = run_render(
+        "--text", "Ama baba.", "--fps", "8", "--no-render", "--save-blend", blend, "--built-json", built
+    )  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    described = json.loads(built.read_text(encoding="utf-8"))
+    bpy.ops.wm.open_mainfile(filepath=str(blend))
+    scene = bpy.context.scene
+    assert described["frames"] == [scene.frame_start, scene.frame_end] and scene.frame_end > scene.frame_start
+    wav = sequencer.speech_wav_of(scene)
+    assert wav is not None and described["speech"] == str(wav) and wav.is_file()
+    assert wav.parent == tmp_path / "lipsync_audio"

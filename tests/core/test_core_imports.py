@@ -16,6 +16,8 @@ STAGES = [
     ["scene"],
     ["interchange"],
     ["cli"],
+    ["batch"],
+    ["farm"],
 ]
 
 

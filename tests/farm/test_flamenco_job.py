@@ -4,7 +4,7 @@
 Flamenco's Manager is not available here; tests/farm/flamenco_compile.js gives compileJob() the globals the
 Manager gives it. Each authored command is then run as a worker runs it, with the Manager's {blender}
 variable empty: the tasks' Blender is then the bpy module of the Python that runs them. (An episode's scene,
-with its build, is checked against the Open Job Description job in test_farm_jobs.py.)
+with its build, is checked against the Open Job Description job in test_jobs.py.)
 """
 
 import json

@@ -17,9 +17,10 @@ from openjd.model import (
     preprocess_job_parameters,
 )
 
+from tools.release import flamenco
+from turkish_lipsync.core.farm import jobs
+
 REPOSITORY = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(REPOSITORY / "scripts"))
-import farm_jobs  # noqa: E402
 
 NODE = shutil.which("node")
 COMPILER = Path(__file__).with_name("flamenco_compile.js")
@@ -81,7 +82,7 @@ class OpenJDJob:
 
 def flamenco_tasks(job: Path, scene: str) -> list[dict]:
     compiled = subprocess.run(
-        [NODE, str(COMPILER), str(farm_jobs.FLAMENCO_JOB_TYPE), str(job / "flamenco" / f"{scene}.json")],
+        [NODE, str(COMPILER), str(jobs.FLAMENCO_JOB_TYPE), str(job / "flamenco" / f"{scene}.json")],
         capture_output=True, text=True, timeout=60, check=False,
     )  # fmt: skip
     assert compiled.returncode == 0, compiled.stderr
@@ -89,24 +90,24 @@ def flamenco_tasks(job: Path, scene: str) -> list[dict]:
 
 
 def test_the_job_types_steps_block_is_written_from_steps_toml():
-    text = farm_jobs.FLAMENCO_JOB_TYPE.read_text(encoding="utf-8")
-    assert farm_jobs.job_type_block(text) == farm_jobs.flamenco_block()
-    assert farm_jobs.main(["--check-flamenco"]) == 0
-    names = [step.name for step in farm_jobs.load_steps().steps]
+    text = jobs.FLAMENCO_JOB_TYPE.read_text(encoding="utf-8")
+    assert jobs.job_type_block(text) == jobs.flamenco_block()
+    assert flamenco.main(["--check"]) == 0
+    names = [step.name for step in jobs.load_steps().steps]
     assert names == ["build", "render", "join"]
 
 
 def test_a_changed_step_is_caught_until_the_job_type_is_written_again(tmp_path, monkeypatch):
     changed = tmp_path / "steps.toml"
     changed.write_text(
-        farm_jobs.STEPS_FILE.read_text(encoding="utf-8").replace('"--samples={samples}",', "", 1),
+        jobs.STEPS_FILE.read_text(encoding="utf-8").replace('"--samples={samples}",', "", 1),
         encoding="utf-8",
     )
-    monkeypatch.setattr(farm_jobs, "STEPS_FILE", changed)
-    assert farm_jobs.job_type_block(farm_jobs.FLAMENCO_JOB_TYPE.read_text(encoding="utf-8")) != (
-        farm_jobs.flamenco_block(farm_jobs.load_steps(changed))
+    monkeypatch.setattr(jobs, "STEPS_FILE", changed)
+    assert jobs.job_type_block(jobs.FLAMENCO_JOB_TYPE.read_text(encoding="utf-8")) != (
+        jobs.flamenco_block(jobs.load_steps(changed))
     )
-    assert farm_jobs.main(["--check-flamenco"]) == 1
+    assert flamenco.main(["--check"]) == 1
 
 
 @pytest.mark.skipif(NODE is None, reason="needs node to run the job compiler")

@@ -3,34 +3,26 @@
 - `openjd_template(...)`: an episode's Open Job Description template (the job AWS Deadline Cloud runs, and
   `openjd run` here): the steps for every scene, named "<scene> build", "<scene> render", "<scene> join".
 - `flamenco_block(...)`: the STEPS block of the Flamenco job type (farm/flamenco/turkish_lipsync.js), whose
-  compileJob() authors a Flamenco job's tasks from it; `flamenco_jobs(...)` one job submission per scene.
-
-    python scripts/farm_jobs.py --write-flamenco   # the job type's STEPS block made again from steps.toml
-    python scripts/farm_jobs.py --check-flamenco   # exit 1 when the job type's block is not steps.toml's
+  compileJob() authors a Flamenco job's tasks from it (written there by `python -m tools.release.flamenco`);
+  `flamenco_jobs(...)` one job submission per scene.
 """
 
 from __future__ import annotations
 
-import argparse
 import json
 import re
 import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-REPOSITORY = Path(__file__).resolve().parent.parent
-if str(REPOSITORY) not in sys.path:
-    sys.path.insert(0, str(REPOSITORY))
+from ..base.errors import DataError
+from . import CHECKOUT
 
-from turkish_lipsync.core.base.errors import DataError  # noqa: E402
-
-STEPS_FILE = REPOSITORY / "farm" / "steps.toml"
-FLAMENCO_JOB_TYPE = REPOSITORY / "farm" / "flamenco" / "turkish_lipsync.js"
+STEPS_FILE = CHECKOUT / "farm" / "steps.toml"
+FLAMENCO_JOB_TYPE = CHECKOUT / "farm" / "flamenco" / "turkish_lipsync.js"
 FLAMENCO_TYPE_NAME = "turkish-lipsync"  # the Manager names a job type after its file, _ as -
-BEGIN = (
-    "// BEGIN STEPS: farm/steps.toml, written by `python scripts/farm_jobs.py --write-flamenco`; do not edit"
-)
-END = "// END STEPS"
+BEGIN_MARK, END = "// BEGIN STEPS", "// END STEPS"  # the block from its first line's start to its end
+BEGIN = f"{BEGIN_MARK}: farm/steps.toml, written by `python -m tools.release.flamenco`; do not edit"
 PLACEHOLDER = re.compile(r"\{([a-z_]+)\}")
 CHUNK_PARAMETER = "Frames"
 # A cancelled task is told first (SIGTERM), so that it stops its Blender and takes away what it half made.
@@ -73,7 +65,7 @@ def fill(template: str, values: dict[str, str]) -> str:
 
 def load_steps(path: Path | None = None) -> FarmSteps:
     """farm/steps.toml, checked: known fields, steps after earlier steps, every placeholder described."""
-    from turkish_lipsync.core.base.data import read_toml_file
+    from ..base.data import read_toml_file
 
     path = path or STEPS_FILE
     data = read_toml_file(path, "restore farm/steps.toml from the repository")
@@ -215,9 +207,9 @@ def flamenco_block(farm: FarmSteps | None = None) -> str:
 
 
 def job_type_block(text: str) -> str:
-    start, end = text.find(BEGIN), text.find(END)
+    start, end = text.find(BEGIN_MARK), text.find(END)
     if start < 0 or end < start:
-        raise DataError(f"{FLAMENCO_JOB_TYPE} has no STEPS block ({BEGIN!r} ... {END!r})")
+        raise DataError(f"{FLAMENCO_JOB_TYPE} has no STEPS block ({BEGIN_MARK!r} ... {END!r})")
     return text[start : end + len(END)]
 
 
@@ -244,25 +236,3 @@ def flamenco_jobs(title: str, frames: dict[str, tuple[int, int]], values: dict) 
         }
         for scene, (first, last) in frames.items()
     }
-
-
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    action = parser.add_mutually_exclusive_group(required=True)
-    action.add_argument("--write-flamenco", action="store_true", help="write the job type's STEPS block")
-    action.add_argument("--check-flamenco", action="store_true", help="exit 1 when the block is not current")
-    arguments = parser.parse_args(argv)
-    text = FLAMENCO_JOB_TYPE.read_text(encoding="utf-8")
-    current, wanted = job_type_block(text), flamenco_block()
-    if arguments.check_flamenco:
-        if current != wanted:
-            print(f"{FLAMENCO_JOB_TYPE}: its STEPS block is not farm/steps.toml's; run --write-flamenco")
-            return 1
-        return 0
-    FLAMENCO_JOB_TYPE.write_text(text.replace(current, wanted), encoding="utf-8")
-    print(f"Wrote the STEPS block of {FLAMENCO_JOB_TYPE}")
-    return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -21,13 +21,11 @@ import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
-from episode_manifest import Episode, Scene, read_episode
+from ..base.errors import LipSyncError
+from . import CHECKOUT
+from .manifest import Episode, Scene, read_episode
 
-from turkish_lipsync.core.base.errors import LipSyncError
-
-SCRIPTS = Path(__file__).resolve().parent
-RENDER_SCRIPT = SCRIPTS / "render.py"
-BUILD_SCRIPT = SCRIPTS / "episode_blender.py"
+RENDER_SCRIPT = CHECKOUT / "scripts" / "render.py"
 CHUNK_NAME = re.compile(r"^frames-(\d+)-(\d+)\.mp4$")
 BUILD_RECORD = "build.json"
 
@@ -62,17 +60,6 @@ def read_json(path: Path) -> dict | None:
         return None
 
 
-def frame_range(text: str) -> tuple[int, int]:
-    first, _, last = text.partition("-")
-    try:
-        span = int(first), int(last or first)
-    except ValueError:
-        raise TaskError(f"frames {text!r} are not START-END, e.g. 1-50") from None
-    if span[1] < span[0]:
-        raise TaskError(f"frames {text!r} end before they start")
-    return span
-
-
 # ---------------------------------------------------------------- one Blender process
 
 
@@ -92,7 +79,7 @@ def run_blender(command: list[str], what: str) -> None:
     process = subprocess.Popen(command, stderr=subprocess.PIPE, text=True, encoding="utf-8", errors="replace")
     try:
         for line in process.stderr:
-            if line.startswith(("render.py: error: ", "episode_blender.py: error: ")):
+            if line.startswith("render.py: error: "):
                 error_line = line.split(": error: ", 1)[1].strip()
             else:
                 sys.stderr.write(line)
@@ -132,10 +119,10 @@ def _holds_frames(chunk: Path, count: int) -> bool:
 def build_inputs(episode: Episode, scene: Scene, frames: tuple[int, int]) -> str:
     """What the build is made from, as one digest: the scene's settings (paths relative to the episode),
     every file they name and the extension's version; the same digest on every machine."""
-    from turkish_lipsync.core.base.data import read_toml_file
+    from ..base.data import read_toml_file
 
     folder = str(episode.folder)
-    version = read_toml_file(SCRIPTS.parent / "blender_manifest.toml").get("version", "")
+    version = read_toml_file(CHECKOUT / "blender_manifest.toml").get("version", "")
     described = {
         "arguments": [argument.replace(folder, "{episode}") for argument in scene.arguments],
         "files": {str(path).replace(folder, "{episode}"): file_digest(path) for path in scene.inputs},
@@ -173,8 +160,8 @@ def build_scene(
     result_path = blend.with_name(f".{blend.stem}.building.json")
     try:
         arguments = [*scene.arguments, "--no-render", "--save-blend", str(building)]
-        arguments += ["--audio-folder", str(blend.parent / "audio")]
-        run_blender(blender_command(blender, BUILD_SCRIPT, [str(result_path), *arguments]), name)
+        arguments += ["--audio-folder", str(blend.parent / "audio"), "--built-json", str(result_path)]
+        run_blender(blender_command(blender, RENDER_SCRIPT, arguments), name)
         result = read_json(result_path) or {}
         built = tuple(result.get("frames", ()))
         if len(built) != 2:
@@ -315,7 +302,7 @@ def join_scene(
     out: Path,
 ) -> None:
     """The scene's chunks joined in frame order with its speech into one MP4 (core/interchange/video.py)."""
-    from turkish_lipsync.core.interchange.video import join_videos
+    from ..interchange.video import join_videos
 
     what = blend.stem
     if not blend.is_file():

@@ -1,14 +1,12 @@
 """An episode's folder and its episode.toml read into scenes: each scene's scripts/render.py arguments, and
 every mistake found at once, each with its file and line."""
 
-import sys
 import wave
 from pathlib import Path
 
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
-from episode_manifest import EpisodeError, key_lines, known_variants, read_episode  # noqa: E402
+from turkish_lipsync.core.farm.manifest import EpisodeError, key_lines, known_variants, read_episode
 
 CUBE = "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n"
 CONVERSATION = "AYŞE: Merhaba Ali!\nALİ: Merhaba Ayşe.\n"

@@ -14,9 +14,10 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from turkish_lipsync.core.base.errors import LipSyncError, MarkupError
-from turkish_lipsync.core.base.files import read_user_text
-from turkish_lipsync.core.pipeline import (
+from ..base.errors import LipSyncError, MarkupError
+from ..base.files import read_user_text
+from ..batch.arguments import DEFAULT_FPS, DEFAULT_RESOLUTION, resolution
+from ..pipeline import (
     AMOUNT_RANGE,
     INTERPOLATION_CHOICES,
     MOTION_CHOICES,
@@ -24,9 +25,9 @@ from turkish_lipsync.core.pipeline import (
     TIMING_CHOICES,
     identifiers,
 )
-from turkish_lipsync.core.scene.cast import known_variants
-from turkish_lipsync.core.text.script import Script, read_script, speaker_key
-from turkish_lipsync.core.text.utterance import build_utterance
+from ..scene.cast import known_variants
+from ..text.script import Script, read_script, speaker_key
+from ..text.utterance import build_utterance
 
 MANIFEST_NAME = "episode.toml"
 SCENE_SUFFIXES = (".txt", ".jsml")
@@ -51,8 +52,8 @@ class EpisodeError(LipSyncError):
 class RenderSettings:
     """How every scene of the episode is rendered ([episode] of episode.toml)."""
 
-    fps: float = 25.0
-    resolution: tuple[int, int] = (960, 540)
+    fps: float = DEFAULT_FPS
+    resolution: tuple[int, int] = DEFAULT_RESOLUTION
     engine: str = "CYCLES"
     samples: int = 16
     chunk_size: int = 25
@@ -286,8 +287,6 @@ def _check_setting(manifest: _Manifest, folder: Path, key: tuple[str, ...], valu
 
 
 def _render_settings(manifest: _Manifest) -> RenderSettings:
-    from render_arguments import _resolution
-
     def engine(value) -> Problem:
         return None if str(value).upper() in ENGINES else f"must be one of {', '.join(ENGINES)}"
 
@@ -316,7 +315,7 @@ def _render_settings(manifest: _Manifest) -> RenderSettings:
                 found[name] = kind(section[name])
     if "resolution" in section:
         try:
-            found["resolution"] = _resolution(str(section["resolution"]))
+            found["resolution"] = resolution(str(section["resolution"]))
         except Exception as error:  # argparse.ArgumentTypeError: the message says what is wrong
             manifest.problem(("episode", "resolution"), str(error))
     unknown = set(section) - {*checks, "resolution", "title", "scenes"}

@@ -1,7 +1,7 @@
 """The frames of an episode's scenes, known before any scene is built: a job's chunks are fixed when it is
 made, so each scene's speech is timed here as its build will time it (no Blender: the core alone).
 
-The build checks that the scene it made has these frames (episode_tasks.build_scene): a scene whose inputs
+The build checks that the scene it made has these frames (tasks.build_scene): a scene whose inputs
 changed after the job was made fails its build and says to make the job again.
 """
 
@@ -10,20 +10,21 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
-import render
-from episode_manifest import Episode, EpisodeError, Scene
-from render_arguments import parse_arguments
 
-from turkish_lipsync.core.base.errors import LipSyncError, MarkupError
-from turkish_lipsync.core.base.files import read_user_text
-from turkish_lipsync.core.motion.frames import shown_frame_count
-from turkish_lipsync.core.pipeline import lip_sync
-from turkish_lipsync.core.scene import cast_for, scene_speech
+from ..base.errors import LipSyncError, MarkupError
+from ..base.files import read_user_text
+from ..batch.arguments import parse_arguments
+from ..batch.command import lip_sync_options, scene_sources, speaker_choices
+from ..motion.frames import shown_frame_count
+from ..pipeline import lip_sync
+from ..scene import cast_for, scene_speech
+from .manifest import Episode, EpisodeError, Scene
 
 
 def blender_fps(fps: float) -> float:
-    """The frame rate a scene shows after render.py set it: a whole rate over a base Blender keeps in 32
-    bits (29.97 is 30 / 1.001), so the frames counted here are the frames the build counts."""
+    """The frame rate a scene shows after render.py set it (blender/batch.py: set_frame_rate): a whole rate
+    over a base Blender keeps in 32 bits (29.97 is 30 / 1.001), so the frames counted here are the frames the
+    build counts."""
     whole = round(fps)
     if abs(whole - fps) < 1e-6:
         return float(whole)
@@ -39,10 +40,10 @@ def scene_frames(scene: Scene, fps: float) -> tuple[int, int]:
             [f"{scene.where}: scene {scene.name}'s settings are refused by render.py"]
         ) from None
     source = read_user_text(scene.file, "scene's script")
-    options = dataclasses.replace(render.lip_sync_options(arguments), fps=blender_fps(fps))
+    options = dataclasses.replace(lip_sync_options(arguments), fps=blender_fps(fps))
     if scene.script is not None:
-        cast = cast_for(scene.script, render.speaker_choices(arguments), options.emotion_strength)
-        duration = scene_speech(scene.script, cast, options, render.scene_sources(arguments)).duration
+        cast = cast_for(scene.script, speaker_choices(arguments), options.emotion_strength)
+        duration = scene_speech(scene.script, cast, options, scene_sources(arguments)).duration
     else:
         duration = lip_sync(source, options).timeline.duration
     return 1, shown_frame_count(duration, options.fps)
