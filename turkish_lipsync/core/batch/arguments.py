@@ -224,45 +224,42 @@ def _keys(parser: argparse.ArgumentParser) -> None:
     )
 
 
+# A script's speakers' NAME=VALUE flags (repeatable): flag, what VALUE is, help
+SPEAKER_FLAGS = (
+    (
+        "--cast",
+        "HEAD",
+        "the head that plays a speaker (repeatable): a head file, an object of the --head .blend, or "
+        "'default' (the default: a default head of the speaker's own, beside the others)",
+    ),
+    (
+        "--voice",
+        "VOICE",
+        "a speaker's voice (repeatable): an eSpeak NG variant (f1-f5, m1-m8) or female/male, optionally "
+        "with :PITCH:RATE multipliers, e.g. Ali=m7:0.9:1.05",
+    ),
+    (
+        "--speaker-emotion",
+        "STRENGTH",
+        "how strongly a speaker's emotions show, 0..1, times --emotion-strength (repeatable)",
+    ),
+    (
+        "--speaker-audio",
+        "RECORDING",
+        "a speaker's track of the scene (repeatable; every speaker then needs one); --audio is a "
+        "recording of the whole scene",
+    ),
+)
+
+
 def _conversation(parser: argparse.ArgumentParser) -> None:
     conversation = parser.add_argument_group(
         "a script with speakers (<VOICE NAME=...> lines or a screenplay, NAME: text)"
     )
-    conversation.add_argument(
-        "--cast",
-        type=_named("--cast", "HEAD"),
-        action="append",
-        default=[],
-        metavar="NAME=HEAD",
-        help="the head that plays a speaker (repeatable): a head file, an object of the --head .blend, or "
-        "'default' (the default: a default head of the speaker's own, beside the others)",
-    )
-    conversation.add_argument(
-        "--voice",
-        type=_named("--voice", "VOICE"),
-        action="append",
-        default=[],
-        metavar="NAME=VOICE",
-        help="a speaker's voice (repeatable): an eSpeak NG variant (f1-f5, m1-m8) or female/male, optionally "
-        "with :PITCH:RATE multipliers, e.g. Ali=m7:0.9:1.05",
-    )
-    conversation.add_argument(
-        "--speaker-emotion",
-        type=_named("--speaker-emotion", "STRENGTH"),
-        action="append",
-        default=[],
-        metavar="NAME=STRENGTH",
-        help="how strongly a speaker's emotions show, 0..1, times --emotion-strength (repeatable)",
-    )
-    conversation.add_argument(
-        "--speaker-audio",
-        type=_named("--speaker-audio", "RECORDING"),
-        action="append",
-        default=[],
-        metavar="NAME=RECORDING",
-        help="a speaker's track of the scene (repeatable; every speaker then needs one); --audio is a "
-        "recording of the whole scene",
-    )
+    for flag, what, help_text in SPEAKER_FLAGS:
+        conversation.add_argument(
+            flag, type=_named(flag, what), action="append", default=[], metavar=f"NAME={what}", help=help_text
+        )
     conversation.add_argument(
         "--line-audio",
         type=Path,
