@@ -215,7 +215,7 @@ def make_corpus(count: int, seed: int, cache: Path, whole_take_level: bool = Tru
 def people_labels(recording, network) -> tuple[np.ndarray, np.ndarray, float] | None:
     """16 kHz samples of a person's recording, frame labels from its Turkish spelling, and the fit.
 
-    The labels come from forced alignment (recognition/forced.py) with the previous round's network: the
+    The labels come from forced alignment (acoustic/forced.py) with the previous round's network: the
     spelling fixes the letters and their order, the network only where each lies. The fit is the mean per
     frame of how much worse the forced path scores than the best class (0: the spelling fits every frame).
     """

@@ -1,4 +1,4 @@
-"""Festival's diphone voices as labelled people's speech (lab/train/festival_voices.py): the phone tables
+"""Festival's diphone voices as labelled people's speech (lab/kit/festival_voices.py): the phone tables
 load and are checked, segments become frame labels; with Festival installed, every voice's phones are in
 its table."""
 

@@ -2,9 +2,10 @@
 
 A render manager (Flamenco: farm/flamenco/turkish_lipsync.js) gives each worker a frame range; every worker
 renders its range of the same .blend with the same settings, and one task joins the chunks with the speech
-(core/video.py). The chunks are lossless H.264 without B-frames and without sound: the frames are then the
-frames a single render gives, their timestamps follow on from chunk to chunk, and the speech is encoded once
-over the whole length instead of once per chunk (which would add the AAC encoder's padding at every seam).
+(core/interchange/video.py). The chunks are lossless H.264 without B-frames and without sound: the frames
+are then the frames a single render gives, their timestamps follow on from chunk to chunk, and the speech
+is encoded once over the whole length instead of once per chunk (which would add the AAC encoder's padding
+at every seam).
 """
 
 from __future__ import annotations

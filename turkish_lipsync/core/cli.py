@@ -84,14 +84,8 @@ def _add_source_arguments(parser: argparse.ArgumentParser) -> None:
         help="time the visemes by a Rhubarb .tsv/.json/.xml, Papagayo .pgo or Moho .dat file (a .pgo's own "
         "text is used when no text is given; --audio is then its sound, not aligned)",
     )
+    add_motion_arguments(parser)
     defaults = LipSyncOptions()
-    parser.add_argument("--timing", choices=identifiers(TIMING_CHOICES), default=defaults.timing)
-    parser.add_argument("--motion", choices=identifiers(MOTION_CHOICES), default=defaults.motion)
-    parser.add_argument(
-        "--interpolation", choices=identifiers(INTERPOLATION_CHOICES), default=defaults.interpolation
-    )
-    parser.add_argument("--rate", type=float, default=defaults.rate, help="speaking-rate multiplier")
-    parser.add_argument("--emotion-strength", type=float, default=defaults.emotion_strength, help="0..1")
     fps_help = f"frames per second ({FPS_RANGE[0]:g}..{FPS_RANGE[1]:g})"
     parser.add_argument("--fps", type=float, default=defaults.fps, help=fps_help)
     parser.add_argument(
@@ -109,6 +103,18 @@ def _add_source_arguments(parser: argparse.ArgumentParser) -> None:
         help="where the eyes seek the listener: degrees to the character's left and up, metres away "
         "(default 0,0,1: straight ahead)",
     )
+
+
+def add_motion_arguments(parser) -> None:
+    """How the speech is timed and the face moved, shared with scripts/render.py (each choice the core's)."""
+    defaults = LipSyncOptions()
+    parser.add_argument("--timing", choices=identifiers(TIMING_CHOICES), default=defaults.timing)
+    parser.add_argument("--motion", choices=identifiers(MOTION_CHOICES), default=defaults.motion)
+    parser.add_argument(
+        "--interpolation", choices=identifiers(INTERPOLATION_CHOICES), default=defaults.interpolation
+    )
+    parser.add_argument("--rate", type=float, default=defaults.rate, help="speaking-rate multiplier")
+    parser.add_argument("--emotion-strength", type=float, default=defaults.emotion_strength, help="0..1")
 
 
 def add_living_arguments(parser: argparse.ArgumentParser) -> None:

@@ -54,7 +54,7 @@ class LipSyncOptions:
     fps: float = 25.0
     recording: Path | None = None  # a recording of the text to align to instead of the synthetic voice
     engine: str = "espeak"
-    # A Rhubarb/Papagayo/Moho cue file timing the visemes instead of an engine (interchange/cue_timing.py);
+    # A Rhubarb/Papagayo/Moho cue file timing the visemes instead of an engine (speech/cue_timing.py);
     # the recording is then its audio as it is, not aligned.
     cues: Path | None = None
     # The living layers (motion/living): each on, off, or None for the motion model's default (on for the

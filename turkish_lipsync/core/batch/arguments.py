@@ -9,9 +9,9 @@ import argparse
 import sys
 from pathlib import Path
 
-from ..cli import add_living_arguments
+from ..cli import add_living_arguments, add_motion_arguments
 from ..faces.key_sources import KEY_SOURCE_CHOICES
-from ..pipeline import INTERPOLATION_CHOICES, MOTION_CHOICES, TIMING_CHOICES, LipSyncOptions, identifiers
+from ..pipeline import identifiers
 
 DESCRIPTION = "Batch lip sync: Turkish text in, a head speaking it out (MP4 with sound and/or a .blend)."
 DEFAULT_RESOLUTION = (960, 540)
@@ -174,14 +174,7 @@ def _render(parser: argparse.ArgumentParser) -> None:
 
 def _motion(parser: argparse.ArgumentParser) -> None:
     motion = parser.add_argument_group("how the face moves")
-    defaults = LipSyncOptions()
-    motion.add_argument("--timing", default=defaults.timing, choices=identifiers(TIMING_CHOICES))
-    motion.add_argument("--motion", default=defaults.motion, choices=identifiers(MOTION_CHOICES))
-    motion.add_argument(
-        "--interpolation", default=defaults.interpolation, choices=identifiers(INTERPOLATION_CHOICES)
-    )
-    motion.add_argument("--emotion-strength", type=float, default=defaults.emotion_strength, help="0..1")
-    motion.add_argument("--rate", type=float, default=defaults.rate, help="speaking-rate multiplier")
+    add_motion_arguments(motion)
     add_living_arguments(motion)
     motion.add_argument(
         "--gaze-target", metavar="OBJECT", help="the object the eyes seek (default: the scene's camera)"
