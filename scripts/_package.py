@@ -1,6 +1,7 @@
 """The turkish_lipsync package beside these scripts, imported by its path: the scripts run from a checkout
 (the zip carries neither them nor the batch code), inside Blender (-P) or with the bpy module, where the
-package is not installed; the import path is left as it is. Each script loads this file by path too (runpy.run_path)."""
+package is not installed; the import path is left as it is. Each script loads this file by path too
+(runpy.run_path)."""
 
 import importlib.util
 import sys
