@@ -72,11 +72,15 @@ FACE_RIG_ITEMS = (
     (OWN_POSES, "Own Poses", "Only the poses recorded for this character below"),
 )
 POSE_TARGET_DESCRIPTION = "A viseme, emotion, blink or look key, or an ARKit unit"
-# What a pose may be recorded for.
+# What a pose may be recorded for (a dynamic enum's items must stay referenced while Blender shows them).
 POSE_TARGET_ITEMS = tuple(
     (target, target.removeprefix("TR_").replace("_", " "), POSE_TARGET_DESCRIPTION, "NONE", number)
     for number, target in enumerate(pose_targets())
 )
+
+
+def _pose_target_items(_settings, _context):
+    return POSE_TARGET_ITEMS
 
 
 VOICE_LABELS = {"female": "Female", "male": "Male"}
@@ -258,7 +262,7 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
     )
     pose_target: EnumProperty(
         name="Pose For",
-        items=POSE_TARGET_ITEMS,
+        items=_pose_target_items,
         description="What the recorded pose stands for: a viseme, an emotion, a blink or look, or one of the "
         "52 ARKit units",
     )
