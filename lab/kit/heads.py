@@ -36,7 +36,7 @@ ARTIST_KEYS = {
     "vitruvian": {"jawOpen": "Mouth_Large_Opened", "eyeBlinkLeft": "Eyes_Closed_Left"},
     "makehuman": {"jawOpen": "mouth-open", "eyeBlinkLeft": "eye-left-closure"},
 }
-# The default head bent into another face (measure_transfer.py's bends): a wider jaw, a longer chin,
+# The default head bent into another face (lab/measure/transfer.py's bends): a wider jaw, a longer chin,
 # a bigger nose, eyes further apart, a sloping forehead.
 BENDS = {"jaw": 0.15, "chin": 0.015, "nose": 0.006, "eyes": 0.004, "forehead": 0.01}
 

@@ -177,7 +177,7 @@ POSE_ROUNDS = 3
 OFF_POSE_DOUBT = 0.02
 POSE_FIT = 0.05
 # A reading the reference's landmarks fit this badly (_fit_template: the furthest landmark, as a share of
-# the face's size) is doubted even when it agrees with itself: the bent faces of measure_transfer.py
+# the face's size) is doubted even when it agrees with itself: the bent faces of lab/measure/transfer.py
 # read at most 0.07, a "face" read off the chin and neck of a head turned 12 degrees 0.16.
 DOUBTFUL_MISFIT = 0.1
 
