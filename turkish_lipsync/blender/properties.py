@@ -16,7 +16,7 @@ from bpy.props import (
 from ..core.base.choices import Choice
 from ..core.faces.key_sources import KEY_SOURCE_CHOICES, RHO_RANGE
 from ..core.faces.rig_mappings import rig_templates
-from ..core.faces.rig_poses import pose_targets
+from ..core.faces.rig_poses import pose_target_label, pose_targets
 from ..core.interchange import export_choices
 from ..core.pipeline import (
     AMOUNT_RANGE,
@@ -72,15 +72,11 @@ FACE_RIG_ITEMS = (
     (OWN_POSES, "Own Poses", "Only the poses recorded for this character below"),
 )
 POSE_TARGET_DESCRIPTION = "A viseme, emotion, blink or look key, or an ARKit unit"
-# What a pose may be recorded for (a dynamic enum's items must stay referenced while Blender shows them).
+# What a pose may be recorded for.
 POSE_TARGET_ITEMS = tuple(
-    (target, target.removeprefix("TR_").replace("_", " "), POSE_TARGET_DESCRIPTION, "NONE", number)
+    (target, pose_target_label(target), POSE_TARGET_DESCRIPTION, "NONE", number)
     for number, target in enumerate(pose_targets())
 )
-
-
-def _pose_target_items(_settings, _context):
-    return POSE_TARGET_ITEMS
 
 
 VOICE_LABELS = {"female": "Female", "male": "Male"}
@@ -262,7 +258,7 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
     )
     pose_target: EnumProperty(
         name="Pose For",
-        items=_pose_target_items,
+        items=POSE_TARGET_ITEMS,
         description="What the recorded pose stands for: a viseme, an emotion, a blink or look, or one of the "
         "52 ARKit units",
     )

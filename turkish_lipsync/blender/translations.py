@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import bpy
 
+from ..core.faces.arkit_names import ARKIT_UNITS
+from ..core.faces.rig_poses import pose_target_label, pose_targets
+
 LOCALE = "tr_TR"
 
 # English UI text -> Turkish. Labels, headings, enum items, tooltips of properties and operators.
@@ -477,6 +480,45 @@ TURKISH = {
 # The cast's voices, numbered per gender as the panel lists them.
 TURKISH |= {f"Female {number}": f"Kadın {number}" for number in range(1, 10)}
 TURKISH |= {f"Male {number}": f"Erkek {number}" for number in range(1, 10)}
+
+# The poses a face rig may record for ("Pose For", named as properties.py shows them): our keys in Turkish;
+# ARKit's units keep their standard names, as every face tool shows them.
+_EMOTIONS = {
+    "happy": "mutlu",
+    "sad": "üzgün",
+    "angry": "kızgın",
+    "afraid": "korkmuş",
+    "surprised": "şaşırmış",
+    "disgusted": "tiksinmiş",
+}
+_SIDES = {"left": "sol", "right": "sağ"}
+_LOOKS = {"left": "sola", "right": "sağa", "up": "yukarı", "down": "aşağı"}
+_POSE_NAMES = {
+    "brow raise": "kaş kaldırma",
+    **{f"blink {side}": f"{turkish} göz kırpma" for side, turkish in _SIDES.items()},
+    **{
+        f"eye {side} look {way}": f"{turkish} göz {towards} bakış"
+        for side, turkish in _SIDES.items()
+        for way, towards in _LOOKS.items()
+    },
+}
+
+
+def _pose_name_in_turkish(name: str) -> str:
+    kind, _, rest = name.partition(" ")
+    if kind == "viseme":
+        return f"vizem {rest}"
+    if kind == "emotion":
+        return f"duygu: {_EMOTIONS[rest]}"
+    return name if name in ARKIT_UNITS else _POSE_NAMES[name]
+
+
+TURKISH["A viseme, emotion, blink or look key, or an ARKit unit"] = (
+    "Bir vizem, duygu, göz kırpma ya da bakış anahtarı, veya bir ARKit birimi"
+)
+TURKISH |= {
+    pose_target_label(target): _pose_name_in_turkish(pose_target_label(target)) for target in pose_targets()
+}
 
 # Operator labels are looked up in the "Operator" context, everything else in the default one.
 _CONTEXTS = ("*", "Operator")

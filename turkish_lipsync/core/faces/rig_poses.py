@@ -31,6 +31,7 @@ from ..base.model import (
     EMOTION_MOUTH_RELEASE_SUFFIX,
     EMOTIONS,
     LOOK_KEYS,
+    OWNED_PREFIX,
     VISEME_KEY_PREFIX,
     WeightTracks,
     emotion_key_name,
@@ -88,6 +89,11 @@ def pose_targets(recipes: Recipes | None = None) -> tuple[str, ...]:
     """Every name a pose may be recorded for: the built keys a track may carry, then the 52 ARKit units."""
     keys = [name for name in (recipes or load_recipes()).key_recipes() if not is_release(name)]
     return (*keys, *LOOK_KEYS, *ARKIT_UNITS)
+
+
+def pose_target_label(target: str) -> str:
+    """How the panel names a pose target: TR_viseme_a as "viseme a", ARKit's units as they are."""
+    return target.removeprefix(OWNED_PREFIX).replace("_", " ")
 
 
 def is_release(name: str) -> bool:
