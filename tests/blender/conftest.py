@@ -19,6 +19,17 @@ except ImportError:  # the tests skip themselves without bpy
 _STATUS: dict[str, int] = {}
 
 
+@pytest.fixture(scope="module")
+def registered_extension():
+    """The extension registered for a test module's tests (`pytestmark = usefixtures(...)`), as a user's
+    Blender has it once the extension is enabled."""
+    from turkish_lipsync import blender
+
+    blender.register()
+    yield
+    blender.unregister()
+
+
 def pytest_sessionfinish(session, exitstatus):
     _STATUS["exit"] = int(exitstatus)
 

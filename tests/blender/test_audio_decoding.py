@@ -36,17 +36,12 @@ from turkish_lipsync.core.speech.audio import decode_audio  # noqa: E402
 from turkish_lipsync.core.speech.decoders import DECODERS, sniff_format  # noqa: E402
 from turkish_lipsync.core.text.script import read_script  # noqa: E402
 
+pytestmark = pytest.mark.usefixtures("registered_extension")
+
 FPS = 25
 needs_blenders_ffmpeg = pytest.mark.skipif(
     not compat.HAS_FFMPEG_AUDIO, reason="the PyPI bpy 4.2 module is built without audio"
 )
-
-
-@pytest.fixture(scope="module", autouse=True)
-def registered():
-    blender.register()
-    yield
-    blender.unregister()
 
 
 @pytest.fixture(scope="module")

@@ -9,22 +9,16 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import compat, exports, keyframes  # noqa: E402
 from turkish_lipsync.core.interchange import export_formats  # noqa: E402
 from turkish_lipsync.core.interchange.arkit_csv import LIVE_LINK_UNITS, read_arkit_csv  # noqa: E402
 from turkish_lipsync.core.speech.cues import read_cue_file  # noqa: E402
 
+pytestmark = pytest.mark.usefixtures("registered_extension")
+
 REPOSITORY = Path(__file__).resolve().parents[2]
 TEXT = "Merhaba, benim adım Erdem."
 FPS = 24
-
-
-@pytest.fixture(scope="module", autouse=True)
-def registered():
-    blender.register()
-    yield
-    blender.unregister()
 
 
 @pytest.fixture(scope="module")

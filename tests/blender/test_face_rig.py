@@ -9,7 +9,6 @@ bpy = pytest.importorskip("bpy")
 from lab.kit import rigged_heads  # noqa: E402
 from lab.kit.heads_on_disk import HEADS  # noqa: E402
 from lab.kit.rigged_heads import lip_gaps, phone_frames  # noqa: E402
-from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import compat, face_rig, heads, shapekeys  # noqa: E402
 from turkish_lipsync.blender.generate import generate  # noqa: E402
 from turkish_lipsync.blender.marked_curves import FACE_RIG, LIVING  # noqa: E402
@@ -22,16 +21,12 @@ FPS = 25
 BILABIALS = set("bmp")
 OPEN_VOWELS = set("aeo")
 
-pytestmark = pytest.mark.skipif(
-    not rigged_heads.MAKEHUMAN_UNITS_HEAD.is_file(), reason=f"the shared heads are not in {HEADS}"
-)
-
-
-@pytest.fixture(scope="module", autouse=True)
-def registered():
-    blender.register()
-    yield
-    blender.unregister()
+pytestmark = [
+    pytest.mark.usefixtures("registered_extension"),
+    pytest.mark.skipif(
+        not rigged_heads.MAKEHUMAN_UNITS_HEAD.is_file(), reason=f"the shared heads are not in {HEADS}"
+    ),
+]
 
 
 def _empty_scene():

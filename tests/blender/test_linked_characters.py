@@ -13,23 +13,17 @@ bpy = pytest.importorskip("bpy")
 
 from lab.kit import rigged_heads  # noqa: E402
 from tests.render_runs import REPOSITORY, run_render  # noqa: E402
-from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import compat, face_rig, heads, linking, pipeline, sequencer, shapekeys  # noqa: E402
 from turkish_lipsync.blender.generate import generate  # noqa: E402
 from turkish_lipsync.blender.marked_curves import FACE_RIG, LINKED_KEYS, LIVING  # noqa: E402
 from turkish_lipsync.core.base.errors import HeadError  # noqa: E402
 from turkish_lipsync.core.faces.rig_mappings import OwnRig  # noqa: E402
 
+pytestmark = pytest.mark.usefixtures("registered_extension")
+
 FPS = 25
 TEXT = "Merhaba, benim adım Erdem."
 COLLECTION = "Character"
-
-
-@pytest.fixture(scope="module", autouse=True)
-def registered():
-    blender.register()
-    yield
-    blender.unregister()
 
 
 def _empty_scene():

@@ -13,7 +13,6 @@ bpy = pytest.importorskip("bpy")
 from mathutils import Matrix  # noqa: E402
 
 from lab.kit.heads_on_disk import HEADS  # noqa: E402
-from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import compat, heads, landmarks, living, pipeline, sequencer  # noqa: E402
 from turkish_lipsync.blender.generate import generate  # noqa: E402
 from turkish_lipsync.core.base.model import EMOTIONS, emotion_key_name, viseme_key_name  # noqa: E402
@@ -22,6 +21,8 @@ from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E4
 from turkish_lipsync.core.speech import synthesize_timeline  # noqa: E402
 from turkish_lipsync.core.text.utterance import build_utterance  # noqa: E402
 
+pytestmark = pytest.mark.usefixtures("registered_extension")
+
 # The thesis's 37 models (Table 5.1, Appendix B).
 VISEMES = (
     "a bpa cjae dta fvae gkya la ma na ra sza ta e bpe dte gkye le me ne re sze I Ii o bpo cjo do fvo gkyo "
@@ -29,13 +30,6 @@ VISEMES = (
 ).split()
 
 SENTENCE = "Şu köşe yaz köşesi"
-
-
-@pytest.fixture(scope="module", autouse=True)
-def registered():
-    blender.register()
-    yield
-    blender.unregister()
 
 
 @pytest.fixture(autouse=True)

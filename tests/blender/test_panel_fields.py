@@ -9,18 +9,12 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from turkish_lipsync import blender  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "docs" / "_ext"))
 
 import panel_fields  # noqa: E402
 
-
-@pytest.fixture(scope="module", autouse=True)
-def registered():
-    blender.register()
-    yield
-    blender.unregister()
+pytestmark = pytest.mark.usefixtures("registered_extension")
 
 
 def _drawn():

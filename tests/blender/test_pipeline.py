@@ -10,21 +10,15 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import compat, heads, keyframes, owned_keys, shapekeys  # noqa: E402
 from turkish_lipsync.blender.generate import generate  # noqa: E402
 from turkish_lipsync.core.faces.arkit_names import ARKIT_UNITS  # noqa: E402
 from turkish_lipsync.core.pipeline import LipSyncOptions, lip_sync  # noqa: E402
 
+pytestmark = pytest.mark.usefixtures("registered_extension")
+
 ROOT = Path(__file__).resolve().parents[2]
 TEXT = "<HAPPY>Merhaba</HAPPY>, benim adım Erdem. Bu sabah vapura binip geçtim."
-
-
-@pytest.fixture(scope="module", autouse=True)
-def registered():
-    blender.register()
-    yield
-    blender.unregister()
 
 
 @pytest.fixture

@@ -9,13 +9,14 @@ bpy = pytest.importorskip("bpy")
 from mathutils import Quaternion  # noqa: E402
 
 from tests.blender.evaluated import evaluated_world  # noqa: E402
-from turkish_lipsync import blender  # noqa: E402
 from turkish_lipsync.blender import compat, heads, mesh, shapekeys  # noqa: E402
 from turkish_lipsync.blender.generate import generate  # noqa: E402
 from turkish_lipsync.blender.marked_curves import FACE_RIG  # noqa: E402
 from turkish_lipsync.core.base.errors import HeadError  # noqa: E402
 from turkish_lipsync.core.faces.measure import FaceMeasure  # noqa: E402
 from turkish_lipsync.core.faces.reference import load_reference_head  # noqa: E402
+
+pytestmark = pytest.mark.usefixtures("registered_extension")
 
 TEXT = "Ama babam dedi ki."
 # control bone -> (unit it drives, the channel its driver reads, the driver's expression of it as "v"):
@@ -27,13 +28,6 @@ CONTROLS = {
     "c_smile.L": ("mouthSmileLeft", "LOC_X", "max(0, min(1, v * 30))"),
     "c_blink.L": ("eyeBlinkLeft", "LOC_Z", "max(0, min(1, -v * 50))"),
 }
-
-
-@pytest.fixture(scope="module", autouse=True)
-def registered():
-    blender.register()
-    yield
-    blender.unregister()
 
 
 def _controlled_head():
