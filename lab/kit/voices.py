@@ -11,6 +11,7 @@ import numpy as np
 
 from lab.kit import diphone_voices
 from lab.kit.takes import CONDITIONS, RATE, Take, write_wav
+from turkish_lipsync.core.scene import RoleChoice
 from turkish_lipsync.core.speech import espeak, get_engine, synthesize_timeline
 from turkish_lipsync.core.speech.align import phone_letter_spans
 from turkish_lipsync.core.speech.audio import resample
@@ -175,3 +176,16 @@ def speak_language(text: str, language: str) -> tuple[np.ndarray, int]:
         finally:
             library.handle.espeak_SetVoiceByName(b"tr")
     return np.concatenate(spoken.chunks).astype(np.float32) / 32768, library.sample_rate
+
+
+def cast_reading(cast, reading: dict[str, float]) -> dict[str, RoleChoice]:
+    """Each role of a conversation's cast in its own voice, read faster or lower by the factors of `reading`
+    ("rate", "pitch"; none: as cast): a take of the scene unlike what its alignment synthesises."""
+    return {
+        role.name: RoleChoice(
+            variant=role.voice.variant,
+            pitch=role.voice.pitch * reading.get("pitch", 1.0),
+            rate=role.voice.rate * reading.get("rate", 1.0),
+        )
+        for role in cast.roles
+    }

@@ -27,6 +27,7 @@ import numpy as np
 
 from lab import REPOSITORY
 from lab.kit.living_scene import evaluated_world, lid_points, skull_points
+from lab.kit.voices import cast_reading
 from turkish_lipsync.blender import living, pipeline
 from turkish_lipsync.blender.generate import generate
 from turkish_lipsync.blender.living_rig import find_rig
@@ -307,14 +308,7 @@ def truth_recordings(source: str, folder: Path, reading: dict[str, float]) -> tu
     in the cast's own voices, or (reading) faster or lower than the voices the alignment hears."""
     script = read_script(source)
     cast = cast_for(script)
-    choices = {
-        role.name: RoleChoice(
-            variant=role.voice.variant,
-            pitch=role.voice.pitch * reading.get("pitch", 1.0),
-            rate=role.voice.rate * reading.get("rate", 1.0),
-        )
-        for role in cast.roles
-    }
+    choices = cast_reading(cast, reading)
     truth = converse(script, cast_for(script, choices), LipSyncOptions(fps=25)).speech
     stem = "_".join(f"{k}{v:g}" for k, v in reading.items()) or "same"
     scene_wav = write_wav(folder / f"scene_truth_{stem}.wav", truth.mix())

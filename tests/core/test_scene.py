@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from lab.kit.voices import cast_reading
 from turkish_lipsync.core.base.errors import LipSyncError, MarkupError
 from turkish_lipsync.core.base.model import viseme_key_name
 from turkish_lipsync.core.motion.living.prosody import measure_prosody
@@ -157,14 +158,7 @@ def test_an_overlapping_line_in_one_recording_of_the_scene_starts_where_it_is_sa
     )
     cast = cast_for(script)
     for reading in ({}, {"rate": 1.12, "pitch": 0.9}):
-        choices = {
-            role.name: RoleChoice(
-                variant=role.voice.variant,
-                pitch=role.voice.pitch * reading.get("pitch", 1.0),
-                rate=role.voice.rate * reading.get("rate", 1.0),
-            )
-            for role in cast.roles
-        }
+        choices = cast_reading(cast, reading)
         truth = converse(script, cast_for(script, choices), LipSyncOptions(fps=25)).speech
         take = write_wav(tmp_path / "scene.wav", truth.mix())
         found = scene_speech(script, cast, LipSyncOptions(fps=25), SceneSources(scene_recording=take))
