@@ -282,7 +282,7 @@ def run_render(frames: int) -> dict:
 
 
 def _in_fresh_process(part: str, *arguments: str) -> dict:
-    command = [sys.executable, __file__, "--part", part, *arguments]
+    command = [sys.executable, "-m", __spec__.name, "--part", part, *arguments]
     result = subprocess.run(command, capture_output=True, text=True, cwd=REPOSITORY)
     if result.returncode != 0:
         raise SystemExit(f"benchmark part {part} failed:\n{result.stderr[-3000:]}")

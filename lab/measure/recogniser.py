@@ -34,6 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
+from lab import REPOSITORY
 from lab.kit.corpus import held_out_sentences, tuning_sentences
 from lab.kit.scores import bilabial_scores, correlation, loudness_envelope, opening_trajectory
 from lab.kit.sweep import settings_tried
@@ -161,7 +162,9 @@ def measure_speed(minutes: float, folder: Path) -> None:
     path = write_wav(folder / "long.wav", take, RECORDED_RATE)
     del take
     # Recognised by a process of its own, so its peak memory is the recogniser's, not the take's making.
-    subprocess.run([sys.executable, __file__, "--recognise", str(path)], check=True)
+    subprocess.run(
+        [sys.executable, "-m", __spec__.name, "--recognise", str(path)], check=True, cwd=REPOSITORY
+    )
 
 
 def peak_memory_mb() -> float:

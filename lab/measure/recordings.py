@@ -55,6 +55,7 @@ from pathlib import Path
 
 import numpy as np
 
+from lab import REPOSITORY
 from lab.kit import takes
 from lab.kit.corpus import held_out_sentences, tuning_sentences
 from lab.kit.takes import CONDITIONS, PERSON_CONDITIONS, RATE, write_wav
@@ -210,7 +211,11 @@ def write_long_take(path: Path, minutes: float) -> None:
 def measure_long_take(minutes: float, folder: Path, aeneas: bool, runs: int) -> None:
     """Align the long take `runs` times (and aeneas after each when asked): the median times, the errors."""
     path = folder / "long.wav"
-    subprocess.run([sys.executable, __file__, "--write-long", str(path), str(minutes)], check=True)
+    subprocess.run(
+        [sys.executable, "-m", __spec__.name, "--write-long", str(path), str(minutes)],
+        check=True,
+        cwd=REPOSITORY,
+    )
     text = path.with_suffix(".txt").read_text(encoding="utf-8")
     truth = np.load(path.with_suffix(".npy"))
     ours, theirs = [], []

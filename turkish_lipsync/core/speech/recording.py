@@ -191,8 +191,14 @@ def fit_recording(
     # eSpeak NG and numpy's matrix products release the interpreter, so on two cores the two overlap.
     with ThreadPoolExecutor(max_workers=1) as pool:
         rendition = pool.submit(_synthetic_analysis, utterance, engine, settings)
-        heard = _hear_recording(native, native_rate, name, settings)
-        del native  # a file's float copy (the caller's samples stay theirs)
+        # The user's audio is kept at its own rate (up to 48 kHz) as 16-bit PCM; a file's float copy is
+        # dropped before the hearing (the caller's samples stay theirs): a 30-minute take at 44.1 kHz
+        # holds 300 MB less through it.
+        output_rate = min(native_rate, MAX_OUTPUT_RATE)
+        output = resampled_pcm(native, native_rate, output_rate)
+        clipped = clipping(native)
+        del native
+        heard = _hear_recording(output, output_rate, clipped, name, settings)
         reference, x, synthetic_speech = rendition.result()
     _check_lengths(name, heard.speech, synthetic_speech, settings)
     found = _find_text(reference, x, synthetic_speech, heard, settings)
@@ -253,21 +259,16 @@ def _place_letters(
 
 
 def _hear_recording(
-    native: np.ndarray, native_rate: int, name: str, settings: AlignerSettings
+    output: np.ndarray, output_rate: int, clipped: str, name: str, settings: AlignerSettings
 ) -> _HeardRecording:
-    """The user's audio at its own rate as 16-bit PCM (the float copy is the caller's to drop), and what
-    the speech detector and the acoustic model hear in it."""
-    output_rate = min(native_rate, MAX_OUTPUT_RATE)
-    output = resampled_pcm(native, native_rate, output_rate)
+    """What the speech detector and the acoustic model hear in the user's audio (16-bit PCM)."""
     recorded = resample(output, output_rate, ANALYSIS_RATE, 1 / 32768)
     speech, loudness, under, log_posteriors = _heard_around_speech(
         name, recorded, frame_count(recorded.size), settings
     )
     speech = _from_first_sound(speech, log_posteriors, under, settings)
     features = heard_features(_speech_not_silence(log_posteriors, speech, settings), settings)
-    return _HeardRecording(
-        output, output_rate, clipping(native), speech, loudness, under, log_posteriors, features
-    )
+    return _HeardRecording(output, output_rate, clipped, speech, loudness, under, log_posteriors, features)
 
 
 def _find_text(
