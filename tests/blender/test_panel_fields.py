@@ -9,7 +9,6 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "docs" / "_ext"))
 
 import panel_fields  # noqa: E402

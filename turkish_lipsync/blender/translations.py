@@ -516,9 +516,7 @@ def _pose_name_in_turkish(name: str) -> str:
 TURKISH["A viseme, emotion, blink or look key, or an ARKit unit"] = (
     "Bir vizem, duygu, göz kırpma ya da bakış anahtarı, veya bir ARKit birimi"
 )
-TURKISH |= {
-    pose_target_label(target): _pose_name_in_turkish(pose_target_label(target)) for target in pose_targets()
-}
+TURKISH |= {label: _pose_name_in_turkish(label) for label in map(pose_target_label, pose_targets())}
 
 # Operator labels are looked up in the "Operator" context, everything else in the default one.
 _CONTEXTS = ("*", "Operator")
