@@ -31,6 +31,7 @@ INVENTORY = Path(__file__).with_name("inventory")
 VOICELESS_STOPS = frozenset("çkpt")
 SILENT_UNDER_DB = 40.0  # a voiceless stop's closure: its frames this far under the take's loud ones ...
 CLOSURE_UNDER_DB = 15.0  # ... or this far under the phone before's loudest (as espeak.py finds closures)
+ONSET_UNDER_DB = 30.0  # after a pause, a phone's frames this far under the loud ones are still the pause's
 IGNORE = 255  # a frame label that teaches nothing (a phone no Turkish sound is near)
 HELD_OUT = ("festvox-ru", "festvox-italp16k", "festvox-itapc16k")  # measure only: never rendered here
 
@@ -195,7 +196,10 @@ def labelled(stem: Path, table: dict[str, tuple[str, ...]]) -> tuple[np.ndarray,
     the pause's. Festival starts a stop at its closure, and after a pause gives it 50-60 ms of the
     silence before (Czech, English): taught so, the network heard a list's pause as the next item's p, t or
     k (onsets 70-150 ms early) and keyed stops a closure early in the aligner, which gives each stop its
-    closure itself.
+    closure itself. After a pause, any phone starts where its sound does (within ONSET_UNDER_DB of the
+    take's loud frames, as lab/kit/people.py's sound_onset finds a person's item): Festival starts it up
+    to 70 ms sooner (on the faint edge of a diphone), and taught so the network heard people's items start
+    17 ms early (the lists of eight's onsets).
     """
     mono, rate = read_audio(stem.with_suffix(".wav"))
     samples = resample(mono, rate, ANALYSIS_RATE)
@@ -206,11 +210,19 @@ def labelled(stem: Path, table: dict[str, tuple[str, ...]]) -> tuple[np.ndarray,
     level = _frame_levels(samples, count, hop)
     loud = np.percentile(level, 90)
     before = (0, 0)  # the frames of the phone before
+    after_pause = True
     for start, end, phone in segments(stem.with_suffix(".segs")):
         if phone not in table:
             raise DataError(f"{INVENTORY}: phone {phone!r} (in {stem}.segs) is in no inventory table")
         letters = table[phone]
         first, stop = np.searchsorted(times, (start, end))
+        if after_pause and letters and letters != (SILENCE,):
+            sounding = first
+            while sounding < stop - 1 and level[sounding] < loud - ONSET_UNDER_DB:
+                sounding += 1
+            labels[first:sounding] = CLASS_INDEX[SILENCE]
+            first = sounding
+        after_pause = letters == (SILENCE,)
         if letters and letters[0] in VOICELESS_STOPS and first < stop:
             quiet = max(loud - SILENT_UNDER_DB, level[slice(*before)].max(initial=-np.inf) - CLOSURE_UNDER_DB)
             burst = first + int(

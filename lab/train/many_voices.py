@@ -2,6 +2,7 @@
 
     nice -n 10 ~/recogniser-venv/bin/python -m lab.train.many_voices [--voices NAME ...] [--per-voice 400]
         [--copies 2] [--epochs 10] [--start WEIGHTS] [--out WEIGHTS]
+        [--teacher WEIGHTS] [--channels N [--keep-start]]
 
 Writes turkish_lipsync/core/speech/acoustic/phone_network.npz unless --out says otherwise. Goes on from
 the weights of lab/train/recogniser.py's last round (--start; by default the cache's
@@ -16,6 +17,11 @@ learning rate and band warp, on:
    words at random tempos (Festival's Duration_Stretch 0.8-1.35), labelled by Festival's own segments
    mapped to Turkish letter sounds (inventory/*.toml), each clean and degraded --copies - 1 times (another
    vocal tract, rooms, telephone bands, noise, music: lab.kit.degradations.degrade).
+
+With --teacher, eSpeak NG's clips learn what that network hears in them (its posteriors) instead of
+their labels, so that its hearing of the project's own voice is kept. With --channels wider than the
+start's, the start's weights are grown into a wider network that begins as the start (the new channels
+unheard); with --keep-start only the grown weights learn, the start's stay as they are.
 
 Every step seeded (--seed). Corpora are cached (--cache) and not made again.
 """
@@ -32,6 +38,7 @@ import numpy as np
 
 from lab.kit import festival_voices, people
 from lab.train.recogniser import (
+    CHANNELS,
     FINAL_BAND_WARP,
     FINAL_LEARNING_RATE,
     make_corpus,
@@ -99,6 +106,15 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--people", type=Path, default=people.FOLDER, help="lab/kit/people.py's folder")
     parser.add_argument("--start", type=Path, help="weights to go on from")
     parser.add_argument("--out", type=Path, default=WEIGHTS_FILE)
+    parser.add_argument(
+        "--teacher",
+        type=Path,
+        help="eSpeak NG's clips learn these weights' posteriors instead of their labels (keeps its hearing)",
+    )
+    parser.add_argument(
+        "--channels", type=int, default=CHANNELS, help="the network's width (wider: the start grown)"
+    )
+    parser.add_argument("--keep-start", action="store_true", help="only the grown channels learn")
     parser.add_argument("--corpus-only", action="store_true", help="make the corpora and stop")
     args = parser.parse_args(argv)
     args.cache.mkdir(parents=True, exist_ok=True)
@@ -121,6 +137,9 @@ def main(argv: list[str] | None = None) -> int:
         "people's speech (lab/kit/people.py's tune part, labelled by forced alignment, clean and degraded); "
         f"Festival's diphone voices {', '.join(names) or 'none'} ({args.per_voice} sentences each, labelled "
         f"by their own segments, clean and degraded); {args.epochs} epochs on from {start.name}"
+        + (f", eSpeak NG's clips taught by {args.teacher.name}'s posteriors" if args.teacher else "")
+        + (f", grown to {args.channels} channels" if args.channels != CHANNELS else "")
+        + (" (only the grown ones learning)" if args.keep_start else "")
     )
     train(
         [espeak_clips, tune, *voices],
@@ -131,6 +150,9 @@ def main(argv: list[str] | None = None) -> int:
         start,
         args.learning_rate,
         FINAL_BAND_WARP,
+        args.teacher,
+        args.channels,
+        args.keep_start,
     )
     return 0
 

@@ -74,7 +74,6 @@ from turkish_lipsync.core.speech.acoustic.forced import (
 )
 from turkish_lipsync.core.speech.acoustic.labels import CLASSES, FRAME_SECONDS, frame_labels
 from turkish_lipsync.core.speech.acoustic.network import (
-    CHANNELS,
     DILATIONS,
     FIRST_KERNEL,
     KERNEL,
@@ -100,6 +99,7 @@ FINAL_LEARNING_RATE = 5e-4  # ... at a quarter of the learning rate
 # a one-letter "o" of a voice shifted up as "a", and put it 600 ms early (lab/measure/recordings.py,
 # "a person").
 FINAL_BAND_WARP = 0.12
+CHANNELS = 128  # the network's width (acoustic/network.py runs the width its weights have)
 
 
 def training_variants() -> list[str]:
@@ -348,14 +348,14 @@ def shortest_durations(runs: list[tuple[np.ndarray, np.ndarray]]) -> np.ndarray:
 # ---------------------------------------------------------------- training (torch)
 
 
-def build_network(torch):
+def build_network(torch, channels: int = CHANNELS):
     nn = torch.nn
 
     class Block(nn.Module):
         def __init__(self, dilation: int) -> None:
             super().__init__()
-            self.dilated = nn.Conv1d(CHANNELS, CHANNELS, KERNEL, dilation=dilation, padding=dilation)
-            self.mix = nn.Conv1d(CHANNELS, CHANNELS, 1)
+            self.dilated = nn.Conv1d(channels, channels, KERNEL, dilation=dilation, padding=dilation)
+            self.mix = nn.Conv1d(channels, channels, 1)
 
         def forward(self, x):
             return x + self.mix(torch.relu(self.dilated(x)))
@@ -363,10 +363,10 @@ def build_network(torch):
     class PhoneNetwork(nn.Module):
         def __init__(self) -> None:
             super().__init__()
-            self.first = nn.Conv1d(FEATURE_COUNT, CHANNELS, FIRST_KERNEL, padding=FIRST_KERNEL // 2)
+            self.first = nn.Conv1d(FEATURE_COUNT, channels, FIRST_KERNEL, padding=FIRST_KERNEL // 2)
             self.blocks = nn.ModuleList([Block(dilation) for dilation in DILATIONS])
             self.dropout = nn.Dropout(0.1)
-            self.last = nn.Conv1d(CHANNELS, len(CLASSES), 1)
+            self.last = nn.Conv1d(channels, len(CLASSES), 1)
 
         def forward(self, x):
             x = torch.relu(self.first(x))
@@ -397,9 +397,18 @@ def train(
     start: Path | None = None,
     learning_rate: float = 2e-3,
     band_warp: float = 0.0,
+    teacher: Path | None = None,
+    channels: int = CHANNELS,
+    keep_start: bool = False,
 ) -> None:
     """Train on the corpora's clips (the first is the project's own speech; its statistics feed the
-    decoder), from random weights or those at `start`, and write the weights."""
+    decoder), from random weights or those at `start`, and write the weights. With a `teacher`, the first
+    corpus's clips learn what that network hears in them (its posteriors, frame by frame, through the same
+    augmentation) instead of their labels: the student keeps the teacher's hearing of eSpeak NG's voice,
+    its confidence included, while the other corpora teach it people's. With more `channels` than the
+    weights at `start` have, those weights are grown into the wider network: the new channels start
+    unheard by the old ones, so it begins as the start network and learns with the room it gained; with
+    `keep_start`, the start's own weights stay as they are and only the grown ones learn."""
     import torch
 
     torch.manual_seed(seed)
@@ -411,12 +420,12 @@ def train(
     clips = rng.permutation(len(lengths))
     validation = clips[: len(clips) // 30]
     training = clips[len(clips) // 30 :]
-    network = build_network(torch)
+    network = build_network(torch, channels)
     if start is not None:
-        with np.load(start) as weights:
-            network.load_state_dict(
-                {name: torch.from_numpy(weights[f"weight/{name}"]) for name in network.state_dict()}
-            )
+        _load_weights(torch, network, start)
+        if keep_start:
+            _keep_weights(torch, network, start)
+    teacher_network = _frozen(torch, teacher) if teacher is not None else None
     optimiser = torch.optim.Adam(network.parameters(), lr=learning_rate)
     steps_per_epoch = int(lengths[training].sum() / CROP_FRAMES / 32)
     schedule = torch.optim.lr_scheduler.OneCycleLR(
@@ -447,13 +456,17 @@ def train(
         network.train()
         total = 0.0
         for _ in range(steps_per_epoch):
-            x, y = batch(rng.choice(training, size=32))
+            chosen = rng.choice(training, size=32)
+            x, y = batch(chosen)
             # Channel and level changes the features' levelling does not undo entirely: a random tilt.
             tilt = torch.linspace(-1, 1, FEATURE_COUNT - 1)[None, :, None] * torch.randn(32, 1, 1)
             x[:, :-1] += 0.15 * tilt
             if band_warp:
                 x[:, :-1] = warped_bands(torch, x[:, :-1], band_warp, rng)
-            loss = loss_function(network(x), y)
+            logits = network(x)
+            loss = loss_function(logits, y)
+            if teacher_network is not None:
+                loss = _distilled_loss(torch, logits, y, x, teacher_network, data["sources"][chosen] == 0)
             optimiser.zero_grad()
             loss.backward()
             optimiser.step()
@@ -476,6 +489,53 @@ def train(
             flush=True,
         )
     export(network, data, out, seed, epochs, description)
+
+
+def _load_weights(torch, network, path: Path) -> None:
+    """The weights at `path` into the network, each into its leading channels where the network is wider;
+    a wider layer's weights from the new input channels to the old outputs are zero (the old outputs are
+    as they were), the new outputs keep their random start."""
+    state = network.state_dict()
+    with np.load(path) as weights, torch.no_grad():
+        for name, value in state.items():
+            old = torch.from_numpy(weights[f"weight/{name}"])
+            value[tuple(slice(0, size) for size in old.shape)] = old
+            if value.ndim == 3 and value.shape[1] > old.shape[1]:
+                value[: old.shape[0], old.shape[1] :] = 0
+    network.load_state_dict(state)
+
+
+def _keep_weights(torch, network, path: Path) -> None:
+    """The weights at `path` (each layer's leading channels) get no gradient: only the rest learns."""
+    with np.load(path) as weights:
+        for name, parameter in network.named_parameters():
+            learns = torch.ones_like(parameter)
+            learns[tuple(slice(0, size) for size in weights[f"weight/{name}"].shape)] = 0
+            parameter.register_hook(lambda gradient, learns=learns: gradient * learns)
+
+
+def _frozen(torch, path: Path):
+    """A network with the weights at `path`, frozen, to teach."""
+    with np.load(path) as weights:
+        network = build_network(torch, len(weights["weight/first.weight"]))
+    _load_weights(torch, network, path)
+    network.eval()
+    for parameter in network.parameters():
+        parameter.requires_grad_(False)
+    return network
+
+
+def _distilled_loss(torch, logits, y, x, teacher, taught: np.ndarray):
+    """Frame-wise cross-entropy: against the labels for the clips not `taught`, against the teacher's
+    posteriors for those that are (counted frames only, the padding aside); the mean over all frames."""
+    log_student = torch.log_softmax(logits, dim=1)
+    counted = y >= 0
+    hard = -log_student.gather(1, y.clamp(min=0)[:, None])[:, 0]
+    if taught.any():
+        with torch.no_grad():
+            soft_target = torch.softmax(teacher(x[taught]), dim=1)
+        hard[taught] = -(soft_target * log_student[taught]).sum(1)
+    return hard[counted].sum() / counted.sum().clamp(min=1)
 
 
 def export(network, data, out: Path, seed: int, epochs: int, description: str) -> None:

@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from turkish_lipsync.core.base.errors import DataError
 from turkish_lipsync.core.speech import synthesize_timeline
 from turkish_lipsync.core.speech.acoustic.features import (
     BANDS,
@@ -12,7 +13,7 @@ from turkish_lipsync.core.speech.acoustic.features import (
 )
 from turkish_lipsync.core.speech.acoustic.forced import force_align, letter_model, text_units
 from turkish_lipsync.core.speech.acoustic.labels import CLASS_INDEX, CLASSES
-from turkish_lipsync.core.speech.acoustic.network import load_network
+from turkish_lipsync.core.speech.acoustic.network import WEIGHTS_FILE, load_network
 from turkish_lipsync.core.speech.audio import resample
 from turkish_lipsync.core.speech.features import ANALYSIS_RATE
 from turkish_lipsync.core.text.utterance import build_utterance
@@ -115,3 +116,41 @@ def test_the_own_spectrum_counts_more_the_more_speech_a_take_holds():
         own_level_weight(np.r_[np.zeros(frames), np.full(400, -80.0)], level) for frames in (10, 100, 200)
     ]
     assert weights == [SHORT_OWN_WEIGHT, (1 + SHORT_OWN_WEIGHT) / 2, 1.0]
+
+
+def _shipped_layers() -> dict[str, np.ndarray]:
+    with np.load(WEIGHTS_FILE) as shipped:
+        return {
+            key.removeprefix("weight/"): shipped[key] for key in shipped.files if key.startswith("weight/")
+        }
+
+
+def _weights_file(path, layers: dict[str, np.ndarray]):
+    """A weights file with the shipped network's statistics and these layers."""
+    with np.load(WEIGHTS_FILE) as shipped:
+        kept = {key: shipped[key] for key in shipped.files if not key.startswith("weight/")}
+    np.savez(path, **kept, **{f"weight/{name}": value for name, value in layers.items()})
+    return path
+
+
+def test_weights_of_another_width_run_as_trained(tmp_path):
+    """A network grown by channels that nothing reads (lab/train/many_voices.py --channels starts so)
+    hears as the network it was grown from: the runtime takes the width the weights have."""
+    grown = {}
+    for name, value in _shipped_layers().items():
+        wider = [size + 32 if axis < 2 and size == 128 else size for axis, size in enumerate(value.shape)]
+        grown[name] = np.zeros(wider, np.float32)
+        grown[name][tuple(slice(0, size) for size in value.shape)] = value
+    features = recogniser_features(spoken_samples("Bir baba, mavi bir kapı."))
+    np.testing.assert_allclose(
+        load_network(_weights_file(tmp_path / "grown.npz", grown)).log_posteriors(features),
+        load_network().log_posteriors(features),
+        atol=1e-4,
+    )
+
+
+def test_weights_that_do_not_fit_the_layout_are_refused_with_their_layer(tmp_path):
+    layers = _shipped_layers()
+    layers["blocks.2.dilated.weight"] = layers["blocks.2.dilated.weight"][:, :64]
+    with pytest.raises(DataError, match=r"do not fit its network \(blocks\.2\.dilated\.weight\)"):
+        load_network(_weights_file(tmp_path / "broken.npz", layers))

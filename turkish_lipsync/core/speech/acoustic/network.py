@@ -20,7 +20,6 @@ from ...base.errors import DataError
 from .features import FEATURE_COUNT
 from .labels import CLASSES
 
-CHANNELS = 128
 FIRST_KERNEL = 5
 KERNEL = 3
 DILATIONS = (1, 2, 4, 8, 16)
@@ -111,10 +110,11 @@ def load_network(path: Path = WEIGHTS_FILE) -> PhoneNetwork:
         raise DataError(
             f"the recogniser's weights {path} cannot be read ({error}); reinstall the extension"
         ) from None
+    channels = len(layers.get("first.weight", ()))  # the width the weights were trained at
     expected = {
-        "first.weight": (CHANNELS, FEATURE_COUNT, FIRST_KERNEL),
-        "last.weight": (len(CLASSES), CHANNELS, 1),
-        **{f"blocks.{n}.dilated.weight": (CHANNELS, CHANNELS, KERNEL) for n in range(len(DILATIONS))},
+        "first.weight": (channels, FEATURE_COUNT, FIRST_KERNEL),
+        "last.weight": (len(CLASSES), channels, 1),
+        **{f"blocks.{n}.dilated.weight": (channels, channels, KERNEL) for n in range(len(DILATIONS))},
     }
     for name, shape in expected.items():
         if layers.get(name, np.zeros(0)).shape != shape:
