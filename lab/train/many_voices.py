@@ -2,7 +2,7 @@
 
     nice -n 10 ~/recogniser-venv/bin/python -m lab.train.many_voices [--voices NAME ...] [--per-voice 400]
         [--copies 2] [--epochs 10] [--start WEIGHTS] [--out WEIGHTS]
-        [--teacher WEIGHTS] [--channels N [--keep-start]]
+        [--teacher WEIGHTS [--teach-people]] [--channels N [--keep-start]]
 
 Writes turkish_lipsync/core/speech/acoustic/phone_network.npz unless --out says otherwise. Goes on from
 the weights of lab/train/recogniser.py's last round (--start; by default the cache's
@@ -19,7 +19,8 @@ learning rate and band warp, on:
    vocal tract, rooms, telephone bands, noise, music: lab.kit.degradations.degrade).
 
 With --teacher, eSpeak NG's clips learn what that network hears in them (its posteriors) instead of
-their labels, so that its hearing of the project's own voice is kept. With --channels wider than the
+their labels, so that its hearing of the project's own voice is kept (--teach-people: the tune part's
+people's too). With --channels wider than the
 start's, the start's weights are grown into a wider network that begins as the start (the new channels
 unheard); with --keep-start only the grown weights learn, the start's stay as they are.
 
@@ -114,6 +115,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--channels", type=int, default=CHANNELS, help="the network's width (wider: the start grown)"
     )
+    parser.add_argument(
+        "--teach-people", action="store_true", help="the teacher teaches the tune part's people too"
+    )
     parser.add_argument("--keep-start", action="store_true", help="only the grown channels learn")
     parser.add_argument("--corpus-only", action="store_true", help="make the corpora and stop")
     args = parser.parse_args(argv)
@@ -138,6 +142,7 @@ def main(argv: list[str] | None = None) -> int:
         f"Festival's diphone voices {', '.join(names) or 'none'} ({args.per_voice} sentences each, labelled "
         f"by their own segments, clean and degraded); {args.epochs} epochs on from {start.name}"
         + (f", eSpeak NG's clips taught by {args.teacher.name}'s posteriors" if args.teacher else "")
+        + (" (the tune part's people too)" if args.teach_people else "")
         + (f", grown to {args.channels} channels" if args.channels != CHANNELS else "")
         + (" (only the grown ones learning)" if args.keep_start else "")
     )
@@ -153,6 +158,7 @@ def main(argv: list[str] | None = None) -> int:
         args.teacher,
         args.channels,
         args.keep_start,
+        2 if args.teach_people else 1,
     )
     return 0
 

@@ -400,12 +400,14 @@ def train(
     teacher: Path | None = None,
     channels: int = CHANNELS,
     keep_start: bool = False,
+    taught: int = 1,
 ) -> None:
     """Train on the corpora's clips (the first is the project's own speech; its statistics feed the
     decoder), from random weights or those at `start`, and write the weights. With a `teacher`, the first
     corpus's clips learn what that network hears in them (its posteriors, frame by frame, through the same
-    augmentation) instead of their labels: the student keeps the teacher's hearing of eSpeak NG's voice,
-    its confidence included, while the other corpora teach it people's. With more `channels` than the
+    augmentation) instead of their labels (the first `taught` corpora's, with `taught` > 1): the student
+    keeps the teacher's hearing of eSpeak NG's voice, its confidence included, while the other corpora
+    teach it people's. With more `channels` than the
     weights at `start` have, those weights are grown into the wider network: the new channels start
     unheard by the old ones, so it begins as the start network and learns with the room it gained; with
     `keep_start`, the start's own weights stay as they are and only the grown ones learn."""
@@ -466,7 +468,7 @@ def train(
             logits = network(x)
             loss = loss_function(logits, y)
             if teacher_network is not None:
-                loss = _distilled_loss(torch, logits, y, x, teacher_network, data["sources"][chosen] == 0)
+                loss = _distilled_loss(torch, logits, y, x, teacher_network, data["sources"][chosen] < taught)
             optimiser.zero_grad()
             loss.backward()
             optimiser.step()

@@ -67,15 +67,24 @@ class PhoneNetwork:
 def _convolve(x: np.ndarray, weight: np.ndarray, bias: np.ndarray, dilation: int) -> np.ndarray:
     """A 'same' 1-D convolution over frames (as PyTorch's Conv1d with zero padding): x is frames x in.
 
-    weight is (taps * in) x out (as matrix_of_taps makes it): the shifted copies side by side meet it in
-    one matrix product.
+    weight is (taps * in) x out (as matrix_of_taps makes it): each tap's rows meet the frames shifted by
+    that tap, one matrix product a tap added into the output (no shifted copy of x is made).
     """
-    taps = weight.shape[0] // x.shape[1]
-    reach = (taps // 2) * dilation
-    padded = np.pad(x, ((reach, reach), (0, 0)))
-    count = len(x)
-    shifted = np.concatenate([padded[tap * dilation : tap * dilation + count] for tap in range(taps)], axis=1)
-    return shifted @ weight + bias
+    width = x.shape[1]
+    taps = weight.shape[0] // width
+    middle = taps // 2
+    out = x @ weight[middle * width : (middle + 1) * width]
+    out += bias
+    for tap in range(taps):
+        shift = (tap - middle) * dilation
+        if shift == 0 or abs(shift) >= len(x):
+            continue
+        rows = weight[tap * width : (tap + 1) * width]
+        if shift < 0:
+            out[-shift:] += x[:shift] @ rows
+        else:
+            out[:-shift] += x[shift:] @ rows
+    return out
 
 
 def matrix_of_taps(weight: np.ndarray) -> np.ndarray:
