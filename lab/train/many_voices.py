@@ -20,9 +20,9 @@ learning rate and band warp, on:
 
 With --teacher, eSpeak NG's clips learn what that network hears in them (its posteriors) instead of
 their labels, so that its hearing of the project's own voice is kept (--teach-people: the tune part's
-people's too). With --channels wider than the
-start's, the start's weights are grown into a wider network that begins as the start (the new channels
-unheard); with --keep-start only the grown weights learn, the start's stay as they are.
+people's too). With --channels wider than the start's, the start's weights are grown into a wider
+network that begins as the start (the new channels unheard); with --keep-start only the grown weights
+learn, the start's stay as they are.
 
 Every step seeded (--seed). Corpora are cached (--cache) and not made again.
 """

@@ -403,14 +403,15 @@ def train(
     taught: int = 1,
 ) -> None:
     """Train on the corpora's clips (the first is the project's own speech; its statistics feed the
-    decoder), from random weights or those at `start`, and write the weights. With a `teacher`, the first
-    corpus's clips learn what that network hears in them (its posteriors, frame by frame, through the same
-    augmentation) instead of their labels (the first `taught` corpora's, with `taught` > 1): the student
-    keeps the teacher's hearing of eSpeak NG's voice, its confidence included, while the other corpora
-    teach it people's. With more `channels` than the
-    weights at `start` have, those weights are grown into the wider network: the new channels start
-    unheard by the old ones, so it begins as the start network and learns with the room it gained; with
-    `keep_start`, the start's own weights stay as they are and only the grown ones learn."""
+    decoder), from random weights or those at `start`, and write the weights.
+
+    With a `teacher`, the first `taught` corpora's clips (eSpeak NG's alone by default) learn what that
+    network hears in them (its posteriors, frame by frame, through the same augmentation) instead of their
+    labels: the student keeps the teacher's hearing of them, its confidence included, while the other
+    corpora teach it people's. With more `channels` than the weights at `start` have, those weights are
+    grown into the wider network: the new channels start unheard by the old ones, so it begins as the
+    start network and learns with the room it gained; with `keep_start`, the start's own weights stay as
+    they are and only the grown ones learn."""
     import torch
 
     torch.manual_seed(seed)
@@ -424,9 +425,9 @@ def train(
     training = clips[len(clips) // 30 :]
     network = build_network(torch, channels)
     if start is not None:
-        _load_weights(torch, network, start)
+        started = _load_weights(torch, network, start)
         if keep_start:
-            _keep_weights(torch, network, start)
+            _keep_weights(torch, network, started)
     teacher_network = _frozen(torch, teacher) if teacher is not None else None
     optimiser = torch.optim.Adam(network.parameters(), lr=learning_rate)
     steps_per_epoch = int(lengths[training].sum() / CROP_FRAMES / 32)
@@ -465,10 +466,12 @@ def train(
             x[:, :-1] += 0.15 * tilt
             if band_warp:
                 x[:, :-1] = warped_bands(torch, x[:, :-1], band_warp, rng)
-            logits = network(x)
-            loss = loss_function(logits, y)
-            if teacher_network is not None:
-                loss = _distilled_loss(torch, logits, y, x, teacher_network, data["sources"][chosen] < taught)
+            if teacher_network is None:
+                loss = loss_function(network(x), y)
+            else:
+                loss = _distilled_loss(
+                    torch, network(x), y, x, teacher_network, data["sources"][chosen] < taught
+                )
             optimiser.zero_grad()
             loss.backward()
             optimiser.step()
@@ -493,27 +496,29 @@ def train(
     export(network, data, out, seed, epochs, description)
 
 
-def _load_weights(torch, network, path: Path) -> None:
+def _load_weights(torch, network, path: Path) -> dict[str, tuple[int, ...]]:
     """The weights at `path` into the network, each into its leading channels where the network is wider;
     a wider layer's weights from the new input channels to the old outputs are zero (the old outputs are
-    as they were), the new outputs keep their random start."""
+    as they were), the new outputs keep their random start. Returns each layer's shape at `path`."""
     state = network.state_dict()
+    shapes = {}
     with np.load(path) as weights, torch.no_grad():
         for name, value in state.items():
             old = torch.from_numpy(weights[f"weight/{name}"])
             value[tuple(slice(0, size) for size in old.shape)] = old
             if value.ndim == 3 and value.shape[1] > old.shape[1]:
                 value[: old.shape[0], old.shape[1] :] = 0
+            shapes[name] = tuple(old.shape)
     network.load_state_dict(state)
+    return shapes
 
 
-def _keep_weights(torch, network, path: Path) -> None:
-    """The weights at `path` (each layer's leading channels) get no gradient: only the rest learns."""
-    with np.load(path) as weights:
-        for name, parameter in network.named_parameters():
-            learns = torch.ones_like(parameter)
-            learns[tuple(slice(0, size) for size in weights[f"weight/{name}"].shape)] = 0
-            parameter.register_hook(lambda gradient, learns=learns: gradient * learns)
+def _keep_weights(torch, network, shapes: dict[str, tuple[int, ...]]) -> None:
+    """Each layer's leading weights (of these shapes: the start's) get no gradient: only the rest learns."""
+    for name, parameter in network.named_parameters():
+        learns = torch.ones_like(parameter)
+        learns[tuple(slice(0, size) for size in shapes[name])] = 0
+        parameter.register_hook(lambda gradient, learns=learns: gradient * learns)
 
 
 def _frozen(torch, path: Path):
