@@ -53,16 +53,23 @@ def clipping(samples: np.ndarray) -> str:
     if peak == 0.0:
         return ""
     flat = sounding = 0
+    run = 0  # the run of top samples reaching the end of the blocks read so far
     for begin in range(0, samples.size, READ_BLOCK_FRAMES):  # a long take is never copied whole
-        block = np.abs(samples[begin : begin + READ_BLOCK_FRAMES + CLIPPED_RUN - 1])
-        top = block >= peak * (1 - CLIPPED_TOLERANCE)
-        runs = np.lib.stride_tricks.sliding_window_view(top, CLIPPED_RUN).all(axis=1)
-        on_run = np.zeros(top.size, bool)
-        for shift in range(CLIPPED_RUN):
-            on_run[shift : shift + runs.size] |= runs
-        own = min(READ_BLOCK_FRAMES, samples.size - begin)  # the overlap is the next block's
-        flat += int(np.count_nonzero(on_run[:own]))
-        sounding += int(np.count_nonzero(block[:own] > peak * 0.01))
+        block = np.abs(samples[begin : begin + READ_BLOCK_FRAMES])
+        sounding += int(np.count_nonzero(block > peak * 0.01))
+        edges = np.diff((block >= peak * (1 - CLIPPED_TOLERANCE)).view(np.int8), prepend=0, append=0)
+        starts, stops = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+        lengths = stops - starts
+        if starts.size and starts[0] == 0:
+            lengths[0] += run  # the run goes on from the block before
+        elif run >= CLIPPED_RUN:
+            flat += run
+        run = 0
+        if stops.size and stops[-1] == block.size:
+            run, lengths = int(lengths[-1]), lengths[:-1]  # it may go on into the next block
+        flat += int(lengths[lengths >= CLIPPED_RUN].sum())
+    if run >= CLIPPED_RUN:
+        flat += run
     share = flat / max(sounding, 1)
     if share < CLIPPED_SHARE:
         return ""
