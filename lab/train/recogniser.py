@@ -410,8 +410,9 @@ def train(
     labels: the student keeps the teacher's hearing of them, its confidence included, while the other
     corpora teach it people's. With more `channels` than the weights at `start` have, those weights are
     grown into the wider network: the new channels start unheard by the old ones, so it begins as the
-    start network and learns with the room it gained; with `keep_start`, the start's own weights stay as
-    they are and only the grown ones learn."""
+    start network and learns with the room it gained; with `keep_start`, the start's channels stay as they
+    are and hear only each other (what they heard stays exactly the start's), and only the grown channels
+    and what the classes hear of them learn."""
     import torch
 
     torch.manual_seed(seed)
@@ -514,10 +515,16 @@ def _load_weights(torch, network, path: Path) -> dict[str, tuple[int, ...]]:
 
 
 def _keep_weights(torch, network, shapes: dict[str, tuple[int, ...]]) -> None:
-    """Each layer's leading weights (of these shapes: the start's) get no gradient: only the rest learns."""
+    """The start's channels stay computed as they were: in every layer but the last, the weights into the
+    start's outputs (of these shapes) get no gradient from any input, the grown inputs' included (they
+    stay zero); in the last, the start's channels' weights. Only the grown channels learn, and what the
+    classes hear of them."""
     for name, parameter in network.named_parameters():
         learns = torch.ones_like(parameter)
-        learns[tuple(slice(0, size) for size in shapes[name])] = 0
+        if name.startswith("last."):
+            learns[tuple(slice(0, size) for size in shapes[name])] = 0
+        else:
+            learns[: shapes[name][0]] = 0
         parameter.register_hook(lambda gradient, learns=learns: gradient * learns)
 
 

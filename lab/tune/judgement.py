@@ -4,12 +4,14 @@
 
 Every take of the tune part that lab/measure/people.py aligns with a text (words said alone, lists of
 eight read with pauses with their own text and another speaker's, the Czech and Dutch lines with their
-own spelling and with the next line's) is aligned once per weights file, and what the aligner hands the
-judgement (the text and the take's fit: recording.fit_recording) is kept in a cache folder. Each setting
-then re-runs only judgement.judge, so a sweep over its settings takes seconds per setting. Printed per
-set: how many takes of their own text are refused and warned, how many takes of another text are refused
-or warned (caught), and the take's mismatch and order ratio at their median and extremes, which say where
-a bar can go.
+own spelling and with the next line's) is aligned once per pair of weights files, heard by the shipped
+network and by the people's (the aligner's second hearing), and what the aligner hands the judgement (the
+text and the take's two fits: recording.fit_recording) is kept in a cache folder. Each setting then
+re-runs only the judgement and the choice between the hearings (recording.judged_fit, kept_hearing), so a
+sweep over its settings takes seconds per setting. Printed per set: how many takes of their own text are
+refused and warned, how many takes of another text are refused or warned (caught), and the take's
+mismatch and order ratio (the first hearing's) at their median and extremes, which say where a bar can
+go.
 
 NAME is a setting of AlignerSettings that the judgement reads (e.g. loose, other_text); each --try varies
 one setting from the --set baseline.
@@ -35,23 +37,27 @@ from lab.measure.recogniser import TUNING_CACHE
 from turkish_lipsync.core.base.errors import AudioError, LipSyncError
 from turkish_lipsync.core.base.model import Utterance
 from turkish_lipsync.core.speech import get_engine
-from turkish_lipsync.core.speech.acoustic.network import WEIGHTS_FILE
+from turkish_lipsync.core.speech.acoustic.network import PEOPLE_WEIGHTS_FILE, WEIGHTS_FILE, load_network
 from turkish_lipsync.core.speech.aligner_settings import DEFAULT_ALIGNER, AlignerSettings
-from turkish_lipsync.core.speech.judgement import judge, take_mismatch
-from turkish_lipsync.core.speech.recording import RecordingFit, fit_recording
+from turkish_lipsync.core.speech.judgement import take_mismatch
+from turkish_lipsync.core.speech.recording import RecordingFit, fit_recording, judged_fit, kept_hearing
 from turkish_lipsync.core.text.utterance import build_utterance
 
 LIST_SEEDS = (8, 9, 10, 11, 12)  # measure_people draws the report part's lists with seed 8
 LINES_EVERY = {"fillets-cs": 3, "fillets-nl": 6}  # about 160 lines of each language
 
 
-def judged(text: str, path: Path) -> tuple[Utterance, RecordingFit] | None:
-    """The take fitted to the text, as judgement.judge reads it (None where the alignment fails first)."""
+def judged(text: str, path: Path) -> tuple[Utterance, RecordingFit, RecordingFit | None] | None:
+    """The take fitted to the text as the shipped network and the people's hear it, as the judgement
+    reads them (None where the first alignment fails before it; the second None where it alone fails)."""
     utterance = build_utterance(text)
-    try:
-        return utterance, fit_recording(utterance, path, get_engine("espeak"))
-    except LipSyncError:
-        return None
+    fits = []
+    for weights in (WEIGHTS_FILE, PEOPLE_WEIGHTS_FILE):
+        try:
+            fits.append(fit_recording(utterance, path, get_engine("espeak"), network=load_network(weights)))
+        except LipSyncError:
+            fits.append(None)
+    return None if fits[0] is None else (utterance, *fits)
 
 
 def tune_takes(scratch: Path) -> list[tuple[str, bool, Path, str]]:
@@ -78,8 +84,8 @@ def tune_takes(scratch: Path) -> list[tuple[str, bool, Path, str]]:
 
 
 def cached_judgements(cache: Path) -> list:
-    """(set, own text, the judge's arguments) of every take, computed once per weights file."""
-    digest = hashlib.sha1(WEIGHTS_FILE.read_bytes()).hexdigest()[:12]
+    """(set, own text, the judge's arguments) of every take, computed once per pair of weights files."""
+    digest = hashlib.sha1(WEIGHTS_FILE.read_bytes() + PEOPLE_WEIGHTS_FILE.read_bytes()).hexdigest()[:12]
     file = cache / f"judgement_fits_{digest}.pickle"
     if file.exists():
         return pickle.loads(file.read_bytes())
@@ -96,15 +102,17 @@ def cached_judgements(cache: Path) -> list:
     return found
 
 
-def verdict(arguments: tuple[Utterance, RecordingFit], settings: AlignerSettings) -> str:
-    utterance, fitted = arguments
-    try:
-        _, warnings = judge(
-            utterance, fitted.phone_events, fitted.warp, fitted.fit, fitted.name, fitted.clipped, settings
-        )
-    except AudioError:
+def verdict(arguments: tuple[Utterance, RecordingFit, RecordingFit | None], settings: AlignerSettings) -> str:
+    """The aligner's verdict on the take: the hearing it keeps, judged with these settings."""
+    utterance, first, second = arguments
+
+    def heard_again():
+        return AudioError("not fitted") if second is None else judged_fit(utterance, second, settings)
+
+    kept = kept_hearing(judged_fit(utterance, first, settings), heard_again, settings)
+    if isinstance(kept, AudioError):
         return "refused"
-    return "warned" if warnings else "clean"
+    return "warned" if kept.warnings else "clean"
 
 
 def figures(takes: list, settings: AlignerSettings) -> dict[str, str]:
@@ -148,7 +156,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--try", dest="tries", action="append", default=[], help="NAME=V1,V2,...")
     arguments = parser.parse_args(argv)
     takes = cached_judgements(arguments.cache)
-    print(f"{len(takes)} takes judged (weights {WEIGHTS_FILE.name})")
+    print(f"{len(takes)} takes judged (weights {WEIGHTS_FILE.name}, {PEOPLE_WEIGHTS_FILE.name})")
     spread(takes)
     for label, settings in settings_tried(DEFAULT_ALIGNER, arguments.set, arguments.tries):
         print(label)

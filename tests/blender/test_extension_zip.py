@@ -59,6 +59,7 @@ def test_zip_holds_the_extension_and_its_data_but_no_development_files(built_zip
     assert "turkish_lipsync/blender/__init__.py" in names
     assert "turkish_lipsync/core/text/utterance.py" in names
     assert "turkish_lipsync/core/speech/acoustic/phone_network.npz" in names  # the recogniser runs
+    assert "turkish_lipsync/core/speech/acoustic/people_network.npz" in names  # ... and hears again
     assert "turkish_lipsync/core/speech/acoustic/speech_spectrum.npy" in names  # ... on a word alone too
     assert any(name.startswith("shapekeys/") and name.endswith(".toml") for name in names)
     assert {"shapekeys/rigs/jaw_bone.toml", "shapekeys/rigs/rigify_face.toml"} <= set(names)  # face rigs

@@ -13,7 +13,7 @@ from turkish_lipsync.core.speech.acoustic.features import (
 )
 from turkish_lipsync.core.speech.acoustic.forced import force_align, letter_model, text_units
 from turkish_lipsync.core.speech.acoustic.labels import CLASS_INDEX, CLASSES
-from turkish_lipsync.core.speech.acoustic.network import WEIGHTS_FILE, load_network
+from turkish_lipsync.core.speech.acoustic.network import PEOPLE_WEIGHTS_FILE, WEIGHTS_FILE, load_network
 from turkish_lipsync.core.speech.audio import resample
 from turkish_lipsync.core.speech.features import ANALYSIS_RATE
 from turkish_lipsync.core.text.utterance import build_utterance
@@ -146,6 +146,23 @@ def test_weights_of_another_width_run_as_trained(tmp_path):
         load_network(_weights_file(tmp_path / "grown.npz", grown)).log_posteriors(features),
         load_network().log_posteriors(features),
         atol=1e-4,
+    )
+
+
+def test_the_people_network_is_the_shipped_one_grown():
+    """The second hearing's network (lab/train/many_voices.py --keep-start) holds the shipped network's
+    weights unchanged, and its shipped channels hear nothing grown: retraining the shipped network means
+    growing the people's network from it again."""
+    shipped = _shipped_layers()
+    with np.load(PEOPLE_WEIGHTS_FILE) as people:
+        for name, value in shipped.items():
+            grown = people[f"weight/{name}"]
+            assert grown.shape[0] >= value.shape[0] and grown.ndim == value.ndim
+            np.testing.assert_array_equal(grown[tuple(slice(0, size) for size in value.shape)], value)
+            if name.startswith("blocks.") and value.ndim == 3:
+                assert not grown[: value.shape[0], value.shape[1] :].any(), name
+    assert (
+        load_network(PEOPLE_WEIGHTS_FILE).layers["first.weight"].shape[1] > shipped["first.weight"].shape[0]
     )
 
 

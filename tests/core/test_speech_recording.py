@@ -9,6 +9,7 @@ import subprocess
 import sys
 import tracemalloc
 import wave
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -18,11 +19,13 @@ from turkish_lipsync.core.base.errors import AudioError, TextError
 from turkish_lipsync.core.speech import align_recording, espeak, get_engine, read_audio, synthesize_timeline
 from turkish_lipsync.core.speech import recording as recording_module
 from turkish_lipsync.core.speech import timeline as timeline_module
+from turkish_lipsync.core.speech.acoustic.network import PEOPLE_WEIGHTS_FILE, load_network
 from turkish_lipsync.core.speech.aligner_settings import AlignerSettings
 from turkish_lipsync.core.speech.audio import resample
 from turkish_lipsync.core.speech.dtw import dtw_path
 from turkish_lipsync.core.speech.features import frame_count
 from turkish_lipsync.core.speech.recognition import speech_from_audio
+from turkish_lipsync.core.speech.recording import fit_recording, judged_fit, kept_hearing
 from turkish_lipsync.core.speech.voice_activity import speech_frames
 from turkish_lipsync.core.text.utterance import build_utterance
 
@@ -313,6 +316,31 @@ def test_a_word_left_out_is_named_and_the_rest_aligned(tmp_path):
     found = [w.start for w in speech.timeline.words if w.text != "bütün"]
     error = np.abs(np.array(found) - [w.start + 1.0 for w in truth.words])
     assert np.median(error) < 0.030
+
+
+def test_a_take_fitted_with_no_warning_is_heard_once_and_a_loose_one_twice(tmp_path):
+    """The people's network hears a take again only where the shipped one warns or refuses, and its fit is
+    kept only where it has fewer warnings."""
+    engine = get_engine("espeak")
+
+    def never():
+        raise AssertionError("a take that fits with no warning was heard again")
+
+    voice, _ = other_voice(OTHER_TEXT)
+    whole = build_utterance(OTHER_TEXT)
+    path = noisy_take(tmp_path / "take.wav", voice, snr=40)
+    clean = judged_fit(whole, fit_recording(whole, path, engine))
+    assert not clean.warnings and kept_hearing(clean, never) is clean
+    short, _ = other_voice(OTHER_TEXT.replace("bütün ", ""))
+    path = noisy_take(tmp_path / "short.wav", short, snr=40)
+    first = judged_fit(whole, fit_recording(whole, path, engine))
+    second = judged_fit(whole, fit_recording(whole, path, engine, network=load_network(PEOPLE_WEIGHTS_FILE)))
+    assert len(first.warnings) == len(second.warnings) == 1  # both hear the word left out
+    assert kept_hearing(first, lambda: second) is first  # a tie keeps the shipped network's fit
+    assert kept_hearing(first, lambda: replace(second, warnings=())) is not first
+    assert kept_hearing(first, never, AlignerSettings(second_hearing=False)) is first
+    refusal = AudioError("another text")
+    assert kept_hearing(refusal, lambda: second) is second and kept_hearing(first, lambda: refusal) is first
 
 
 def test_the_command_line_prints_the_warning_and_refuses_another_text(tmp_path):

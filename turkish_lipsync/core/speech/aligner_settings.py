@@ -18,6 +18,11 @@ from dataclasses import dataclass
 class AlignerSettings:
     """What the recording aligner and its judgement may be tuned by (see the module text)."""
 
+    # -- the acoustic model
+    second_hearing: bool = True
+    """A take the shipped network fits loosely or hears as another text is heard again by the network that
+    learnt many people's voices too, and the better fit kept (recording.align_recording)."""
+
     # -- the recording's speech
     least_speech_frames: int = 10
     """Under this many frames of speech in the WebRTC-based mask, Silero's detector decides what is speech

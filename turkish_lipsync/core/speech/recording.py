@@ -23,6 +23,7 @@ confidence: a recording of another text is refused, a word left out or added is 
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -33,7 +34,7 @@ from ..base.errors import AudioError
 from ..base.model import Utterance
 from .acoustic.features import recogniser_features, speech_stretch
 from .acoustic.labels import CLASS_INDEX, SILENCE
-from .acoustic.network import load_network
+from .acoustic.network import PEOPLE_WEIGHTS_FILE, PhoneNetwork, load_network
 from .align import phone_letter_spans
 from .aligner_settings import DEFAULT_ALIGNER, AlignerSettings
 from .audio import MAX_OUTPUT_RATE, clipping, read_audio, resample, resampled_pcm
@@ -166,12 +167,56 @@ def align_recording(
     settings: AlignerSettings = DEFAULT_ALIGNER,
 ) -> RecordingAlignment:
     """Align the synthetic rendition of the utterance to the user's recording of it (a file, or samples
-    already read), and judge the fit; see the module text."""
-    fitted = fit_recording(utterance, recording, engine, settings)
-    phrases, warnings = judge(
-        utterance, fitted.phone_events, fitted.warp, fitted.fit, fitted.name, fitted.clipped, settings
+    already read), and judge the fit; see the module text.
+
+    A take the shipped network fits loosely (warned) or hears as another text (refused) is heard again by
+    the network that learnt many people's voices too (acoustic/network.py's PEOPLE_WEIGHTS_FILE; the
+    aligner's `second_hearing`), and the better of the two fits is kept: the one with fewer warnings, the
+    first where they tie. The take is refused only where both hearings refuse it."""
+    first = judged_fit(utterance, fit_recording(utterance, recording, engine, settings), settings)
+    kept = kept_hearing(
+        first,
+        lambda: judged_fit(
+            utterance,
+            fit_recording(utterance, recording, engine, settings, load_network(PEOPLE_WEIGHTS_FILE)),
+            settings,
+        ),
+        settings,
     )
+    if isinstance(kept, AudioError):
+        raise kept
+    return kept
+
+
+def judged_fit(
+    utterance: Utterance, fitted: RecordingFit, settings: AlignerSettings = DEFAULT_ALIGNER
+) -> RecordingAlignment | AudioError:
+    """The fitted take judged: its alignment with the judgement's warnings, or the judgement's refusal."""
+    try:
+        phrases, warnings = judge(
+            utterance, fitted.phone_events, fitted.warp, fitted.fit, fitted.name, fitted.clipped, settings
+        )
+    except AudioError as refusal:
+        return refusal
     return RecordingAlignment(fitted.warp, fitted.synthesis, phrases, warnings)
+
+
+def kept_hearing(
+    first: RecordingAlignment | AudioError,
+    second: Callable[[], RecordingAlignment | AudioError],
+    settings: AlignerSettings = DEFAULT_ALIGNER,
+) -> RecordingAlignment | AudioError:
+    """The first hearing where it fits with no warning (or `second_hearing` is off); else the second
+    hearing too (`second()`), and of the two the one with fewer warnings (a refusal counts as the most),
+    the first where they tie."""
+    if isinstance(first, RecordingAlignment) and not first.warnings or not settings.second_hearing:
+        return first
+    again = second()
+    if isinstance(again, AudioError):
+        return first
+    if isinstance(first, AudioError) or len(again.warnings) < len(first.warnings):
+        return again
+    return first
 
 
 def fit_recording(
@@ -179,9 +224,11 @@ def fit_recording(
     recording: str | Path | RecordedAudio,
     engine: SpeechEngine,
     settings: AlignerSettings = DEFAULT_ALIGNER,
+    network: PhoneNetwork | None = None,
 ) -> RecordingFit:
     """The alignment before its judgement: what judgement.judge reads (a tuning run judges it again with
-    other settings)."""
+    other settings); heard by the shipped network unless another is given."""
+    network = network or load_network()
     if isinstance(recording, RecordedAudio):
         native, native_rate, name = recording.samples, recording.sample_rate, recording.name
     else:
@@ -190,7 +237,7 @@ def fit_recording(
     # The synthetic rendition is made and heard in a thread of its own while the recording is heard:
     # eSpeak NG and numpy's matrix products release the interpreter, so on two cores the two overlap.
     with ThreadPoolExecutor(max_workers=1) as pool:
-        rendition = pool.submit(_synthetic_analysis, utterance, engine, settings)
+        rendition = pool.submit(_synthetic_analysis, utterance, engine, settings, network)
         # The user's audio is kept at its own rate (up to 48 kHz) as 16-bit PCM; a file's float copy is
         # dropped before the hearing (the caller's samples stay theirs): a 30-minute take at 44.1 kHz
         # holds 300 MB less through it.
@@ -198,11 +245,11 @@ def fit_recording(
         output = resampled_pcm(native, native_rate, output_rate)
         clipped = clipping(native)
         del native
-        heard = _hear_recording(output, output_rate, clipped, name, settings)
+        heard = _hear_recording(output, output_rate, clipped, name, settings, network)
         reference, x, synthetic_speech = rendition.result()
     _check_lengths(name, heard.speech, synthetic_speech, settings)
     found = _find_text(reference, x, synthetic_speech, heard, settings)
-    letters = _place_letters(utterance, engine, reference, heard, found, settings)
+    letters = _place_letters(utterance, engine, reference, heard, found, settings, network)
     if letters is None:
         raise AudioError(
             f"recording {name} is too short for the text's letters, so it cannot read this text; check that "
@@ -237,6 +284,7 @@ def _place_letters(
     heard: _HeardRecording,
     found: _TextFound,
     settings: AlignerSettings,
+    network: PhoneNetwork,
 ) -> LetterFit | None:
     """Each letter where the network hears it, within reach of the DTW's path (letter_warp.py)."""
     synthetic_starts, synthetic_ends, _ = phone_letter_spans(
@@ -250,7 +298,7 @@ def _place_letters(
         synthetic_ends,
         heard.log_posteriors,
         _silence_bias(heard.speech, found.pause, heard.under_speech, settings),
-        load_network(),
+        network,
         found.path_x,
         found.path_y,
         found.lead,
@@ -259,12 +307,17 @@ def _place_letters(
 
 
 def _hear_recording(
-    output: np.ndarray, output_rate: int, clipped: str, name: str, settings: AlignerSettings
+    output: np.ndarray,
+    output_rate: int,
+    clipped: str,
+    name: str,
+    settings: AlignerSettings,
+    network: PhoneNetwork,
 ) -> _HeardRecording:
     """What the speech detector and the acoustic model hear in the user's audio (16-bit PCM)."""
     recorded = resample(output, output_rate, ANALYSIS_RATE, 1 / 32768)
     speech, loudness, under, log_posteriors = _heard_around_speech(
-        name, recorded, frame_count(recorded.size), settings
+        name, recorded, frame_count(recorded.size), settings, network
     )
     speech = _from_first_sound(speech, log_posteriors, under, settings)
     features = heard_features(_speech_not_silence(log_posteriors, speech, settings), settings)
@@ -297,7 +350,7 @@ def _find_text(
 
 
 def _heard_around_speech(
-    name: str, recorded: np.ndarray, frames: int, settings: AlignerSettings
+    name: str, recorded: np.ndarray, frames: int, settings: AlignerSettings, network: PhoneNetwork
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The recording's speech frames, dB above its floor, dB under its speech and log posteriors, each
     measured on the stretch around its speech (acoustic.features.speech_stretch); beyond it, silence at
@@ -313,16 +366,16 @@ def _heard_around_speech(
         np.pad(speech, around),
         np.pad(above_floor(recorded, stop - first), around),
         np.pad(under, around, constant_values=under.max()),
-        _silence_around(heard_log_posteriors(recorded, stop - first), *around),
+        _silence_around(heard_log_posteriors(recorded, stop - first, network), *around),
     )
 
 
-def heard_log_posteriors(samples: np.ndarray, frames: int) -> np.ndarray:
+def heard_log_posteriors(samples: np.ndarray, frames: int, network: PhoneNetwork) -> np.ndarray:
     """What the acoustic model hears in each of `frames` 10 ms frames of 16 kHz samples: the log of its
     class posteriors (frames x classes, float32). The square roots of the posteriors are the DTW's
     features: the Euclidean distance between two frames is then the Hellinger distance between what is
     heard in them."""
-    heard = load_network().log_posteriors(recogniser_features(samples))
+    heard = network.log_posteriors(recogniser_features(samples))
     return _silence_around(heard[:frames], 0, max(0, frames - len(heard)))
 
 
@@ -414,12 +467,12 @@ def _silence(frames: int, classes: int, settings: AlignerSettings) -> np.ndarray
 
 
 def _synthetic_analysis(
-    utterance: Utterance, engine: SpeechEngine, settings: AlignerSettings
+    utterance: Utterance, engine: SpeechEngine, settings: AlignerSettings, network: PhoneNetwork
 ) -> tuple[_Reference, np.ndarray, np.ndarray]:
     """The synthetic rendition's events, what is heard in it and its speech frames (its audio dropped)."""
     reference, analysis = synthesize_reference(utterance, engine, settings)
     frames = frame_count(analysis.size)
-    heard = heard_features(heard_log_posteriors(analysis, frames), settings)
+    heard = heard_features(heard_log_posteriors(analysis, frames, network), settings)
     return reference, heard, clean_speech_frames(analysis, frames)
 
 
