@@ -210,7 +210,7 @@ def kept_hearing(
     """The first hearing where it fits with no warning (or `second_hearing` is off); else the second
     hearing too (`second()`), and of the two the one with fewer warnings (a refusal counts as the most),
     the first where they tie."""
-    if isinstance(first, RecordingAlignment) and not first.warnings or not settings.second_hearing:
+    if not settings.second_hearing or (isinstance(first, RecordingAlignment) and not first.warnings):
         return first
     again = second()
     if isinstance(again, AudioError):
