@@ -51,13 +51,15 @@ def judged(text: str, path: Path) -> tuple[Utterance, RecordingFit, RecordingFit
     """The take fitted to the text as the shipped network and the people's hear it, as the judgement
     reads them (None where the first alignment fails before it; the second None where it alone fails)."""
     utterance = build_utterance(text)
-    fits = []
-    for weights in (WEIGHTS_FILE, PEOPLE_WEIGHTS_FILE):
+
+    def fitted(weights: Path) -> RecordingFit | None:
         try:
-            fits.append(fit_recording(utterance, path, get_engine("espeak"), network=load_network(weights)))
+            return fit_recording(utterance, path, get_engine("espeak"), network=load_network(weights))
         except LipSyncError:
-            fits.append(None)
-    return None if fits[0] is None else (utterance, *fits)
+            return None
+
+    first = fitted(WEIGHTS_FILE)
+    return None if first is None else (utterance, first, fitted(PEOPLE_WEIGHTS_FILE))
 
 
 def tune_takes(scratch: Path) -> list[tuple[str, bool, Path, str]]:

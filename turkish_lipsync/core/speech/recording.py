@@ -175,15 +175,15 @@ def align_recording(
     aligner's `second_hearing`), and the better of the two fits is kept: the one with fewer warnings, the
     first where they tie. The take is refused only where both hearings refuse it."""
     first = judged_fit(utterance, fit_recording(utterance, recording, engine, settings), settings)
-    kept = kept_hearing(
-        first,
-        lambda: judged_fit(
-            utterance,
-            fit_recording(utterance, recording, engine, settings, load_network(PEOPLE_WEIGHTS_FILE)),
-            settings,
-        ),
-        settings,
-    )
+
+    def heard_again() -> RecordingAlignment | AudioError:
+        try:  # a take the second network cannot fit at all counts as refused by it: the first is kept
+            fitted = fit_recording(utterance, recording, engine, settings, load_network(PEOPLE_WEIGHTS_FILE))
+        except AudioError as refusal:
+            return refusal
+        return judged_fit(utterance, fitted, settings)
+
+    kept = kept_hearing(first, heard_again, settings)
     if isinstance(kept, AudioError):
         raise kept
     return kept
