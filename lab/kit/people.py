@@ -1,7 +1,7 @@
 """Recordings of people to tune and measure on, each with a Turkish spelling of what is said, split in two.
 
     python -m lab.kit.people build [--folder out/people]     # fetch and unpack (apt-get download + dpkg-deb)
-    python -m lab.kit.people list [--part tune|report] [--kind line|syllable|word]
+    python -m lab.kit.people list [--part tune|report|train] [--kind line|syllable|word]
 
 Sources (Debian packages, fetched with `apt-get download`, unpacked with `dpkg-deb -x`, nothing installed;
 all GPL or similar: measured with, never copied into the project):
@@ -12,7 +12,9 @@ all GPL or similar: measured with, never copied into the project):
 - fillets-ng-data-cs: the same game's Czech voice acting (other actors, another language), spelt in
   Turkish letters by `spell_czech` from the game's Czech script;
 - ktuberling-data: single English words said by a person (KTuberling's English sound theme), spelt in
-  Turkish letters by hand (ENGLISH_WORDS).
+  Turkish letters by hand (ENGLISH_WORDS);
+- klettres-data's other languages (lab/kit/klettres_syllables.py: Malayalam, Lithuanian, Low German,
+  German, Danish, Dutch, Hebrew, English), for training only: the **train** part.
 
 The split keeps tuning apart from reporting: the acoustic model trains on the **tune** part's Dutch lines
 (two thirds of the game's levels) and its Russian and Tswana syllables, and the judgement's constants are
@@ -37,6 +39,7 @@ from pathlib import Path
 import numpy as np
 
 from lab import REPOSITORY
+from lab.kit import klettres_syllables
 
 FOLDER = REPOSITORY / "out" / "people"
 DEV_VOICES = REPOSITORY.parent / "shared" / "voices" / "dev_voices.py"
@@ -119,11 +122,18 @@ def build(folder: Path = FOLDER) -> None:
             for package in Path(temporary).glob("*.deb"):
                 subprocess.run(["dpkg-deb", "-x", str(package), str(unpacked)], check=True)
     rows = _czech_lines(folder) + _english_words(folder)
-    with open(folder / "held_out.tsv", "w", encoding="utf-8") as manifest:
+    _write_manifest(folder / "held_out.tsv", rows)
+    print(f"{len(rows)} held-out recordings in {folder / 'held_out.tsv'}")
+    syllables = klettres_syllables.rows(folder / "dev" / "packages" / "usr/share/klettres")
+    _write_manifest(folder / "klettres.tsv", syllables)
+    print(f"{len(syllables)} syllables to train on in {folder / 'klettres.tsv'}")
+
+
+def _write_manifest(path: Path, rows: list[tuple[str, ...]]) -> None:
+    with open(path, "w", encoding="utf-8") as manifest:
         manifest.write("kind\tsource\tid\twav\ttext\tturkish\n")
         for row in rows:
             manifest.write("\t".join(row) + "\n")
-    print(f"{len(rows)} held-out recordings in {folder / 'held_out.tsv'}")
 
 
 def _czech_lines(folder: Path) -> list[tuple[str, ...]]:
@@ -157,7 +167,8 @@ def _english_words(folder: Path) -> list[tuple[str, ...]]:
 
 
 def training_recordings(folder: Path = FOLDER) -> list[Recording]:
-    """What the acoustic model learns from: the tune part but its Czech lines."""
+    """What the acoustic model learns from: the tune part but its Czech lines (the train part, KLettres'
+    other languages, is a corpus of its own: recordings(folder, "train"))."""
     return [r for r in recordings(folder, "tune") if not r.source.startswith("fillets-cs")]
 
 
@@ -178,9 +189,12 @@ def recordings(folder: Path = FOLDER, part: str | None = None, kind: str | None 
     for manifest, base in (
         (folder / "dev" / "manifest.tsv", folder / "dev"),
         (folder / "held_out.tsv", None),
+        (folder / "klettres.tsv", None),
     ):
         for row_kind, source, ident, wav, text, turkish in _rows(manifest, base):
-            if source.startswith("ktuberling"):
+            if source.removeprefix("klettres-") in klettres_syllables.LANGUAGES:
+                row_part = "train"
+            elif source.startswith("ktuberling"):
                 row_part = "report"
             elif source.startswith("fillets-cs"):
                 row_part = "tune" if source in tuning_czech_levels else "report"
@@ -282,7 +296,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("command", choices=("build", "list"))
     parser.add_argument("--folder", type=Path, default=FOLDER)
-    parser.add_argument("--part", choices=("tune", "report"))
+    parser.add_argument("--part", choices=("tune", "report", "train"))
     parser.add_argument("--kind", choices=("line", "syllable", "word"))
     arguments = parser.parse_args(argv)
     if arguments.command == "build":

@@ -126,6 +126,11 @@ def main(argv: list[str] | None = None) -> int:
         "--teach-people", action="store_true", help="the teacher teaches the tune part's people too"
     )
     parser.add_argument("--keep-start", action="store_true", help="only the grown channels learn")
+    parser.add_argument(
+        "--klettres",
+        action="store_true",
+        help="KLettres' other languages' syllables too (people's train part)",
+    )
     parser.add_argument("--corpus-only", action="store_true", help="make the corpora and stop")
     args = parser.parse_args(argv)
     args.cache.mkdir(parents=True, exist_ok=True)
@@ -141,20 +146,35 @@ def main(argv: list[str] | None = None) -> int:
     tune = make_people_corpus(
         args.people, start, args.people_copies, args.seed, args.cache, f"many_{start.stem}", False
     )
+    syllables = []
+    if args.klettres:
+        name = f"klettres_{start.stem}"
+        syllables.append(
+            make_people_corpus(
+                args.people, start, args.people_copies, args.seed, args.cache, name, False, "train"
+            )
+        )
     if args.corpus_only:
         return 0
     description = (
         "eSpeak NG's Turkish voice (variants, rates, pitches), degraded, a third of it cut to a word or two; "
         "people's speech (lab/kit/people.py's tune part, labelled by forced alignment, clean and degraded); "
         f"Festival's diphone voices {', '.join(names) or 'none'} ({args.per_voice} sentences each, labelled "
-        f"by their own segments, clean and degraded); {args.epochs} epochs on from {start.name}"
+        f"by their own segments, clean and degraded)"
+        + (
+            "; KLettres' syllables in eight more languages (lab/kit/klettres_syllables.py, labelled by "
+            "forced alignment, clean and degraded)"
+            if args.klettres
+            else ""
+        )
+        + f"; {args.epochs} epochs on from {start.name}"
         + (f", eSpeak NG's clips taught by {args.teacher.name}'s posteriors" if args.teacher else "")
         + (" (the tune part's people too)" if args.teach_people else "")
         + (f", grown to {args.channels} channels" if args.channels != CHANNELS else "")
         + (" (only the grown ones learning)" if args.keep_start else "")
     )
     train(
-        [espeak_clips, tune, *voices],
+        [espeak_clips, tune, *voices, *syllables],
         args.epochs,
         args.seed,
         args.out,

@@ -253,17 +253,25 @@ def make_people_clip(job) -> tuple[np.ndarray, np.ndarray]:
 
 
 def make_people_corpus(
-    folder: Path, network_path: Path, copies: int, seed: int, cache: Path, name: str, whole_take_level: bool
+    folder: Path,
+    network_path: Path,
+    copies: int,
+    seed: int,
+    cache: Path,
+    name: str,
+    whole_take_level: bool,
+    part: str = "tune",
 ) -> Path:
-    """The tune part's recordings (lab/kit/people.py), labelled by the network at network_path, each
-    clean and degraded `copies - 1` times; the worst-fitting tenth (a spelling far from what is said,
-    laughter, shouts over music) left out. whole_take_level: how the features are levelled."""
+    """The tune part's recordings (lab/kit/people.py; or the train part's), labelled by the network at
+    network_path, each clean and degraded `copies - 1` times; the worst-fitting tenth (a spelling far from
+    what is said, laughter, shouts over music) left out. whole_take_level: how the features are levelled."""
     path = cache / f"people_{name}_{copies}_{seed}.npz"
     if path.exists():
         return path
     network = load_network(network_path)
     began = time.time()
-    labelled = [people_labels(recording, network) for recording in people.training_recordings(folder)]
+    chosen = people.training_recordings(folder) if part == "tune" else people.recordings(folder, part)
+    labelled = [people_labels(recording, network) for recording in chosen]
     labelled = [item for item in labelled if item is not None]
     fits = np.array([fit for _, _, fit in labelled])
     kept = [item for item in labelled if item[2] >= np.percentile(fits, 100 * WORST_FITTING_SHARE)]
