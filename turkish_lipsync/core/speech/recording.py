@@ -33,7 +33,7 @@ import numpy as np
 
 from ..base.errors import AudioError
 from ..base.model import Utterance
-from .acoustic.features import recogniser_features, speech_stretch
+from .acoustic.features import frames_of, recogniser_features, sounding_frames, speech_stretch
 from .acoustic.labels import CLASS_INDEX, SILENCE
 from .acoustic.network import PEOPLE_WEIGHTS_FILE, PhoneNetwork, load_network
 from .align import phone_letter_spans
@@ -354,13 +354,17 @@ def _heard_around_speech(
     name: str, recorded: np.ndarray, frames: int, settings: AlignerSettings, network: PhoneNetwork
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The recording's speech frames, dB above its floor, dB under its speech and log posteriors, each
-    measured on the stretch around its speech (acoustic.features.speech_stretch); beyond it, silence at
-    the floor."""
-    speech = _checked_speech(name, recorded, speech_frames(recorded, frames), settings)
+    measured on the stretch around its speech within its sound (acoustic.features.sounding_frames and
+    speech_stretch); beyond it, silence at the floor."""
+    sound_first, sound_stop = sounding_frames(recorded, frames)
+    recorded = frames_of(recorded, sound_first, sound_stop, frames)
+    sound_frames = sound_stop - sound_first
+    speech = _checked_speech(name, recorded, speech_frames(recorded, sound_frames), settings)
     first, stop = speech_stretch(speech)
-    if (first, stop) != (0, frames):
-        recorded = recorded[first * HOP : stop * HOP if stop < frames else recorded.size]
+    if (first, stop) != (0, sound_frames):
+        recorded = frames_of(recorded, first, stop, sound_frames)
         speech = _checked_speech(name, recorded, speech_frames(recorded, stop - first), settings)
+    first, stop = first + sound_first, stop + sound_first
     around = (first, frames - stop)
     under = under_speech(recorded, stop - first)
     return (

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from ...base.errors import DataError
-from ..features import mel_energies
+from ..features import HOP, mel_energies
 
 BANDS = 40
 LOW_HERTZ = 60.0
@@ -51,6 +51,8 @@ SPEECH_MARGIN_FRAMES = 75
 # A stretch that leaves out less than this share of the take changes its levels too little to hear the
 # take twice for (a long take with a second of room before it: 0.15 s more of its 4 minutes' alignment).
 LEAST_LEFT_OUT = 0.1
+# No sample of digital silence passes one step of 16-bit audio (dither included): nothing was recorded.
+DIGITAL_SILENCE = 2 / 32768
 
 
 def log_bands(samples: np.ndarray) -> np.ndarray:
@@ -105,6 +107,22 @@ def levelled(decibels: np.ndarray, whole_take_level: bool = False) -> np.ndarray
     features[:, :BANDS] = np.maximum(decibels - (speech_level + shape), FLOOR_DB) / SCALE_DB
     features[:, BANDS] = np.maximum(loudness - speech_level, FLOOR_DB) / SCALE_DB
     return features
+
+
+def sounding_frames(samples: np.ndarray, frames: int) -> tuple[int, int]:
+    """The first frame and the frame after the last of the take's sound: digital silence at either end
+    (an editor's export, a gated or padded take) is not what was recorded, however long, so the same
+    speech is heard alike with or without it. The whole take where it is all digital silence."""
+    sounding = np.flatnonzero(np.abs(samples) >= DIGITAL_SILENCE)
+    if sounding.size == 0:
+        return 0, frames
+    return min(int(sounding[0]) // HOP, frames - 1), min(int(sounding[-1]) // HOP + 1, frames)
+
+
+def frames_of(samples: np.ndarray, first: int, stop: int, frames: int) -> np.ndarray:
+    """The samples of frames first .. stop - 1 of a take of `frames` frames (to its end where stop is the
+    last), so that the part's frames are the take's."""
+    return samples[first * HOP : stop * HOP if stop < frames else samples.size]
 
 
 def speech_stretch(speech: np.ndarray) -> tuple[int, int]:
