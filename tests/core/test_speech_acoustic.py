@@ -8,14 +8,16 @@ from turkish_lipsync.core.speech import synthesize_timeline
 from turkish_lipsync.core.speech.acoustic.features import (
     BANDS,
     SHORT_OWN_WEIGHT,
+    frames_of,
     own_level_weight,
     recogniser_features,
+    sounding_frames,
 )
 from turkish_lipsync.core.speech.acoustic.forced import force_align, letter_model, text_units
 from turkish_lipsync.core.speech.acoustic.labels import CLASS_INDEX, CLASSES
 from turkish_lipsync.core.speech.acoustic.network import PEOPLE_WEIGHTS_FILE, WEIGHTS_FILE, load_network
 from turkish_lipsync.core.speech.audio import resample
-from turkish_lipsync.core.speech.features import ANALYSIS_RATE
+from turkish_lipsync.core.speech.features import ANALYSIS_RATE, HOP, frame_count
 from turkish_lipsync.core.text.utterance import build_utterance
 
 
@@ -108,6 +110,20 @@ def test_a_syllable_alone_keeps_its_vowel_colour():
     apart = np.linalg.norm(vowel_bands("bi", False) - vowel_bands("ba", False))
     alike = np.linalg.norm(vowel_bands("bi", True) - vowel_bands("ba", True))
     assert apart > 2 * alike
+
+
+def test_digital_silence_at_either_end_is_not_the_takes_sound():
+    """Zeros and one-step dither around a take are left out, whatever their length; the quietest room
+    noise is kept, and a take of nothing but digital silence is heard whole."""
+    room = np.random.default_rng(3).normal(0, 1e-3, 16000)  # -60 dBFS
+    dither = np.random.default_rng(4).integers(-1, 2, 3000) / 32768
+    take = np.concatenate((np.zeros(4800), dither, room, np.zeros(800)))
+    frames = frame_count(take.size)
+    first, stop = sounding_frames(take, frames)
+    assert (first, stop) == (7800 // HOP, (7800 + 16000 - 1) // HOP + 1)
+    assert np.array_equal(frames_of(take, first, stop, frames), take[first * HOP : stop * HOP])
+    assert sounding_frames(room, frame_count(room.size)) == (0, frame_count(room.size))
+    assert sounding_frames(np.zeros(1000), 7) == (0, 7)
 
 
 def test_the_own_spectrum_counts_more_the_more_speech_a_take_holds():
