@@ -16,10 +16,10 @@ import numpy as np
 
 from ...base.errors import AudioError
 from ...base.model import Utterance
-from ..acoustic.features import frames_of, sounding_frames, speech_stretch
+from ..acoustic.features import speech_stretch
 from ..audio import MAX_OUTPUT_RATE, clipping, read_audio, resample, resampled_pcm
 from ..base import Synthesis
-from ..features import ANALYSIS_RATE, HOP, frame_count
+from ..features import ANALYSIS_RATE, HOP
 from ..speech_detector import detect_speech
 from ..timeline import Speech
 from .recogniser import Recognition, recognise
@@ -41,10 +41,6 @@ def speech_from_audio(
     peak = float(np.abs(samples).max(initial=0.0))
     if 20 * np.log10(peak + 1e-12) < settings.silent_peak_db:
         raise AudioError(f"no speech found in {path}: it is silent; give a recording of someone speaking")
-    # Digital silence at either end is not what was recorded: the take is heard within its sound.
-    frames = frame_count(samples.size)
-    sound_first, sound_stop = sounding_frames(samples, frames)
-    samples = frames_of(samples, sound_first, sound_stop, frames)
     # Whether anyone speaks is decided by a detector trained on many people's speech in many languages
     # (speech_detector.py), not by how much the recogniser, which has heard few people, makes of it.
     detection = detect_speech(samples)
@@ -53,7 +49,7 @@ def speech_from_audio(
             f"no speech found in {path}: it sounds like silence, noise or music without a voice; "
             "give a recording of someone speaking Turkish, or type the text it says"
         )
-    recognition = _recognised_around_speech(samples, detection.speech, sound_first, settings)
+    recognition = _recognised_around_speech(samples, detection.speech, settings)
     del samples
     if not recognition.phrases:
         raise AudioError(
@@ -67,14 +63,13 @@ def speech_from_audio(
 
 
 def _recognised_around_speech(
-    samples: np.ndarray, speech: np.ndarray, sound_first: int, settings: RecogniserSettings
+    samples: np.ndarray, speech: np.ndarray, settings: RecogniserSettings
 ) -> Recognition:
-    """What is heard in the stretch around the detector's speech (acoustic.features.speech_stretch) in
-    the take's sound (which starts at frame sound_first of the take), timed in the whole take: silence
-    beyond it would change how the same speech is heard."""
+    """What is heard in the stretch around the detector's speech (acoustic.features.speech_stretch), timed
+    in the whole take: silence beyond it would change how the same speech is heard."""
     first, stop = speech_stretch(speech)
     recognition = recognise(samples[first * HOP : stop * HOP], settings)
-    offset = (sound_first + first) * HOP / ANALYSIS_RATE
+    offset = first * HOP / ANALYSIS_RATE
     return Recognition(
         tuple(
             tuple(replace(letter, start=letter.start + offset, end=letter.end + offset) for letter in phrase)
