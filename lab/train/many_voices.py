@@ -2,7 +2,7 @@
 
     nice -n 10 ~/recogniser-venv/bin/python -m lab.train.many_voices [--voices NAME ...] [--per-voice 400]
         [--copies 2] [--epochs 10] [--start WEIGHTS] [--out WEIGHTS]
-        [--teacher WEIGHTS [--teach-people]] [--channels N [--keep-start]]
+        [--teacher WEIGHTS [--teach-people]] [--channels N [--keep-start]] [--klettres]
 
 Writes turkish_lipsync/core/speech/acoustic/people_network.npz (the recording aligner's second hearing)
 unless --out says otherwise. Goes on from the weights of lab/train/recogniser.py's last round (--start;
@@ -16,7 +16,10 @@ its last round's learning rate and band warp, on:
 3. every voice of festival_voices.VOICES (or --voices): --per-voice random sentences of its language's
    words at random tempos (Festival's Duration_Stretch 0.8-1.35), labelled by Festival's own segments
    mapped to Turkish letter sounds (inventory/*.toml), each clean and degraded --copies - 1 times (another
-   vocal tract, rooms, telephone bands, noise, music: lab.kit.degradations.degrade).
+   vocal tract, rooms, telephone bands, noise, music: lab.kit.degradations.degrade);
+4. with --klettres, KLettres' syllables in eight more languages (lab/kit/people.py's train part, from
+   lab/kit/klettres_syllables.py), labelled and degraded as the tune part's people are. Measured and not
+   shipped: the report part's syllables and lines were heard no better (docs: people's voices).
 
 With --teacher, eSpeak NG's clips learn what that network hears in them (its posteriors) instead of
 their labels, so that its hearing of the project's own voice is kept (--teach-people: the tune part's
