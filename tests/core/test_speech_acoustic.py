@@ -17,7 +17,7 @@ from turkish_lipsync.core.speech.acoustic.forced import force_align, letter_mode
 from turkish_lipsync.core.speech.acoustic.labels import CLASS_INDEX, CLASSES
 from turkish_lipsync.core.speech.acoustic.network import PEOPLE_WEIGHTS_FILE, WEIGHTS_FILE, load_network
 from turkish_lipsync.core.speech.audio import resample
-from turkish_lipsync.core.speech.features import ANALYSIS_RATE, HOP, frame_count
+from turkish_lipsync.core.speech.features import ANALYSIS_RATE, HOP, WINDOW, frame_count
 from turkish_lipsync.core.text.utterance import build_utterance
 
 
@@ -120,7 +120,7 @@ def test_digital_silence_at_either_end_is_not_the_takes_sound():
     take = np.concatenate((np.zeros(4800), dither, room, np.zeros(800)))
     frames = frame_count(take.size)
     first, stop = sounding_frames(take, frames)
-    assert (first, stop) == (7800 // HOP, (7800 + 16000 - 1) // HOP + 1)
+    assert (first, stop) == (-(-(7800 - WINDOW + 1) // HOP), (7800 + 16000 - 1) // HOP + 1)
     assert np.array_equal(frames_of(take, first, stop, frames), take[first * HOP : stop * HOP])
     assert sounding_frames(room, frame_count(room.size)) == (0, frame_count(room.size))
     assert sounding_frames(np.zeros(1000), 7) == (0, 7)

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from ...base.errors import DataError
-from ..features import HOP, mel_energies
+from ..features import HOP, WINDOW, mel_energies
 
 BANDS = 40
 LOW_HERTZ = 60.0
@@ -32,6 +32,7 @@ LOUD_SHARE = 0.3  # the loudest 30 % of the frames stand for the take's speech l
 FLOOR_DB = -60.0  # below the speech level; quieter is the same as this
 SCALE_DB = 10.0  # decibels per feature unit
 FEATURE_COUNT = BANDS + 1
+SILENT_FEATURE = FLOOR_DB / SCALE_DB  # every feature of a frame of silence (the training pads clips so)
 SPEECH_WITHIN_DB = 20.0  # a frame this close to the speech level counts as speech for OWN_LEVEL_FRAMES
 FEW_SPEECH_FRAMES = 50  # up to here (one or two syllables) the own spectrum counts half ...
 OWN_LEVEL_FRAMES = 150  # ... from here (several words) wholly; in between, linearly
@@ -124,7 +125,8 @@ def sounding_frames(samples: np.ndarray, frames: int) -> tuple[int, int]:
     sounding = np.flatnonzero(np.abs(samples) >= DIGITAL_SILENCE)
     if sounding.size == 0:
         return 0, frames
-    return min(int(sounding[0]) // HOP, frames - 1), min(int(sounding[-1]) // HOP + 1, frames)
+    first = max(0, -(-(int(sounding[0]) - WINDOW + 1) // HOP))  # the first frame whose window holds sound
+    return min(first, frames - 1), min(int(sounding[-1]) // HOP + 1, frames)
 
 
 def frames_of(samples: np.ndarray, first: int, stop: int, frames: int) -> np.ndarray:
