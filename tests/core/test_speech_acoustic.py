@@ -113,15 +113,19 @@ def test_a_syllable_alone_keeps_its_vowel_colour():
 
 
 def test_digital_silence_at_either_end_is_not_the_takes_sound():
-    """Zeros and one-step dither around a take are left out, whatever their length; the quietest room
-    noise is kept, and a take of nothing but digital silence is heard whole."""
+    """Zeros and one-step dither at a take's end are left out from the first frame whose window holds
+    sound, where they last longer than the silence the network learnt around speech; a shorter run is
+    kept, the quietest room noise is sound, and a take of nothing but digital silence is heard whole."""
     room = np.random.default_rng(3).normal(0, 1e-3, 16000)  # -60 dBFS
     dither = np.random.default_rng(4).integers(-1, 2, 3000) / 32768
-    take = np.concatenate((np.zeros(4800), dither, room, np.zeros(800)))
+    take = np.concatenate((np.zeros(16000), dither, room, np.zeros(8000)))
     frames = frame_count(take.size)
     first, stop = sounding_frames(take, frames)
-    assert (first, stop) == (-(-(7800 - WINDOW + 1) // HOP), (7800 + 16000 - 1) // HOP + 1)
-    assert np.array_equal(frames_of(take, first, stop, frames), take[first * HOP : stop * HOP])
+    sound_starts = 16000 + 3000
+    assert (first, stop) == (-(-(sound_starts - WINDOW + 1) // HOP), frames)  # 0.5 s after: kept
+    assert np.array_equal(frames_of(take, first, stop, frames), take[first * HOP :])
+    padded = np.concatenate((take, np.zeros(32000)))
+    assert sounding_frames(padded, frame_count(padded.size))[1] == (sound_starts + 16000 - 1) // HOP + 1
     assert sounding_frames(room, frame_count(room.size)) == (0, frame_count(room.size))
     assert sounding_frames(np.zeros(1000), 7) == (0, 7)
 

@@ -33,15 +33,9 @@ import numpy as np
 
 from ..base.errors import AudioError
 from ..base.model import Utterance
-from .acoustic.features import (
-    SILENT_FEATURE,
-    frames_of,
-    recogniser_features,
-    sounding_frames,
-    speech_stretch,
-)
+from .acoustic.features import frames_of, recogniser_features, sounding_frames, speech_stretch
 from .acoustic.labels import CLASS_INDEX, SILENCE
-from .acoustic.network import PEOPLE_WEIGHTS_FILE, RECEPTIVE_RADIUS, PhoneNetwork, load_network
+from .acoustic.network import PEOPLE_WEIGHTS_FILE, PhoneNetwork, load_network
 from .align import phone_letter_spans
 from .aligner_settings import DEFAULT_ALIGNER, AlignerSettings
 from .audio import MAX_OUTPUT_RATE, clipping, read_audio, resample, resampled_pcm
@@ -385,16 +379,9 @@ def heard_log_posteriors(samples: np.ndarray, frames: int, network: PhoneNetwork
     """What the acoustic model hears in each of `frames` 10 ms frames of 16 kHz samples: the log of its
     class posteriors (frames x classes, float32). The square roots of the posteriors are the DTW's
     features: the Euclidean distance between two frames is then the Hellinger distance between what is
-    heard in them.
-
-    The network hears the take with silence around it, as it learnt speech: a take that starts or ends on
-    its sound (trimmed by an editor, or digital silence left out: acoustic.features.sounding_frames) is
-    heard as if silence came before and after, not as the middle of some speech."""
-    features = recogniser_features(samples)
-    silence = np.full((RECEPTIVE_RADIUS, features.shape[1]), SILENT_FEATURE, features.dtype)
-    heard = network.log_posteriors(np.concatenate((silence, features, silence)))
-    heard = heard[RECEPTIVE_RADIUS : RECEPTIVE_RADIUS + min(frames, len(features))]
-    return _silence_around(heard, 0, max(0, frames - len(heard)))
+    heard in them."""
+    heard = network.log_posteriors(recogniser_features(samples))
+    return _silence_around(heard[:frames], 0, max(0, frames - len(heard)))
 
 
 def _silence_around(log_posteriors: np.ndarray, before: int, after: int) -> np.ndarray:

@@ -32,7 +32,6 @@ LOUD_SHARE = 0.3  # the loudest 30 % of the frames stand for the take's speech l
 FLOOR_DB = -60.0  # below the speech level; quieter is the same as this
 SCALE_DB = 10.0  # decibels per feature unit
 FEATURE_COUNT = BANDS + 1
-SILENT_FEATURE = FLOOR_DB / SCALE_DB  # every feature of a frame of silence (the training pads clips so)
 SPEECH_WITHIN_DB = 20.0  # a frame this close to the speech level counts as speech for OWN_LEVEL_FRAMES
 FEW_SPEECH_FRAMES = 50  # up to here (one or two syllables) the own spectrum counts half ...
 OWN_LEVEL_FRAMES = 150  # ... from here (several words) wholly; in between, linearly
@@ -44,10 +43,10 @@ LONG_TERM_SPECTRUM_FILE = Path(__file__).with_name("speech_spectrum.npy")
 # heard. People's lines with 3 s of digital silence each side, aligned to their text: word onsets moved
 # over 50 ms in 148 of 201 Czech and 59 of 89 Dutch lines before, 57 and 5 after (at 150 frames, 68 and
 # 17 with a floor that left digital silence out; that floor moved a clean synthetic voice's lines in a
-# conversation by 5-7 ms, and a cloud voice is as clean: not taken), 4 and none since the aligner hears a
-# take within its sound (sounding_frames). eSpeak NG's short lines in other
-# voices: aligned 190-510 ms off, and recognised as other letters altogether ("merhaba nasılsın" as
-# "bulavajlasılşıüfü"), before; within 50 ms and alike after. 75 frames is about the training clips' mean
+# conversation by 5-7 ms, and a cloud voice is as clean: not taken), 6 and 2 since the aligner hears a
+# take within its sound (sounding_frames). eSpeak NG's short lines in other voices: aligned 190-510 ms
+# off, and recognised as other letters altogether ("merhaba nasılsın" as "bulavajlasılşıüfü"), before;
+# within 50 ms and alike after. 75 frames is about the training clips' mean
 # silence around their speech.
 SPEECH_MARGIN_FRAMES = 75
 # A stretch that leaves out less than this share of the take changes its levels too little to hear the
@@ -112,21 +111,29 @@ def levelled(decibels: np.ndarray, whole_take_level: bool = False) -> np.ndarray
 
 
 def sounding_frames(samples: np.ndarray, frames: int) -> tuple[int, int]:
-    """The first frame and the frame after the last of the take's sound: digital silence at either end
-    (an editor's export, a gated or padded take) is not what was recorded, however long, so the same
-    speech is aligned alike with or without it. The whole take where it is all digital silence.
+    """The first frame and the frame after the last of the take's sound: a run of digital silence at
+    either end longer than SPEECH_MARGIN_FRAMES (an editor's export, a padded take) is not what was
+    recorded, however long, so the same speech is aligned alike with or without it. The sound starts at
+    the first frame whose window holds any of it. A shorter run is kept: it is the silence around speech
+    the network learnt with (a conversation's turns are cut from a speaker's track with 0.3 s of it).
+    The whole take where it is all digital silence.
 
     The aligner hears a take within its sound: its speech detector's floor is the take's quietest tenth,
     which digital silence pulled down (people's Czech lines with 3 s of it each side: a word moved over
-    50 ms in 66 of 201, 4 within the sound). The recogniser hears a take with its silence (its speech
-    stretch alone keeps a padded take's letters): within the sound, the report part's syllables' b, m, p
-    were heard 5 of 20 times instead of 7 (and before the vowel of 7 other syllables of 87, not 11; the
-    vowel in its class 67 % instead of 64 %), where the network no longer hears the silence before them."""
+    50 ms in 66 of 201 before). Every run left out, however short, kept more lines in place (4 of 201) but
+    moved a conversation's turns (a character's jaw opening in the other's lines up to 6 % of its own
+    instead of 4 %); the network hearing every take with silence around it instead moved people's lines
+    as they come (the Dutch lines warned 4 -> 6 of 89). The recogniser hears a take with its silence (its
+    speech stretch alone keeps a padded take's letters): within the sound, the report part's syllables'
+    b, m, p were heard 5 of 20 times instead of 7."""
     sounding = np.flatnonzero(np.abs(samples) >= DIGITAL_SILENCE)
     if sounding.size == 0:
         return 0, frames
     first = max(0, -(-(int(sounding[0]) - WINDOW + 1) // HOP))  # the first frame whose window holds sound
-    return min(first, frames - 1), min(int(sounding[-1]) // HOP + 1, frames)
+    stop = min(int(sounding[-1]) // HOP + 1, frames)
+    first = first if first > SPEECH_MARGIN_FRAMES else 0
+    stop = stop if frames - stop > SPEECH_MARGIN_FRAMES else frames
+    return min(first, frames - 1), stop
 
 
 def frames_of(samples: np.ndarray, first: int, stop: int, frames: int) -> np.ndarray:
