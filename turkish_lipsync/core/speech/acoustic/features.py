@@ -43,7 +43,7 @@ LONG_TERM_SPECTRUM_FILE = Path(__file__).with_name("speech_spectrum.npy")
 # heard. People's lines with 3 s of digital silence each side, aligned to their text: word onsets moved
 # over 50 ms in 148 of 201 Czech and 59 of 89 Dutch lines before, 57 and 5 after (at 150 frames, 68 and
 # 17 with a floor that left digital silence out; that floor moved a clean synthetic voice's lines in a
-# conversation by 5-7 ms, and a cloud voice is as clean: not taken), 6 and 2 since the aligner hears a
+# conversation by 5-7 ms, and a cloud voice is as clean: not taken), 8 and 1 since the aligner hears a
 # take within its sound (sounding_frames). eSpeak NG's short lines in other voices: aligned 190-510 ms
 # off, and recognised as other letters altogether ("merhaba nasılsın" as "bulavajlasılşıüfü"), before;
 # within 50 ms and alike after. 75 frames is about the training clips' mean
