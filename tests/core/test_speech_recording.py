@@ -274,11 +274,14 @@ def test_an_actors_line_exported_with_digital_silence_aligns_as_the_line_alone(t
     these nine Czech actors' lines; 66 of the report part's 201) before a take's ends of digital silence
     were left out. The report part's Czech lines, every 125th (lab/kit/people.py)."""
     from lab.kit import people
-    from lab.measure.people import sentence_lines
 
     if not (people.FOLDER / "held_out.tsv").is_file():
         pytest.skip(f"people's recordings not built here ({people.FOLDER}); see lab/kit/people.py")
-    lines = [r for r in sentence_lines("report", people.FOLDER) if r.source.startswith("fillets-cs")][::125]
+    lines = [
+        r
+        for r in people.recordings(people.FOLDER, "report", "line")
+        if r.source.startswith("fillets-cs") and len(r.turkish.split()) >= 3
+    ][::125]
     moves = []
     for line in lines:
         samples = people.read(line, 16000)
