@@ -131,9 +131,8 @@ def sounding_frames(samples: np.ndarray, frames: int) -> tuple[int, int]:
         return 0, frames
     first = max(0, -(-(int(sounding[0]) - WINDOW + 1) // HOP))  # the first frame whose window holds sound
     stop = min(int(sounding[-1]) // HOP + 1, frames)
-    first = first if first > SPEECH_MARGIN_FRAMES else 0
-    stop = stop if frames - stop > SPEECH_MARGIN_FRAMES else frames
-    return min(first, frames - 1), stop
+    kept_before, kept_after = first <= SPEECH_MARGIN_FRAMES, frames - stop <= SPEECH_MARGIN_FRAMES
+    return (0 if kept_before else first), (frames if kept_after else stop)
 
 
 def frames_of(samples: np.ndarray, first: int, stop: int, frames: int) -> np.ndarray:
