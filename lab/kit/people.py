@@ -45,6 +45,7 @@ FOLDER = REPOSITORY / "out" / "people"
 DEV_VOICES = REPOSITORY.parent / "shared" / "voices" / "dev_voices.py"
 PACKAGES = ("fillets-ng-data-cs", "ktuberling-data")
 TUNING_SYLLABLES = ("klettres-ru", "klettres-tn")
+SENTENCE_WORDS = 3  # lines of at least this many words are sentences
 REPORT_EVERY_NTH_LEVEL = 3  # the Dutch lines of levels 0, 3, 6, ... of the sorted level names are reported
 # The Czech lines of levels 1, 4, 7, ... tune the judgement's constants (never the network: voices it has
 # not heard, as a user's are); the other Czech lines are reported.
@@ -206,6 +207,11 @@ def recordings(folder: Path = FOLDER, part: str | None = None, kind: str | None 
             if (part is None or part == row_part) and (kind is None or kind == row_kind):
                 found.append(recording)
     return found
+
+
+def sentence_lines(part: str, folder: Path = FOLDER) -> list[Recording]:
+    """The voice-acted lines of SENTENCE_WORDS words or more."""
+    return [r for r in recordings(folder, part, "line") if len(r.turkish.split()) >= SENTENCE_WORDS]
 
 
 def _rows(manifest: Path, base: Path | None) -> list[tuple[str, ...]]:

@@ -58,7 +58,6 @@ from turkish_lipsync.core.text.utterance import build_utterance
 
 VOWEL_CLASSES = {"a": "a", "e": "e", "ı": "iı", "i": "iı", "o": "oö", "ö": "oö", "u": "uü", "ü": "uü"}
 BILABIALS = set("bmp")
-SENTENCE_WORDS = 3  # lines of at least this many words are sentences
 RATE = 16000  # the takes people.py makes are written at this rate
 
 
@@ -117,11 +116,6 @@ def list_items(part: str, folder: Path) -> list[people.Recording]:
     compare)."""
     items = people.recordings(folder, part, "syllable") + people.recordings(folder, part, "word")
     return [item for item in items if len(item.turkish.split()) == 1]
-
-
-def sentence_lines(part: str, folder: Path) -> list[people.Recording]:
-    """The voice-acted lines of SENTENCE_WORDS words or more."""
-    return [r for r in people.recordings(folder, part, "line") if len(r.turkish.split()) >= SENTENCE_WORDS]
 
 
 def measure_words(part: str, folder: Path) -> None:
@@ -206,7 +200,7 @@ def measure_lists(part: str, folder: Path, aeneas: bool, scratch: Path) -> None:
 
 
 def measure_sentences(part: str, folder: Path, every: int, scratch: Path) -> None:
-    lines = sentence_lines(part, folder)
+    lines = people.sentence_lines(part, folder)
     for source in sorted({r.source.split("/")[0] for r in lines}):
         chosen = [r for r in lines if r.source.startswith(source)][::every]
         same, other, alone = Counter(), Counter(), Counter()
@@ -225,7 +219,7 @@ def measure_sentences(part: str, folder: Path, every: int, scratch: Path) -> Non
             )
             hits, total, _, _ = bilabial_scores(timeline, found, 0.0)
             closed, bilabials = closed + hits, bilabials + total
-        print(f"sentences, {source} ({len(chosen)} lines of {SENTENCE_WORDS}+ words)")
+        print(f"sentences, {source} ({len(chosen)} lines of {people.SENTENCE_WORDS}+ words)")
         print(f"  with their spelling:      {shares(same, len(chosen))}")
         print(f"  with another line's text: {shares(other, len(chosen))}")
         print(f"  no text:                  {shares(alone, len(chosen))}")
@@ -243,7 +237,7 @@ MOVED = 0.05  # seconds a word onset may move before the line counts as moved
 
 
 def measure_padded(part: str, folder: Path, every: int, scratch: Path) -> None:
-    lines = sentence_lines(part, folder)
+    lines = people.sentence_lines(part, folder)
     for source in sorted({r.source.split("/")[0] for r in lines}):
         chosen = [r for r in lines if r.source.startswith(source)][::every]
         largest, not_clean = [], Counter()

@@ -32,7 +32,7 @@ import numpy as np
 from lab.kit import people
 from lab.kit.sweep import settings_tried
 from lab.kit.takes import write_wav
-from lab.measure.people import RATE, list_items, sentence_lines, words
+from lab.measure.people import RATE, list_items, words
 from lab.measure.recogniser import TUNING_CACHE
 from turkish_lipsync.core.base.errors import AudioError, LipSyncError
 from turkish_lipsync.core.base.model import Utterance
@@ -76,7 +76,7 @@ def tune_takes(scratch: Path) -> list[tuple[str, bool, Path, str]]:
         takes.append(("lists", True, path, take.text))
         other = next(t for t in lists[number + 1 :] + lists if t.speaker != take.speaker)
         takes.append(("lists", False, path, other.text))
-    lines = sentence_lines("tune", people.FOLDER)
+    lines = people.sentence_lines("tune")
     for source, every in LINES_EVERY.items():
         chosen = [r for r in lines if r.source.startswith(source)][::every]
         for index, line in enumerate(chosen):

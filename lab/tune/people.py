@@ -28,7 +28,7 @@ import numpy as np
 from lab.kit import people
 from lab.kit.scores import bilabial_scores, correlation, opening_trajectory
 from lab.kit.sweep import settings_tried
-from lab.measure.people import BILABIALS, VOWEL_CLASSES, sentence_lines
+from lab.measure.people import BILABIALS, VOWEL_CLASSES
 from lab.measure.recogniser import TUNING_CACHE
 from turkish_lipsync.core.base.errors import LipSyncError
 from turkish_lipsync.core.base.visemes import BILABIAL_VISEMES
@@ -63,7 +63,7 @@ def cached_takes(part: str, sentences_every: int, cache: Path) -> tuple[list, li
     for recording in people.recordings(people.FOLDER, part, "syllable"):
         features, duration = heard_features(recording.path)
         syllables.append((recording, network.log_posteriors(features), duration))
-    lines = sentence_lines(part, people.FOLDER)
+    lines = people.sentence_lines(part)
     for source in ("fillets-cs", "fillets-nl"):
         for recording in [r for r in lines if r.source.startswith(source)][::sentences_every]:
             try:

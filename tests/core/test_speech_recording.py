@@ -277,11 +277,7 @@ def test_an_actors_line_exported_with_digital_silence_aligns_as_the_line_alone(t
 
     if not (people.FOLDER / "held_out.tsv").is_file():
         pytest.skip(f"people's recordings not built here ({people.FOLDER}); see lab/kit/people.py")
-    lines = [
-        r
-        for r in people.recordings(people.FOLDER, "report", "line")
-        if r.source.startswith("fillets-cs") and len(r.turkish.split()) >= 3
-    ][::125]
+    lines = [r for r in people.sentence_lines("report") if r.source.startswith("fillets-cs")][::125]
     moves = []
     for line in lines:
         samples = people.read(line, 16000)

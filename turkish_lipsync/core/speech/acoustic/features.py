@@ -46,8 +46,7 @@ LONG_TERM_SPECTRUM_FILE = Path(__file__).with_name("speech_spectrum.npy")
 # conversation by 5-7 ms, and a cloud voice is as clean: not taken), 8 and 1 since the aligner hears a
 # take within its sound (sounding_frames). eSpeak NG's short lines in other voices: aligned 190-510 ms
 # off, and recognised as other letters altogether ("merhaba nasılsın" as "bulavajlasılşıüfü"), before;
-# within 50 ms and alike after. 75 frames is about the training clips' mean
-# silence around their speech.
+# within 50 ms and alike after. 75 frames is about the training clips' mean silence around their speech.
 SPEECH_MARGIN_FRAMES = 75
 # A stretch that leaves out less than this share of the take changes its levels too little to hear the
 # take twice for (a long take with a second of room before it: 0.15 s more of its 4 minutes' alignment).
