@@ -93,9 +93,11 @@ class Recording:
 
     @property
     def speaker(self) -> str:
-        """Who speaks, as far as the source tells: a game line's character code, else the source."""
-        if self.source.startswith("fillets"):
-            return self.source.split("/")[0] + "/" + self.ident.split("-")[1]
+        """Who speaks, as far as the source tells: a game line's character code (its ident's second
+        part, `let-v-oko`: the fish v), else the source (a line named otherwise, `help3`, is a level's)."""
+        parts = self.ident.split("-")
+        if self.source.startswith("fillets") and len(parts) > 2 and len(parts[1]) == 1:
+            return self.source.split("/")[0] + "/" + parts[1]
         return self.source
 
 
