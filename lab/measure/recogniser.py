@@ -233,18 +233,23 @@ def measure_bad_input(folder: Path) -> None:
     print(f"Turkish (held-out voice m3, 30 dB): {warned} of {len(texts)} warned")
 
 
+def weights_digest() -> str:
+    """What cached posteriors were heard with: both hearings' weights."""
+    from turkish_lipsync.core.speech.acoustic.network import WEIGHTS_FILE
+    from turkish_lipsync.core.speech.acoustic.whisper import WEIGHTS_FILE as WHISPER_WEIGHTS_FILE
+
+    return hashlib.sha1(WEIGHTS_FILE.read_bytes() + WHISPER_WEIGHTS_FILE.read_bytes()).hexdigest()[:12]
+
+
 def tuning_takes(folder: Path) -> list[tuple]:
     """The tuning voices reading the tuning sentences, each in a random condition: per take its
     posteriors, truth, lead and length (kept in TUNING_CACHE per weights file)."""
-    from turkish_lipsync.core.speech.acoustic.features import recogniser_features
-    from turkish_lipsync.core.speech.acoustic.network import WEIGHTS_FILE
     from turkish_lipsync.core.speech.audio import read_audio, resample
+    from turkish_lipsync.core.speech.recognition import recogniser
 
-    digest = hashlib.sha1(WEIGHTS_FILE.read_bytes()).hexdigest()[:12]
-    cached = TUNING_CACHE / f"synthetic_{digest}.pickle"
+    cached = TUNING_CACHE / f"synthetic_{weights_digest()}.pickle"
     if cached.exists():
         return pickle.loads(cached.read_bytes())
-    network = load_network()
     rng = np.random.default_rng(21)
     takes = []
     for text in tuning_sentences():
@@ -252,9 +257,8 @@ def tuning_takes(folder: Path) -> list[tuple]:
             condition = TEST_CONDITIONS[int(rng.integers(len(TEST_CONDITIONS)))]
             path, truth, lead, samples = make_take(text, voice, condition, folder, rng)
             native, rate = read_audio(path)
-            features = recogniser_features(resample(native, rate, 16_000))
             duration = samples.size / RECORDED_RATE
-            takes.append((network.log_posteriors(features), truth, lead, duration))
+            takes.append((recogniser.hearings(resample(native, rate, 16_000)), truth, lead, duration))
     TUNING_CACHE.mkdir(parents=True, exist_ok=True)
     cached.write_bytes(pickle.dumps(takes))
     return takes
@@ -268,9 +272,10 @@ def tune(folder: Path, baseline: list[str], tries: list[str]) -> None:
 
     takes = tuning_takes(folder)
     for label, settings in settings_tried(DEFAULT_RECOGNISER, baseline, tries, TUNED):
-        rs, closed, total, vowels_closed, vowels = [], 0, 0, 0, 0
-        for log_posteriors, truth, lead, duration in takes:
-            recognition = recogniser.recognise_posteriors(log_posteriors, settings)
+        rs, closed, total, vowels_closed, vowels, confidences = [], 0, 0, 0, 0, []
+        for posteriors, truth, lead, duration in takes:
+            recognition = recogniser.recognise_posteriors(*posteriors, settings)
+            confidences.append(recognition.confidence)
             timeline = heard_timeline(heard_utterance(recognition), recognition, duration, settings)
             rs.append(
                 correlation(opening_trajectory(truth, duration, lead), opening_trajectory(timeline, duration))
@@ -281,7 +286,9 @@ def tune(folder: Path, baseline: list[str], tries: list[str]) -> None:
         print(
             f"{label}: r median {np.median(rs):.3f}, "
             f"bilabials closed {closed / total:.1%}, "
-            f"vowels closed {vowels_closed / vowels:.1%}",
+            f"vowels closed {vowels_closed / vowels:.1%}, "
+            f"warned {sum(c < settings.doubtful_confidence for c in confidences)} of {len(confidences)} "
+            f"(confidence p10 / p50 {np.percentile(confidences, 10):.2f} / {np.median(confidences):.2f})",
             flush=True,
         )
 

@@ -2,7 +2,7 @@
 
     python -m lab.tune.people [--sentences N] [--set NAME=VALUE ...] [--try NAME=V1,V2,...]
 
-The network's posteriors (and the text-aligned mouth of each sentence, the reference) are computed once
+Both hearings' posteriors (and the text-aligned mouth of each sentence, the reference) are computed once
 per weights file and kept in a cache folder (--cache); each setting then re-runs only the decoder and the
 recogniser's rules, so a sweep over constants takes seconds per setting. What is measured is what
 lab/measure/people.py measures (syllables: the vowel heard in its class, a b/m/p heard before it;
@@ -18,7 +18,6 @@ each --try varies one setting from the --set baseline.
 from __future__ import annotations
 
 import argparse
-import hashlib
 import pickle
 import sys
 from pathlib import Path
@@ -29,12 +28,10 @@ from lab.kit import people
 from lab.kit.scores import bilabial_scores, correlation, opening_trajectory
 from lab.kit.sweep import settings_tried
 from lab.measure.people import BILABIALS, VOWEL_CLASSES
-from lab.measure.recogniser import TUNING_CACHE
+from lab.measure.recogniser import TUNING_CACHE, weights_digest
 from turkish_lipsync.core.base.errors import LipSyncError
 from turkish_lipsync.core.base.visemes import BILABIAL_VISEMES
 from turkish_lipsync.core.speech import synthesize_timeline
-from turkish_lipsync.core.speech.acoustic.features import recogniser_features
-from turkish_lipsync.core.speech.acoustic.network import WEIGHTS_FILE, load_network
 from turkish_lipsync.core.speech.audio import MAX_OUTPUT_RATE, read_audio, resample, resampled_pcm
 from turkish_lipsync.core.speech.features import ANALYSIS_RATE
 from turkish_lipsync.core.speech.recognition import recogniser
@@ -43,26 +40,26 @@ from turkish_lipsync.core.speech.recognition.transcript import heard_timeline, h
 from turkish_lipsync.core.text.utterance import build_utterance
 
 
-def heard_features(path: Path) -> tuple[np.ndarray, float]:
-    """The recogniser's features of a recording, read as speech_from_audio reads it, and its length."""
+def heard_posteriors(path: Path) -> tuple[tuple[np.ndarray, np.ndarray], float]:
+    """Both hearings' log posteriors of a recording (recogniser.hearings), read as speech_from_audio
+    reads it, and its length."""
     native, native_rate = read_audio(path)
     output_rate = min(native_rate, MAX_OUTPUT_RATE)
     output = resampled_pcm(native, native_rate, output_rate)
     samples = resample(output, output_rate, ANALYSIS_RATE, 1 / 32768)
-    return recogniser_features(samples), output.size / output_rate
+    return recogniser.hearings(samples), output.size / output_rate
 
 
 def cached_takes(part: str, sentences_every: int, cache: Path) -> tuple[list, list]:
     """(syllables, sentences): per recording its posteriors and length (and the reference)."""
-    digest = hashlib.sha1(WEIGHTS_FILE.read_bytes()).hexdigest()[:12]
+    digest = weights_digest()
     file = cache / f"people_{part}_{digest}_{sentences_every}.pickle"
     if file.exists():
         return pickle.loads(file.read_bytes())
-    network = load_network()
     syllables, sentences = [], []
     for recording in people.recordings(people.FOLDER, part, "syllable"):
-        features, duration = heard_features(recording.path)
-        syllables.append((recording, network.log_posteriors(features), duration))
+        posteriors, duration = heard_posteriors(recording.path)
+        syllables.append((recording, posteriors, duration))
     lines = people.sentence_lines(part)
     for source in ("fillets-cs", "fillets-nl"):
         for recording in [r for r in lines if r.source.startswith(source)][::sentences_every]:
@@ -70,26 +67,30 @@ def cached_takes(part: str, sentences_every: int, cache: Path) -> tuple[list, li
                 aligned = synthesize_timeline(build_utterance(recording.turkish), recording=recording.path)
             except LipSyncError:
                 continue
-            features, duration = heard_features(recording.path)
-            sentences.append((recording, network.log_posteriors(features), duration, aligned.timeline))
+            posteriors, duration = heard_posteriors(recording.path)
+            sentences.append((recording, posteriors, duration, aligned.timeline))
             print(f"  cached {len(sentences)} sentences", end="\r", file=sys.stderr, flush=True)
     cache.mkdir(parents=True, exist_ok=True)
     file.write_bytes(pickle.dumps((syllables, sentences)))
     return syllables, sentences
 
 
-def heard(log_posteriors: np.ndarray, duration: float, settings: RecogniserSettings):
-    """The timeline the recogniser makes of the posteriors (None where it hears no letter)."""
-    recognition = recogniser.recognise_posteriors(log_posteriors, settings)
+def heard(posteriors: tuple[np.ndarray, np.ndarray], duration: float, settings: RecogniserSettings):
+    """The timeline the recogniser makes of both hearings' posteriors (None where it hears no letter) and
+    its confidence (what the low-confidence warning compares with doubtful_confidence)."""
+    recognition = recogniser.recognise_posteriors(*posteriors, settings)
     if not recognition.phrases:
-        return None
-    return heard_timeline(heard_utterance(recognition), recognition, duration, settings)
+        return None, recognition.confidence
+    timeline = heard_timeline(heard_utterance(recognition), recognition, duration, settings)
+    return timeline, recognition.confidence
 
 
 def syllable_figures(syllables: list, settings: RecogniserSettings) -> dict:
     vowel_right = with_timeline = bilabial_heard = bilabial_total = stray_heard = stray_total = 0
-    for recording, log_posteriors, duration in syllables:
-        timeline = heard(log_posteriors, duration, settings)
+    confidences = []
+    for recording, posteriors, duration in syllables:
+        timeline, confidence = heard(posteriors, duration, settings)
+        confidences.append(confidence)
         if timeline is None:
             continue
         with_timeline += 1
@@ -111,17 +112,22 @@ def syllable_figures(syllables: list, settings: RecogniserSettings) -> dict:
         "vowel": vowel_right / max(with_timeline, 1),
         "bmp": bilabial_heard / max(bilabial_total, 1),
         "stray": stray_heard / max(stray_total, 1),
+        "warned": f"{sum(c < settings.doubtful_confidence for c in confidences)}/{len(confidences)}",
+        "confidence p10/p50/p90": "/".join(
+            f"{value:.2f}" for value in np.percentile(confidences, [10, 50, 90])
+        ),
     }
 
 
 def sentence_figures(sentences: list, settings: RecogniserSettings) -> dict:
     figures = {}
     for source in ("fillets-cs", "fillets-nl"):
-        openings, closed, bilabials, vowels_closed, vowels, wrong = [], 0, 0, 0, 0, 0
-        for recording, log_posteriors, duration, aligned in sentences:
+        openings, closed, bilabials, vowels_closed, vowels, wrong, confidences = [], 0, 0, 0, 0, 0, []
+        for recording, posteriors, duration, aligned in sentences:
             if not recording.source.startswith(source):
                 continue
-            found = heard(log_posteriors, duration, settings)
+            found, confidence = heard(posteriors, duration, settings)
+            confidences.append(confidence)
             if found is None:
                 openings.append(0.0)
                 continue
@@ -138,6 +144,9 @@ def sentence_figures(sentences: list, settings: RecogniserSettings) -> dict:
         figures[f"bmp {short}"] = closed / max(bilabials, 1)
         figures[f"vowels closed {short}"] = vowels_closed / max(vowels, 1)
         figures[f"wrong closures {short}"] = wrong / max(bilabials, 1)
+        figures[f"warned {short}"] = (
+            f"{sum(c < settings.doubtful_confidence for c in confidences)}/{len(confidences)}"
+        )
     return figures
 
 

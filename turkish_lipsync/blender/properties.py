@@ -283,7 +283,7 @@ class TurkishLipSyncSettings(bpy.types.PropertyGroup):
         name="Own Recording",
         description="Your own recording of the same text (WAV, FLAC, OGG, MP3, M4A, or the sound of a video: "
         "MP4, MOV, MKV, WebM): the mouth follows it and it becomes the sound (empty: the synthetic voice). "
-        "With no text, what it says is recognised",
+        "With no text, what it says is recognised (a few seconds for each minute of speech)",
     )
     audio_folder: StringProperty(
         name="Audio Folder",

@@ -190,10 +190,10 @@ TURKISH = {
     "Own Recording": "Kendi Kaydınız",
     "Your own recording of the same text (WAV, FLAC, OGG, MP3, M4A, or the sound of a video: "
     "MP4, MOV, MKV, WebM): the mouth follows it and it becomes the sound (empty: the synthetic voice). "
-    "With no text, what it says is recognised": (
+    "With no text, what it says is recognised (a few seconds for each minute of speech)": (
         "Aynı metni okuduğunuz kendi kaydınız (WAV, FLAC, OGG, MP3, M4A ya da bir videonun sesi: MP4, MOV, "
         "MKV, WebM): ağız ona uyar ve ses olarak o kullanılır (boş: yapay ses). Metin yoksa kaydın "
-        "söyledikleri sesten tanınır"
+        "söyledikleri sesten tanınır (her dakikalık konuşma için birkaç saniye)"
     ),
     "Choose Recording": "Kayıt Seç",
     "Browse for a recording: WAV, FLAC, OGG, MP3, M4A or AAC, or a video with sound (MP4, MOV, MKV, "

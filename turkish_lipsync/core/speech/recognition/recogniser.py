@@ -1,4 +1,9 @@
-"""Recognise the Turkish letters of 16 kHz audio: features, the network, the decoder, and doubt.
+"""Recognise the Turkish letters of 16 kHz audio: two hearings, the decoder, and doubt.
+
+The shipped network (acoustic/network.py) has heard eSpeak NG's Turkish voice in every room and few
+people; Whisper's encoder under its classifier (acoustic/whisper.py) has heard many people and few
+synthetic voices. Their scaled likelihoods (posteriors over priors) are averaged with the settings'
+whisper_weight, which keeps the first's hearing of synthetic voices and brings the second's of people.
 
 The decoder's sequence is checked against the posteriors it came from, segment by segment, so that a
 doubtful letter never shuts the mouth: a bilabial (b, m, p) the network is not sure of becomes the most
@@ -22,6 +27,7 @@ from ..acoustic.labels import (
     frame_times,
 )
 from ..acoustic.network import load_network
+from ..acoustic.whisper import load_whisper_hearing
 from .decoder import Segment, decode
 from .settings import DEFAULT_RECOGNISER, RecogniserSettings
 
@@ -55,16 +61,45 @@ class Recognition:
 
 def recognise(samples: np.ndarray, settings: RecogniserSettings = DEFAULT_RECOGNISER) -> Recognition:
     """The letters heard in 16 kHz float samples."""
-    return recognise_posteriors(load_network().log_posteriors(recogniser_features(samples)), settings)
+    return recognise_posteriors(*hearings(samples, settings.whisper_weight > 0), settings)
+
+
+def hearings(samples: np.ndarray, with_whisper: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
+    """The network's and Whisper's hearing's log posteriors (frames x classes) of 16 kHz float samples
+    (Whisper's None without it)."""
+    network_heard = load_network().log_posteriors(recogniser_features(samples))
+    return network_heard, load_whisper_hearing().log_posteriors(samples) if with_whisper else None
 
 
 def recognise_posteriors(
-    log_posteriors: np.ndarray, settings: RecogniserSettings = DEFAULT_RECOGNISER
+    network_heard: np.ndarray,
+    whisper_heard: np.ndarray | None,
+    settings: RecogniserSettings = DEFAULT_RECOGNISER,
 ) -> Recognition:
-    """The letters heard in the network's log posteriors (frames x classes): what a tuning run varies."""
+    """The letters heard in the two hearings' log posteriors (hearings): what a tuning run varies."""
     network = load_network()
-    segments = decode(log_posteriors, network.priors, network.transitions, network.shortest, settings)
+    log_posteriors, priors = _averaged(network_heard, whisper_heard, settings.whisper_weight)
+    segments = decode(log_posteriors, priors, network.transitions, network.shortest, settings)
     return _phrases(segments, log_posteriors, settings)
+
+
+def _averaged(
+    network_heard: np.ndarray, whisper_heard: np.ndarray | None, weight: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """The two hearings' log posteriors as one (the scaled likelihoods averaged, over Whisper's priors)
+    and the priors the decoder divides them by."""
+    network_priors = load_network().priors
+    if whisper_heard is None or weight <= 0:
+        return network_heard, network_priors
+    whisper_priors = load_whisper_hearing().priors
+    count = min(len(network_heard), len(whisper_heard))
+    log_priors = np.log(whisper_priors).astype(np.float32)
+    averaged = (1 - weight) * (network_heard[:count] - np.log(network_priors).astype(np.float32))
+    averaged += weight * (whisper_heard[:count] - log_priors)
+    averaged += log_priors
+    averaged -= averaged.max(axis=1, keepdims=True)
+    averaged -= np.log(np.exp(averaged).sum(axis=1, keepdims=True))
+    return averaged.astype(np.float32), whisper_priors
 
 
 def _phrases(

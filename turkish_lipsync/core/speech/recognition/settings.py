@@ -15,6 +15,10 @@ from dataclasses import dataclass
 class RecogniserSettings:
     """What the audio-only recogniser may be tuned by (see the module text)."""
 
+    whisper_weight: float = 0.5
+    """How much Whisper's hearing (acoustic/whisper.py), which has heard many people, counts against the
+    shipped network's, which has heard eSpeak NG's voice in many rooms: their scaled likelihoods are
+    averaged with this weight (0: the network alone, several times faster; 1: Whisper's alone)."""
     prior_weight: float = 0.8
     """The decoder divides the posteriors by the classes' priors to this power (scaled likelihoods)."""
     language_weight: float = 0.5

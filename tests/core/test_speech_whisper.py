@@ -1,0 +1,135 @@
+"""Whisper's encoder and the classifier over it (acoustic/whisper.py), and the two hearings averaged.
+
+The shipped weights are the real ones; what they hear is checked on eSpeak NG's Turkish made in the test.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from lab.kit.voices import TEST_VOICES, speak_variant
+from turkish_lipsync.core.base.errors import DataError
+from turkish_lipsync.core.speech.acoustic import whisper
+from turkish_lipsync.core.speech.acoustic.features import recogniser_features
+from turkish_lipsync.core.speech.acoustic.labels import CLASS_INDEX, CLASSES, frame_labels
+from turkish_lipsync.core.speech.acoustic.network import _convolve, load_network, matrix_of_taps
+from turkish_lipsync.core.speech.recognition import recogniser
+from turkish_lipsync.core.speech.recognition.settings import RecogniserSettings
+
+RATE = 16_000
+
+
+@pytest.fixture(scope="module")
+def spoken():
+    """A held-out eSpeak NG voice reading a sentence full of bilabials, with its letters' frames."""
+    variant, pitch, rate = TEST_VOICES["m3"]
+    samples, timeline = speak_variant("Bir baba, mavi bir kapıyı boyamış.", variant, pitch, rate)
+    count = len(recogniser_features(samples))
+    return samples.astype(np.float32), frame_labels(timeline, count)
+
+
+def test_the_mel_bands_put_a_tone_in_its_band_and_keep_whispers_range():
+    tone = 0.5 * np.sin(2 * np.pi * 1000 * np.arange(RATE) / RATE).astype(np.float32)
+    mel = whisper.log_mel(tone)
+    assert mel.shape == (3000, 80)
+    centres = whisper._slaney_hz(
+        np.linspace(0, whisper._slaney_mel(np.array(8000.0)), whisper.MEL_BANDS + 2)
+    )[1:-1]
+    assert abs(centres[int(np.argmax(mel[50]))] - 1000) < 60  # the band centred nearest 1 kHz
+    # Whisper's range: floored 8 (log10) below the loudest, scaled by (x + 4) / 4: a 2-wide span.
+    assert mel.max() - mel.min() == pytest.approx(2.0, abs=1e-5)
+    assert np.all(mel[150:] == mel.min())  # the silence it was padded with
+
+
+def test_the_mel_filters_each_hold_unit_area():
+    filters = whisper._mel_filters()
+    assert filters.shape == (201, 80)
+    bin_hz = 8000 / 200
+    areas = filters.sum(axis=0) * bin_hz
+    assert np.all(np.abs(areas[10:] - 1) < 0.1)  # wider than a few bins: the sum is the area
+
+
+def test_the_halving_convolution_is_every_other_frame_of_the_full_one():
+    rng = np.random.default_rng(3)
+    x = rng.normal(size=(40, 6)).astype(np.float32)
+    weight = matrix_of_taps(rng.normal(size=(5, 6, 3)).astype(np.float32))
+    bias = rng.normal(size=5).astype(np.float32)
+    np.testing.assert_allclose(
+        whisper._halving_convolution(x, weight, bias), _convolve(x, weight, bias, 1)[::2], atol=1e-5
+    )
+
+
+def test_gelu_is_close_to_the_exact_one():
+    x = np.linspace(-6, 6, 241).astype(np.float32)
+    exact = np.array([0.5 * v * (1 + math.erf(v / math.sqrt(2))) for v in x.astype(np.float64)])
+    assert np.abs(whisper._gelu(x.copy()) - exact).max() < 1e-3
+
+
+def test_the_hearing_hears_a_held_out_voices_bilabials_and_vowels(spoken):
+    samples, labels = spoken
+    heard = whisper.load_whisper_hearing().log_posteriors(samples)
+    assert heard.shape == (len(labels), len(CLASSES))
+    np.testing.assert_allclose(np.exp(heard).sum(axis=1), 1, atol=1e-4)
+    best = heard.argmax(axis=1)
+    bilabial = np.isin(labels, [CLASS_INDEX[letter] for letter in "bmp"])
+    vowel = np.isin(labels, [CLASS_INDEX[letter] for letter in "aeıioöuü"])
+    # Frames of the voice's own letters: its b/m/p frames mostly heard as closures, its vowels as vowels.
+    assert np.mean(np.isin(best[bilabial], [CLASS_INDEX[letter] for letter in "bmp"])) > 0.5
+    assert np.mean(np.isin(best[vowel], [CLASS_INDEX[letter] for letter in "aeıioöuü"])) > 0.8
+
+
+def test_a_take_longer_than_a_window_is_heard_frame_for_frame(spoken):
+    samples, _ = spoken
+    long = np.concatenate([samples] * int(np.ceil(31 * RATE / len(samples))))[: 31 * RATE]
+    hearing = whisper.load_whisper_hearing()
+    heard = hearing.log_posteriors(long)
+    assert len(heard) == len(recogniser_features(long))
+    # The first window is heard as it is alone; the second second's frames belong to the second window.
+    first = hearing.log_posteriors(long[: 30 * RATE])
+    np.testing.assert_allclose(heard[: len(first) - 20], first[:-20], atol=1e-4)
+    assert np.isfinite(heard).all()
+
+
+def test_the_settings_weigh_the_two_hearings(spoken):
+    samples, _ = spoken
+    network_heard, whisper_heard = recogniser.hearings(samples)
+    alone = recogniser.recognise_posteriors(network_heard, None, RecogniserSettings())
+    network_only = recogniser.recognise_posteriors(
+        network_heard, whisper_heard, RecogniserSettings(whisper_weight=0)
+    )
+    assert [letter for phrase in alone.phrases for letter in phrase] == [
+        letter for phrase in network_only.phrases for letter in phrase
+    ]
+    averaged, priors = recogniser._averaged(network_heard, whisper_heard, 0.5)
+    np.testing.assert_allclose(np.exp(averaged).sum(axis=1), 1, atol=1e-4)
+    assert priors is whisper.load_whisper_hearing().priors
+    # Halfway between the two: each frame's scaled likelihoods are the mean of the two's (up to a constant).
+    scaled = averaged - np.log(priors)
+    expected = 0.5 * (network_heard - np.log(load_network().priors)) + 0.5 * (whisper_heard - np.log(priors))
+    differences = scaled - expected
+    assert np.allclose(differences, differences[:, :1], atol=1e-3)
+
+
+def test_missing_or_foreign_weights_say_what_to_do(tmp_path):
+    with pytest.raises(DataError, match="missing; reinstall the extension"):
+        whisper.load_whisper_hearing(tmp_path / "none.npz")
+    with np.load(whisper.WEIGHTS_FILE) as data:
+        stored = {key: data[key] for key in data.files}
+    stored["head/out.bias"] = stored["head/out.bias"][:-1]
+    stored["head/out.weight"] = stored["head/out.weight"][:-1]
+    stored["head/out.weight.scale"] = stored["head/out.weight.scale"][:-1]
+    np.savez(tmp_path / "other.npz", **stored)
+    with pytest.raises(DataError, match="trained on other classes"):
+        whisper.load_whisper_hearing(tmp_path / "other.npz")
+    (tmp_path / "broken.npz").write_bytes(b"not a zip")
+    with pytest.raises(DataError, match="cannot be read"):
+        whisper.load_whisper_hearing(tmp_path / "broken.npz")
+
+
+def test_blocks_of_a_long_take_give_the_same_posteriors_as_one_piece(spoken, monkeypatch):
+    samples, _ = spoken
+    hearing = whisper.load_whisper_hearing()
+    whole = hearing.log_posteriors(samples)
+    monkeypatch.setattr(whisper, "HEAD_BLOCK_FRAMES", 64)
+    np.testing.assert_allclose(hearing.log_posteriors(samples), whole, atol=1e-4)

@@ -1,0 +1,248 @@
+"""A hearing that has met many people: Whisper tiny's encoder and a letter classifier over its frames.
+
+Whisper (OpenAI, MIT licence) learnt its encoder from 680,000 hours of many thousands of speakers in
+many languages; its tiny model's encoder (4 transformer layers 384 wide, 8.2 M weights) is run here with
+numpy alone, on 30 s windows of 80 log mel bands as Whisper computes them (log_mel). A small classifier
+(HEAD_DILATIONS: three 'same' convolutions over its 20 ms frames, 256 wide) turns them into the
+recogniser's classes (labels.py) at the recogniser's 10 ms frames. The encoder's weights are stored as
+int8 with a scale per output row (dequantised once per process); both the encoder's and the
+classifier's weights ship beside this file and are made by lab/train/whisper_head.py.
+
+The audio-only recogniser averages this hearing's scaled likelihoods with the shipped network's
+(recognition/recogniser.py): alone the network has heard few people, this hearing few synthetic voices.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from functools import cache
+from pathlib import Path
+
+import numpy as np
+
+from ...base.errors import DataError
+from ..features import ANALYSIS_RATE, HOP, WINDOW, frame_count
+from .labels import CLASSES
+from .network import _convolve, matrix_of_taps
+
+WEIGHTS_FILE = Path(__file__).with_name("whisper_hearing.npz")
+WINDOW_SAMPLES = 30 * ANALYSIS_RATE  # the encoder hears 30 s at a time, shorter audio padded with silence
+MEL_BANDS = 80
+FFT_SIZE = 400  # 25 ms
+MEL_HOP = 160  # 10 ms
+ENCODER_HOP = 2 * MEL_HOP  # the encoder's second convolution halves the frame rate: 20 ms
+ENCODER_FIRST_CENTRE = 240  # samples: the first encoder frame's centre (its two mel frames' middle + 40)
+ENCODER_FRAMES = WINDOW_SAMPLES // ENCODER_HOP
+HEAD_KERNEL = 5
+HEAD_DILATIONS = (1, 2, 4)
+HEAD_BLOCK_FRAMES = 8192  # the classifier's frames at a time (about 80 s)
+
+
+def log_mel(samples: np.ndarray) -> np.ndarray:
+    """Whisper's input for up to 30 s of 16 kHz samples: (3000 x 80) log10 mel power, padded with silence
+    to 30 s, floored 8 below its maximum and scaled as (x + 4) / 4."""
+    if len(samples) > WINDOW_SAMPLES:
+        raise ValueError(f"log_mel takes at most {WINDOW_SAMPLES} samples, not {len(samples)}")
+    padded = np.zeros(WINDOW_SAMPLES + FFT_SIZE, np.float32)
+    half = FFT_SIZE // 2
+    padded[half : half + len(samples)] = samples
+    if len(samples) > half:  # centred frames: the start reflected, as torch.stft(center=True) pads
+        padded[:half] = samples[half:0:-1]
+    frames = np.lib.stride_tricks.sliding_window_view(padded, FFT_SIZE)[::MEL_HOP][
+        : WINDOW_SAMPLES // MEL_HOP
+    ]
+    power = np.abs(np.fft.rfft(frames * _hann(), axis=1)) ** 2
+    mel = np.log10(np.maximum(power.astype(np.float32) @ _mel_filters(), 1e-10))
+    mel = np.maximum(mel, mel.max() - 8.0)
+    return (mel + 4.0) / 4.0
+
+
+@cache
+def _hann() -> np.ndarray:
+    """The periodic Hann window Whisper's STFT uses."""
+    return (0.5 - 0.5 * np.cos(2 * np.pi * np.arange(FFT_SIZE) / FFT_SIZE)).astype(np.float32)
+
+
+def _slaney_mel(hz: np.ndarray) -> np.ndarray:
+    """Slaney's mel scale (linear to 1 kHz, logarithmic above), as Whisper's filters are laid on."""
+    linear = hz / (200.0 / 3)
+    step = np.log(6.4) / 27.0
+    return np.where(hz >= 1000.0, 15.0 + np.log(np.maximum(hz, 1e-10) / 1000.0) / step, linear)
+
+
+def _slaney_hz(mel: np.ndarray) -> np.ndarray:
+    step = np.log(6.4) / 27.0
+    return np.where(mel >= 15.0, 1000.0 * np.exp(step * (mel - 15.0)), mel * 200.0 / 3)
+
+
+@cache
+def _mel_filters() -> np.ndarray:
+    """(FFT bins x 80) triangular filters from 0 to 8 kHz, each scaled to unit area (Slaney's norm)."""
+    bins = np.linspace(0, ANALYSIS_RATE / 2, FFT_SIZE // 2 + 1)
+    edges = _slaney_hz(
+        np.linspace(_slaney_mel(np.array(0.0)), _slaney_mel(np.array(ANALYSIS_RATE / 2)), MEL_BANDS + 2)
+    )
+    widths = np.diff(edges)
+    rising = (bins[None, :] - edges[:-2, None]) / widths[:-1, None]
+    falling = (edges[2:, None] - bins[None, :]) / widths[1:, None]
+    filters = np.maximum(0, np.minimum(rising, falling)) * (2.0 / (edges[2:] - edges[:-2]))[:, None]
+    return np.ascontiguousarray(filters.T.astype(np.float32))
+
+
+@dataclass(frozen=True, eq=False)
+class WhisperHearing:
+    """Whisper tiny's encoder and the classifier over it; priors: the classifier's training frames'."""
+
+    encoder: dict[str, np.ndarray]
+    head: dict[str, np.ndarray]
+    heads: int  # attention heads per layer
+    layers: int
+    priors: np.ndarray
+    metadata: dict
+
+    def log_posteriors(self, samples: np.ndarray) -> np.ndarray:
+        """(frames x classes) float32 natural-log posteriors at the recogniser's frames (features.py's
+        frame_count of them, frame i centred on sample i * HOP + WINDOW / 2) of 16 kHz float samples."""
+        count = frame_count(len(samples))
+        pieces = []  # each window's encoder frames (float16: a 30-minute take's are 70 MB)
+        for begin in range(0, max(1, len(samples)), WINDOW_SAMPLES):
+            chunk = samples[begin : begin + WINDOW_SAMPLES]
+            heard = -(-len(chunk) // ENCODER_HOP)
+            pieces.append(self.encode(log_mel(chunk))[: max(1, heard)].astype(np.float16))
+        encoded = np.concatenate(pieces)
+        nearest = np.round((np.arange(count) * HOP + WINDOW / 2 - ENCODER_FIRST_CENTRE) / ENCODER_HOP)
+        nearest = np.clip(nearest.astype(np.int64), 0, len(encoded) - 1)
+        out = np.empty((count, len(CLASSES)), np.float32)
+        radius = (HEAD_KERNEL // 2) * sum(HEAD_DILATIONS)
+        for begin in range(0, count, HEAD_BLOCK_FRAMES):  # blocks overlapping by what the classifier hears
+            stop = min(begin + HEAD_BLOCK_FRAMES, count)
+            first, last = max(0, begin - radius), min(count, stop + radius)
+            frames = (encoded[nearest[first:last]].astype(np.float32) - self.head["mean"]) * self.head[
+                "inverse_std"
+            ]
+            out[begin:stop] = self._classified(frames)[begin - first : stop - first]
+        out -= out.max(axis=1, keepdims=True)
+        out -= np.log(np.exp(out).sum(axis=1, keepdims=True))
+        return out
+
+    def encode(self, mel: np.ndarray) -> np.ndarray:
+        """(1500 x 384) encoder frames, one every 20 ms, of one window's log mel (3000 x 80)."""
+        w = self.encoder
+        x = _gelu(_convolve(mel, w["conv1.weight"], w["conv1.bias"], 1))
+        x = _gelu(_halving_convolution(x, w["conv2.weight"], w["conv2.bias"]))
+        x += _positions(len(x), x.shape[1])
+        frames, width = x.shape
+        size = width // self.heads
+        for n in range(self.layers):
+            name = f"layer{n}."
+            h = _normalised(x, w[name + "attention_norm.gamma"], w[name + "attention_norm.beta"])
+            qkv = h @ w[name + "qkv.weight"] + w[name + "qkv.bias"]
+            q, k, v = (
+                part.reshape(frames, self.heads, size).transpose(1, 0, 2) for part in np.split(qkv, 3, 1)
+            )
+            scores = (q * np.float32(size**-0.5)) @ k.transpose(0, 2, 1)
+            scores -= scores.max(axis=-1, keepdims=True)
+            np.exp(scores, out=scores)
+            scores /= scores.sum(axis=-1, keepdims=True)
+            attended = (scores @ v).transpose(1, 0, 2).reshape(frames, width)
+            del scores
+            x += attended @ w[name + "out.weight"] + w[name + "out.bias"]
+            h = _normalised(x, w[name + "ffn_norm.gamma"], w[name + "ffn_norm.beta"])
+            x += _gelu(h @ w[name + "ffn_in.weight"] + w[name + "ffn_in.bias"]) @ w[name + "ffn_out.weight"]
+            x += w[name + "ffn_out.bias"]
+        return _normalised(x, w["norm.gamma"], w["norm.beta"])
+
+    def _classified(self, x: np.ndarray) -> np.ndarray:
+        head = self.head
+        h = np.maximum(_convolve(x, head["conv0.weight"], head["conv0.bias"], HEAD_DILATIONS[0]), 0)
+        for n, dilation in enumerate(HEAD_DILATIONS[1:], 1):
+            h = h + np.maximum(_convolve(h, head[f"conv{n}.weight"], head[f"conv{n}.bias"], dilation), 0)
+        return h @ head["out.weight"] + head["out.bias"]
+
+
+def _halving_convolution(x: np.ndarray, weight: np.ndarray, bias: np.ndarray) -> np.ndarray:
+    """A 3-tap convolution with stride 2 and zero padding 1 (weight: 3 * in x out, as matrix_of_taps
+    makes it): output j hears input frames 2j - 1, 2j and 2j + 1."""
+    width = x.shape[1]
+    before, middle, after = (weight[tap * width : (tap + 1) * width] for tap in range(3))
+    out = x[0::2] @ middle + bias
+    out[1:] += x[1:-1:2] @ before
+    out += x[1::2] @ after
+    return out
+
+
+def _gelu(x: np.ndarray) -> np.ndarray:
+    """GELU in its tanh form (within 1e-3 of the exact one Whisper was trained with), in place of a copy."""
+    out = x * x
+    out *= np.float32(0.044715)
+    out += 1
+    out *= x
+    out *= np.float32(0.7978845608)
+    np.tanh(out, out=out)
+    out += 1
+    out *= x
+    out *= np.float32(0.5)
+    return out
+
+
+def _normalised(x: np.ndarray, gamma: np.ndarray, beta: np.ndarray) -> np.ndarray:
+    mean = x.mean(axis=-1, keepdims=True)
+    centred = x - mean
+    variance = (centred**2).mean(axis=-1, keepdims=True)
+    return centred / np.sqrt(variance + np.float32(1e-5)) * gamma + beta
+
+
+@cache
+def _positions(length: int, width: int) -> np.ndarray:
+    """Whisper's sinusoidal positions of the encoder's frames."""
+    increment = np.log(10000) / (width // 2 - 1)
+    scaled = np.arange(length)[:, None] * np.exp(-increment * np.arange(width // 2))[None, :]
+    return np.concatenate([np.sin(scaled), np.cos(scaled)], axis=1).astype(np.float32)
+
+
+@cache
+def load_whisper_hearing(path: Path = WEIGHTS_FILE) -> WhisperHearing:
+    """The shipped encoder and classifier (read once per process), checked against this module's layout."""
+    if not path.is_file():
+        raise DataError(
+            f"the recogniser's weights {path} are missing; reinstall the extension, or make them with "
+            "lab/train/whisper_head.py"
+        )
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            stored = {key: data[key] for key in data.files}
+        metadata = json.loads(str(stored.pop("metadata")))
+        hearing = whisper_hearing(stored, int(metadata["heads"]), stored.pop("priors"), metadata)
+    except (OSError, KeyError, ValueError) as error:
+        raise DataError(
+            f"the recogniser's weights {path} cannot be read ({error}); reinstall the extension"
+        ) from None
+    if tuple(metadata.get("classes", ())) != CLASSES or hearing.head["out.bias"].shape != (len(CLASSES),):
+        raise DataError(f"the recogniser's weights {path} were trained on other classes; retrain them")
+    return hearing
+
+
+def whisper_hearing(
+    stored: dict[str, np.ndarray], heads: int, priors: np.ndarray, metadata: dict
+) -> WhisperHearing:
+    """The hearing of stored weights: "encoder/NAME" and "head/NAME" in PyTorch's layouts (Linear: out x
+    in, Conv1d: out x in x taps), int8 ones with a "NAME.scale" per output row."""
+    encoder, head = {}, {}
+    for key, value in stored.items():
+        part, _, name = key.partition("/")
+        if name.endswith(".scale"):
+            continue
+        if value.dtype == np.int8:
+            scale = stored[key + ".scale"].astype(np.float32)
+            value = value.astype(np.float32) * scale.reshape(-1, *(1,) * (value.ndim - 1))
+        value = value.astype(np.float32)
+        if value.ndim == 3:  # Conv1d as the matrix _convolve multiplies
+            value = matrix_of_taps(value)
+        elif value.ndim == 2:  # Linear as x @ weight
+            value = np.ascontiguousarray(value.T)
+        (encoder if part == "encoder" else head)[name] = value
+    if "std" in head:
+        head["inverse_std"] = (1.0 / head.pop("std")).astype(np.float32)
+    layers = sum(1 for name in encoder if name.endswith(".qkv.bias"))
+    return WhisperHearing(encoder, head, heads, layers, np.asarray(priors, np.float64), metadata)
