@@ -359,28 +359,34 @@ def export(checkpoint: Path, model: Path, out: Path) -> None:
     saved = torch.load(checkpoint, weights_only=False)
     encoder, heads = encoder_weights(read_ctranslate2(model))
     head = {_head_name(name): np.asarray(value, np.float32) for name, value in saved["state"].items()}
-    arrays = {}
-    for part, weights in (("encoder", encoder), ("head", head)):
-        for name, value in weights.items():
-            if value.ndim >= 2:
-                scale = np.abs(value).reshape(len(value), -1).max(axis=1) / 127.0
-                scale = np.maximum(scale, 1e-12).astype(np.float32)
-                arrays[f"{part}/{name}"] = np.round(
-                    value / scale.reshape(-1, *(1,) * (value.ndim - 1))
-                ).astype(np.int8)
-                arrays[f"{part}/{name}.scale"] = scale
-            else:
-                arrays[f"{part}/{name}"] = value.astype(np.float32)
-    arrays["head/mean"] = np.asarray(saved["mean"], np.float32)
-    arrays["head/std"] = np.asarray(saved["std"], np.float32)
+    head["mean"] = np.asarray(saved["mean"], np.float32)
+    head["std"] = np.asarray(saved["std"], np.float32)
     metadata = {
         "classes": list(CLASSES),
         "heads": heads,
         "encoder": f"Whisper tiny (OpenAI, MIT licence), from PyPI {WHISPER_WHEEL}",
         "head_steps": int(saved.get("steps", 0)),
     }
+    arrays = stored_arrays(encoder, head)
     np.savez_compressed(out, **arrays, priors=np.asarray(saved["priors"]), metadata=json.dumps(metadata))
     print(f"wrote {out} ({out.stat().st_size / 1e6:.1f} MB)")
+
+
+def stored_arrays(encoder: dict[str, np.ndarray], head: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """Both parts' weights as acoustic/whisper.py's whisper_hearing reads them: matrices as int8 with a
+    float32 scale per output row (the row's largest magnitude over 127), vectors as float32."""
+    arrays = {}
+    for part, weights in (("encoder", encoder), ("head", head)):
+        for name, value in weights.items():
+            key = f"{part}/{name}"
+            if value.ndim < 2:
+                arrays[key] = value.astype(np.float32)
+                continue
+            scale = np.maximum(np.abs(value).reshape(len(value), -1).max(axis=1) / 127.0, 1e-12)
+            scale = scale.astype(np.float32)
+            arrays[key] = np.round(value / scale.reshape(-1, *(1,) * (value.ndim - 1))).astype(np.int8)
+            arrays[key + ".scale"] = scale
+    return arrays
 
 
 def _head_name(name: str) -> str:

@@ -3,8 +3,9 @@
 The acoustic model's network (acoustic/network.py) and Whisper's encoder under a classifier
 (acoustic/whisper.py) hear the audio, both with numpy alone; recogniser.py averages the two, decoder.py
 finds the letter sequence (Viterbi with minimum durations and Turkish letter transitions), recogniser.py
-keeps doubtful closures off the lips and groups letters into phrases, transcript.py turns them into the Utterance and Timeline every stage after speech
-takes. `speech_from_audio(path)` does it all for a recording.
+keeps doubtful closures off the lips and groups letters into phrases, transcript.py turns them into the
+Utterance and Timeline every stage after speech takes. `speech_from_audio(path)` does it all for a
+recording.
 """
 
 from __future__ import annotations
