@@ -28,14 +28,14 @@ class RecogniserSettings:
     duration_scale: float = 0.7
     """Each class's shortest duration in the training speech, scaled by this (people speak faster than
     eSpeak's slowest)."""
-    bilabial_sure: float = 0.25
+    bilabial_sure: float = 0.15
     """A heard b, m or p is kept where the three together hold this share of its frames' posteriors (and
     no less than the vowels); else the likeliest letter that leaves the lips apart is taken."""
     phrase_pause: float = 0.12
     """Seconds of silence that end a phrase; shorter silences join the letters around them."""
     closure_share: float = 0.33
     """The share of the letter before a voiceless stop given back to the stop as its closure."""
-    doubtful_confidence: float = 0.92
+    doubtful_confidence: float = 0.88
     """Below this confidence a take is reported as recognised with low confidence."""
     silent_peak_db: float = -70.0
     """A recording never louder than this (dB full scale) holds nothing."""
