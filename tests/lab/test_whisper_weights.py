@@ -1,11 +1,11 @@
-"""lab/train/whisper_head.py: reading a CTranslate2 model.bin, Whisper's names as the extension's, and the
+"""lab/kit/whisper_weights.py: reading a CTranslate2 model.bin, Whisper's names as the extension's, and the
 int8 weights the extension reads back."""
 
 import struct
 
 import numpy as np
 
-from lab.train.whisper_head import encoder_weights, read_ctranslate2, stored_arrays
+from lab.kit.whisper_weights import encoder_weights, read_ctranslate2, stored_arrays
 from turkish_lipsync.core.speech.acoustic.labels import CLASSES
 from turkish_lipsync.core.speech.acoustic.whisper import whisper_hearing
 
