@@ -61,6 +61,8 @@ def test_zip_holds_the_extension_and_its_data_but_no_development_files(built_zip
     assert "turkish_lipsync/core/speech/acoustic/phone_network.npz" in names  # the recogniser runs
     assert "turkish_lipsync/core/speech/acoustic/people_network.npz" in names  # ... and hears again
     assert "turkish_lipsync/core/speech/acoustic/speech_spectrum.npy" in names  # ... on a word alone too
+    assert "turkish_lipsync/core/speech/acoustic/whisper_hearing.npz" in names  # the audio alone's hearing
+    assert "turkish_lipsync/core/speech/acoustic/WHISPER_LICENSE.txt" in names  # ... with its licence
     assert any(name.startswith("shapekeys/") and name.endswith(".toml") for name in names)
     assert {"shapekeys/rigs/jaw_bone.toml", "shapekeys/rigs/rigify_face.toml"} <= set(names)  # face rigs
     forbidden = (
