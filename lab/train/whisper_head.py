@@ -51,8 +51,8 @@ from lab.train import recogniser as espeak_training
 from turkish_lipsync.core.speech.acoustic.labels import CLASSES, FRAME_SECONDS, frame_labels
 from turkish_lipsync.core.speech.acoustic.network import load_network
 from turkish_lipsync.core.speech.acoustic.whisper import (
-    ENCODER_FIRST_CENTRE,
     ENCODER_HOP,
+    ENCODER_LEAD,
     HEAD_DILATIONS,
     HEAD_KERNEL,
     WEIGHTS_FILE,
@@ -139,7 +139,7 @@ class Packer:
         for item, start, _ in self.pending:
             centres = start + np.arange(len(item["labels"])) * HOP + WINDOW / 2
             nearest = np.clip(
-                np.round((centres - ENCODER_FIRST_CENTRE) / ENCODER_HOP).astype(int), 0, len(encoded) - 1
+                np.round((centres - ENCODER_LEAD) / ENCODER_HOP).astype(int), 0, len(encoded) - 1
             )
             item["frames"] = encoded[nearest].astype(np.float16)
         self.pending, self.used = [], 0

@@ -13,7 +13,7 @@ from turkish_lipsync.core.base.errors import DataError
 from turkish_lipsync.core.speech.acoustic import whisper
 from turkish_lipsync.core.speech.acoustic.features import recogniser_features
 from turkish_lipsync.core.speech.acoustic.labels import CLASS_INDEX, CLASSES, frame_labels
-from turkish_lipsync.core.speech.acoustic.network import _convolve, load_network, matrix_of_taps
+from turkish_lipsync.core.speech.acoustic.network import convolve, load_network, matrix_of_taps
 from turkish_lipsync.core.speech.recognition import recogniser
 from turkish_lipsync.core.speech.recognition.settings import RecogniserSettings
 
@@ -56,7 +56,7 @@ def test_the_halving_convolution_is_every_other_frame_of_the_full_one():
     weight = matrix_of_taps(rng.normal(size=(5, 6, 3)).astype(np.float32))
     bias = rng.normal(size=5).astype(np.float32)
     np.testing.assert_allclose(
-        whisper._halving_convolution(x, weight, bias), _convolve(x, weight, bias, 1)[::2], atol=1e-5
+        whisper._halving_convolution(x, weight, bias), convolve(x, weight, bias, 1)[::2], atol=1e-5
     )
 
 

@@ -57,17 +57,17 @@ class PhoneNetwork:
 
     def _logits(self, x: np.ndarray) -> np.ndarray:
         layers = self.layers
-        x = np.maximum(_convolve(x, layers["first.weight"], layers["first.bias"], 1), 0)
+        x = np.maximum(convolve(x, layers["first.weight"], layers["first.bias"], 1), 0)
         for number, dilation in enumerate(DILATIONS):
             name = f"blocks.{number}"
             hidden = np.maximum(
-                _convolve(x, layers[f"{name}.dilated.weight"], layers[f"{name}.dilated.bias"], dilation), 0
+                convolve(x, layers[f"{name}.dilated.weight"], layers[f"{name}.dilated.bias"], dilation), 0
             )
             x = x + hidden @ layers[f"{name}.mix.weight"] + layers[f"{name}.mix.bias"]
         return np.maximum(x, 0) @ layers["last.weight"] + layers["last.bias"]
 
 
-def _convolve(x: np.ndarray, weight: np.ndarray, bias: np.ndarray, dilation: int) -> np.ndarray:
+def convolve(x: np.ndarray, weight: np.ndarray, bias: np.ndarray, dilation: int) -> np.ndarray:
     """A 'same' 1-D convolution over frames (as PyTorch's Conv1d with zero padding): x is frames x in.
 
     weight is (taps * in) x out (as matrix_of_taps makes it): each tap's rows meet the frames shifted by
@@ -91,7 +91,7 @@ def _convolve(x: np.ndarray, weight: np.ndarray, bias: np.ndarray, dilation: int
 
 
 def matrix_of_taps(weight: np.ndarray) -> np.ndarray:
-    """A Conv1d weight (out x in x taps) as the contiguous (taps * in) x out matrix _convolve multiplies."""
+    """A Conv1d weight (out x in x taps) as the contiguous (taps * in) x out matrix convolve multiplies."""
     out_channels, in_channels, taps = weight.shape
     return np.ascontiguousarray(weight.transpose(2, 1, 0).reshape(taps * in_channels, out_channels))
 

@@ -24,7 +24,7 @@ import numpy as np
 from ...base.errors import DataError
 from ..features import ANALYSIS_RATE, HOP, WINDOW, frame_count
 from .labels import CLASSES
-from .network import _convolve, matrix_of_taps
+from .network import convolve, matrix_of_taps
 
 WEIGHTS_FILE = Path(__file__).with_name("whisper_hearing.npz")
 WINDOW_SAMPLES = 30 * ANALYSIS_RATE  # the encoder hears 30 s at a time, shorter audio padded with silence
@@ -32,8 +32,9 @@ MEL_BANDS = 80
 FFT_SIZE = 400  # 25 ms
 MEL_HOP = 160  # 10 ms
 ENCODER_HOP = 2 * MEL_HOP  # the encoder's second convolution halves the frame rate: 20 ms
-ENCODER_FIRST_CENTRE = 240  # samples: the first encoder frame's centre (its two mel frames' middle + 40)
-ENCODER_FRAMES = WINDOW_SAMPLES // ENCODER_HOP
+# Each of our frames takes the encoder frame nearest its centre less ENCODER_LEAD samples, as the classifier
+# learnt (Whisper's encoder frame j is centred on sample 320 j: each frame hears the one about 15 ms before).
+ENCODER_LEAD = 240
 HEAD_KERNEL = 5
 HEAD_DILATIONS = (1, 2, 4)
 HEAD_BLOCK_FRAMES = 8192  # the classifier's frames at a time (about 80 s)
@@ -111,7 +112,7 @@ class WhisperHearing:
             heard = -(-len(chunk) // ENCODER_HOP)
             pieces.append(self.encode(log_mel(chunk))[: max(1, heard)].astype(np.float16))
         encoded = np.concatenate(pieces)
-        nearest = np.round((np.arange(count) * HOP + WINDOW / 2 - ENCODER_FIRST_CENTRE) / ENCODER_HOP)
+        nearest = np.round((np.arange(count) * HOP + WINDOW / 2 - ENCODER_LEAD) / ENCODER_HOP)
         nearest = np.clip(nearest.astype(np.int64), 0, len(encoded) - 1)
         out = np.empty((count, len(CLASSES)), np.float32)
         radius = (HEAD_KERNEL // 2) * sum(HEAD_DILATIONS)
@@ -129,7 +130,7 @@ class WhisperHearing:
     def encode(self, mel: np.ndarray) -> np.ndarray:
         """(1500 x 384) encoder frames, one every 20 ms, of one window's log mel (3000 x 80)."""
         w = self.encoder
-        x = _gelu(_convolve(mel, w["conv1.weight"], w["conv1.bias"], 1))
+        x = _gelu(convolve(mel, w["conv1.weight"], w["conv1.bias"], 1))
         x = _gelu(_halving_convolution(x, w["conv2.weight"], w["conv2.bias"]))
         x += _positions(len(x), x.shape[1])
         frames, width = x.shape
@@ -155,9 +156,9 @@ class WhisperHearing:
 
     def _classified(self, x: np.ndarray) -> np.ndarray:
         head = self.head
-        h = np.maximum(_convolve(x, head["conv0.weight"], head["conv0.bias"], HEAD_DILATIONS[0]), 0)
+        h = np.maximum(convolve(x, head["conv0.weight"], head["conv0.bias"], HEAD_DILATIONS[0]), 0)
         for n, dilation in enumerate(HEAD_DILATIONS[1:], 1):
-            h = h + np.maximum(_convolve(h, head[f"conv{n}.weight"], head[f"conv{n}.bias"], dilation), 0)
+            h = h + np.maximum(convolve(h, head[f"conv{n}.weight"], head[f"conv{n}.bias"], dilation), 0)
         return h @ head["out.weight"] + head["out.bias"]
 
 
@@ -173,7 +174,7 @@ def _halving_convolution(x: np.ndarray, weight: np.ndarray, bias: np.ndarray) ->
 
 
 def _gelu(x: np.ndarray) -> np.ndarray:
-    """GELU in its tanh form (within 1e-3 of the exact one Whisper was trained with), in place of a copy."""
+    """GELU in its tanh form (within 1e-3 of the exact one Whisper was trained with), in one new array."""
     out = x * x
     out *= np.float32(0.044715)
     out += 1
@@ -237,7 +238,7 @@ def whisper_hearing(
             scale = stored[key + ".scale"].astype(np.float32)
             value = value.astype(np.float32) * scale.reshape(-1, *(1,) * (value.ndim - 1))
         value = value.astype(np.float32)
-        if value.ndim == 3:  # Conv1d as the matrix _convolve multiplies
+        if value.ndim == 3:  # Conv1d as the matrix convolve multiplies
             value = matrix_of_taps(value)
         elif value.ndim == 2:  # Linear as x @ weight
             value = np.ascontiguousarray(value.T)
