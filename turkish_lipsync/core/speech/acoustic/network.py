@@ -96,32 +96,42 @@ def matrix_of_taps(weight: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(weight.transpose(2, 1, 0).reshape(taps * in_channels, out_channels))
 
 
-@cache
-def load_network(path: Path = WEIGHTS_FILE) -> PhoneNetwork:
-    """The shipped network (read once per process), checked against the layout this module runs."""
+def stored_weights(path: Path, made_by: str) -> tuple[dict[str, np.ndarray], dict]:
+    """The arrays of a shipped weights file and its metadata, or a DataError saying what to do."""
     if not path.is_file():
         raise DataError(
             f"the recogniser's weights {path} are missing; reinstall the extension, or make them with "
-            "lab/train/recogniser.py"
+            f"{made_by}"
         )
     try:
         with np.load(path, allow_pickle=False) as data:
-            layers = {
-                key.removeprefix("weight/"): data[key].astype(np.float32)
-                for key in data.files
-                if key.startswith("weight/")
-            }
-            network = PhoneNetwork(
-                layers=layers,
-                priors=data["priors"].astype(np.float64),
-                transitions=data["transitions"].astype(np.float64),
-                shortest=data["shortest"].astype(np.int64),
-                metadata=json.loads(str(data["metadata"])),
-            )
+            stored = {key: data[key] for key in data.files}
+        return stored, json.loads(str(stored.pop("metadata")))
     except (OSError, KeyError, ValueError) as error:
         raise DataError(
             f"the recogniser's weights {path} cannot be read ({error}); reinstall the extension"
         ) from None
+
+
+@cache
+def load_network(path: Path = WEIGHTS_FILE) -> PhoneNetwork:
+    """The shipped network (read once per process), checked against the layout this module runs."""
+    stored, metadata = stored_weights(path, "lab/train/recogniser.py")
+    layers = {
+        key.removeprefix("weight/"): value.astype(np.float32)
+        for key, value in stored.items()
+        if key.startswith("weight/")
+    }
+    try:
+        network = PhoneNetwork(
+            layers=layers,
+            priors=stored["priors"].astype(np.float64),
+            transitions=stored["transitions"].astype(np.float64),
+            shortest=stored["shortest"].astype(np.int64),
+            metadata=metadata,
+        )
+    except KeyError as error:
+        raise DataError(f"the recogniser's weights {path} lack {error}; reinstall the extension") from None
     channels = len(layers.get("first.weight", ()))  # the width the weights were trained at
     expected = {
         "first.weight": (channels, FEATURE_COUNT, FIRST_KERNEL),

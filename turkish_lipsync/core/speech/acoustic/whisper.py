@@ -14,7 +14,6 @@ The audio-only recogniser averages this hearing's scaled likelihoods with the sh
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
@@ -24,7 +23,7 @@ import numpy as np
 from ...base.errors import DataError
 from ..features import ANALYSIS_RATE, HOP, WINDOW, frame_count
 from .labels import CLASSES
-from .network import convolve, matrix_of_taps
+from .network import convolve, matrix_of_taps, stored_weights
 
 WEIGHTS_FILE = Path(__file__).with_name("whisper_hearing.npz")
 WINDOW_SAMPLES = 30 * ANALYSIS_RATE  # the encoder hears 30 s at a time, shorter audio padded with silence
@@ -205,19 +204,12 @@ def _positions(length: int, width: int) -> np.ndarray:
 @cache
 def load_whisper_hearing(path: Path = WEIGHTS_FILE) -> WhisperHearing:
     """The shipped encoder and classifier (read once per process), checked against this module's layout."""
-    if not path.is_file():
-        raise DataError(
-            f"the recogniser's weights {path} are missing; reinstall the extension, or make them with "
-            "lab/train/whisper_head.py"
-        )
+    stored, metadata = stored_weights(path, "lab/train/whisper_head.py")
     try:
-        with np.load(path, allow_pickle=False) as data:
-            stored = {key: data[key] for key in data.files}
-        metadata = json.loads(str(stored.pop("metadata")))
         hearing = whisper_hearing(stored, int(metadata["heads"]), stored.pop("priors"), metadata)
-    except (OSError, KeyError, ValueError) as error:
+    except (KeyError, ValueError) as error:
         raise DataError(
-            f"the recogniser's weights {path} cannot be read ({error}); reinstall the extension"
+            f"the recogniser's weights {path} do not fit its hearing ({error}); retrain them"
         ) from None
     if tuple(metadata.get("classes", ())) != CLASSES or hearing.head["out.bias"].shape != (len(CLASSES),):
         raise DataError(f"the recogniser's weights {path} were trained on other classes; retrain them")
