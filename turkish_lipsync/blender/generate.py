@@ -177,7 +177,10 @@ def _solo(context, head, source: str, options: LipSyncOptions, gaze_target: str,
         options = dataclasses.replace(options, gaze_setup=setup)
     face = character.face_rig_for(context, head, rig)  # the head's face rig, if it has one
     rig = face_rig.hand_eyes_to_rig(rig, face) if rig is not None else None
-    progress(0.05, "Reading the text and speaking it")
+    if options.recording is not None and options.cues is None and not source.strip():
+        progress(0.05, "Hearing what the recording says (a few seconds for each minute of it)")
+    else:
+        progress(0.05, "Reading the text and speaking it")
     spoken = lip_sync(source, options)
     scene = solo_scene(spoken)
     wav_path = None
