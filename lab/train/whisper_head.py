@@ -50,13 +50,12 @@ from lab.train import recogniser as espeak_training
 from turkish_lipsync.core.speech.acoustic.labels import CLASSES
 from turkish_lipsync.core.speech.acoustic.network import load_network
 from turkish_lipsync.core.speech.acoustic.whisper import (
-    ENCODER_HOP,
-    ENCODER_LEAD,
     HEAD_DILATIONS,
     HEAD_KERNEL,
     WEIGHTS_FILE,
     WINDOW_SAMPLES,
     WhisperHearing,
+    encoder_frames_of,
     log_mel,
     whisper_hearing,
 )
@@ -137,10 +136,7 @@ class Packer:
         encoded = self.hearing.encode(log_mel(window))
         for item, start, _ in self.pending:
             centres = start + np.arange(len(item["labels"])) * HOP + WINDOW / 2
-            nearest = np.clip(
-                np.round((centres - ENCODER_LEAD) / ENCODER_HOP).astype(int), 0, len(encoded) - 1
-            )
-            item["frames"] = encoded[nearest].astype(np.float16)
+            item["frames"] = encoded[encoder_frames_of(centres, len(encoded))].astype(np.float16)
         self.pending, self.used = [], 0
 
 

@@ -111,8 +111,7 @@ class WhisperHearing:
             heard = -(-len(chunk) // ENCODER_HOP)
             pieces.append(self.encode(log_mel(chunk))[: max(1, heard)].astype(np.float16))
         encoded = np.concatenate(pieces)
-        nearest = np.round((np.arange(count) * HOP + WINDOW / 2 - ENCODER_LEAD) / ENCODER_HOP)
-        nearest = np.clip(nearest.astype(np.int64), 0, len(encoded) - 1)
+        nearest = encoder_frames_of(np.arange(count) * HOP + WINDOW / 2, len(encoded))
         out = np.empty((count, len(CLASSES)), np.float32)
         radius = (HEAD_KERNEL // 2) * sum(HEAD_DILATIONS)
         for begin in range(0, count, HEAD_BLOCK_FRAMES):  # blocks overlapping by what the classifier hears
@@ -159,6 +158,12 @@ class WhisperHearing:
         for n, dilation in enumerate(HEAD_DILATIONS[1:], 1):
             h = h + np.maximum(convolve(h, head[f"conv{n}.weight"], head[f"conv{n}.bias"], dilation), 0)
         return h @ head["out.weight"] + head["out.bias"]
+
+
+def encoder_frames_of(centres: np.ndarray, available: int) -> np.ndarray:
+    """The encoder frame each of our frames takes (its centre in samples; ENCODER_LEAD), of `available`."""
+    nearest = np.round((np.asarray(centres) - ENCODER_LEAD) / ENCODER_HOP).astype(np.int64)
+    return np.clip(nearest, 0, available - 1)
 
 
 def _halving_convolution(x: np.ndarray, weight: np.ndarray, bias: np.ndarray) -> np.ndarray:
