@@ -26,10 +26,11 @@ from ..core.base.errors import HeadError
 from ..core.base.model import OWNED_PREFIX, Timeline, Utterance, WeightTracks
 from ..core.interchange.animation_record import AnimationRecord, record_to_json
 from ..core.motion.frames import shown_frame_count
-from ..core.pipeline import LipSyncOptions, lip_sync
+from ..core.pipeline import LipSyncOptions, lip_sync, speech_request
 from ..core.scene import Character, RoleChoice, SceneResult, cast_for, scene_motion, scene_speech, solo_scene
 from ..core.scene.speech import SceneSources
 from ..core.speech import Synthesis
+from ..core.speech.sources import timing_source_for
 from ..core.text.script import read_script
 from . import character, conversation, face_rig, keyframes, living, pipeline, sequencer
 from .living_rig import LivingRig
@@ -177,10 +178,7 @@ def _solo(context, head, source: str, options: LipSyncOptions, gaze_target: str,
         options = dataclasses.replace(options, gaze_setup=setup)
     face = character.face_rig_for(context, head, rig)  # the head's face rig, if it has one
     rig = face_rig.hand_eyes_to_rig(rig, face) if rig is not None else None
-    if options.recording is not None and options.cues is None and not source.strip():
-        progress(0.05, "Hearing what the recording says (a few seconds for each minute of it)")
-    else:
-        progress(0.05, "Reading the text and speaking it")
+    progress(0.05, timing_source_for(speech_request(source, options)).working)
     spoken = lip_sync(source, options)
     scene = solo_scene(spoken)
     wav_path = None

@@ -149,10 +149,9 @@ class LipSyncResult:
     warnings: tuple[str, ...]
 
 
-def lip_sync(source: str, options: LipSyncOptions | None = None) -> LipSyncResult:
-    """Read the source as a Turkish speaker would, speak it (or align the recording), time it, move it."""
-    options = options or LipSyncOptions()
-    request = SpeechRequest(
+def speech_request(source: str, options: LipSyncOptions) -> SpeechRequest:
+    """What the timing sources are asked for the source text with these options."""
+    return SpeechRequest(
         text=source,
         timing=options.timing,
         rate=options.rate,
@@ -163,7 +162,12 @@ def lip_sync(source: str, options: LipSyncOptions | None = None) -> LipSyncResul
         aligner=options.aligner,
         recogniser=options.recogniser,
     )
-    utterance, speech = speak(request)
+
+
+def lip_sync(source: str, options: LipSyncOptions | None = None) -> LipSyncResult:
+    """Read the source as a Turkish speaker would, speak it (or align the recording), time it, move it."""
+    options = options or LipSyncOptions()
+    utterance, speech = speak(speech_request(source, options))
     tracks = weight_tracks(
         speech.timeline, options.fps, mode=options.motion, emotion_strength=options.emotion_strength
     )

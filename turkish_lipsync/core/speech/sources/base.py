@@ -31,6 +31,7 @@ class TimingSource:
     name: str = ""
     label: str = ""
     description: str = ""
+    working: str = ""  # what a progress line says while it speaks a request
     priority: int = 0  # asked first when higher
 
     def claims(self, request: SpeechRequest) -> bool:

@@ -11,6 +11,7 @@ class CueFileSource(TimingSource):
     name = "cues"
     label = "Cue file"
     description = "A Rhubarb, Papagayo or Moho file says when the mouth changes; the recording is its sound"
+    working = "Timing the text by the cue file"
     priority = 20
 
     def claims(self, request: SpeechRequest) -> bool:

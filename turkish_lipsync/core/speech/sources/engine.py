@@ -13,6 +13,7 @@ class EngineSource(TimingSource):
     name = "engine"
     label = "Speech engine"
     description = "The text spoken by eSpeak NG's Turkish voice, every phone keyed where it is spoken"
+    working = "Reading the text and speaking it"
     priority = 0
 
     def claims(self, request: SpeechRequest) -> bool:

@@ -11,6 +11,7 @@ class RecognisedSource(TimingSource):
     name = "recognised"
     label = "Recognised from the recording"
     description = "A recording with no text: the letters it says are recognised and keyed where heard"
+    working = "Hearing what the recording says (a few seconds for each minute of it)"
     priority = 10
 
     def claims(self, request: SpeechRequest) -> bool:

@@ -12,6 +12,7 @@ class RecordingSource(TimingSource):
     name = "recording"
     label = "Recording"
     description = "A recording of the text read aloud, aligned to it"
+    working = "Aligning the recording to the text"
     priority = 10
 
     def claims(self, request: SpeechRequest) -> bool:
