@@ -1,7 +1,7 @@
 """How well lip sync from the audio alone follows the mouth, on voices and noise the recogniser never heard.
 
     python -m lab.measure.recogniser [--voices NAME ...] [--conditions NAME ...] [--sentences N]
-    python -m lab.measure.recogniser --speed MINUTES     # one long take: x real time, peak memory
+    python -m lab.measure.recogniser --speed MINUTES [--people]  # one long take: x real time, memory
     python -m lab.measure.recogniser --bad               # silence, noise, music, other languages
     python -m lab.measure.recogniser --tune [--set NAME=VALUE ...] [--try NAME=V1,V2 ...]
 
@@ -35,6 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from lab import REPOSITORY
+from lab.kit import people
 from lab.kit.corpus import held_out_sentences, tuning_sentences
 from lab.kit.scores import bilabial_scores, correlation, loudness_envelope, opening_trajectory
 from lab.kit.sweep import settings_tried
@@ -146,14 +147,20 @@ def _row(name: str, results: list[dict]) -> str:
     )
 
 
-def measure_speed(minutes: float, folder: Path) -> None:
-    """One long take of held-out sentences (voice m3, 30 dB): seconds, x real time and peak memory."""
-    texts = held_out_sentences()
+def measure_speed(minutes: float, folder: Path, of_people: bool = False) -> None:
+    """One long take of held-out sentences (voice m3, 30 dB), or of people's voice-acted lines one after
+    the other (the report part's; the recogniser hears these with Whisper too): seconds, x real time and
+    peak memory."""
     rng = np.random.default_rng(3)
     pieces = []
     total = 0.0
+    lines = people.sentence_lines("report") if of_people else []
+    texts = held_out_sentences()
     while total < minutes * 60:
-        samples, _ = speak(texts[len(pieces) % len(texts)], *TEST_VOICES["m3"], sample_rate=RECORDED_RATE)
+        if of_people:
+            samples = people.read(lines[len(pieces) % len(lines)], RECORDED_RATE)
+        else:
+            samples, _ = speak(texts[len(pieces) % len(texts)], *TEST_VOICES["m3"], sample_rate=RECORDED_RATE)
         pieces.append(np.concatenate((samples, np.zeros(int(0.5 * RECORDED_RATE)))))
         total += pieces[-1].size / RECORDED_RATE
     reading = takes.Take(np.concatenate(pieces), np.zeros(0), np.zeros(0), np.zeros(0, bool))
@@ -301,6 +308,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--conditions", nargs="+", choices=TEST_CONDITIONS, default=list(TEST_CONDITIONS))
     parser.add_argument("--sentences", type=int, default=0, help="use only the first N sentences")
     parser.add_argument("--speed", type=float, metavar="MINUTES", help="time one take this long instead")
+    parser.add_argument("--people", action="store_true", help="--speed: of people's lines, not eSpeak NG's")
     parser.add_argument("--bad", action="store_true", help="silence, noise, music and other languages")
     parser.add_argument("--tune", action="store_true", help="the recogniser's constants on the tuning voices")
     parser.add_argument("--set", nargs="*", default=[], metavar="NAME=VALUE", help="--tune: the baseline")
@@ -312,7 +320,7 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     with tempfile.TemporaryDirectory() as folder:
         if args.speed:
-            measure_speed(args.speed, Path(folder))
+            measure_speed(args.speed, Path(folder), args.people)
         elif args.bad:
             measure_bad_input(Path(folder))
         elif args.tune:

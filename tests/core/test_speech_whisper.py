@@ -96,7 +96,7 @@ def test_the_settings_weigh_the_two_hearings(spoken):
     network_heard, whisper_heard = recogniser.hearings(samples)
     alone = recogniser.recognise_posteriors(network_heard, None, RecogniserSettings())
     network_only = recogniser.recognise_posteriors(
-        network_heard, whisper_heard, RecogniserSettings(whisper_weight=0)
+        network_heard, whisper_heard, RecogniserSettings(whisper_weight=0, network_sure=2)
     )
     assert [letter for phrase in alone.phrases for letter in phrase] == [
         letter for phrase in network_only.phrases for letter in phrase
@@ -109,6 +109,26 @@ def test_the_settings_weigh_the_two_hearings(spoken):
     expected = 0.5 * (network_heard - np.log(load_network().priors)) + 0.5 * (whisper_heard - np.log(priors))
     differences = scaled - expected
     assert np.allclose(differences, differences[:, :1], atol=1e-3)
+
+
+def test_whisper_is_heard_only_where_the_network_is_not_sure(spoken):
+    samples, _ = spoken
+    network_heard, whisper_heard = recogniser.hearings(samples)
+    # eSpeak NG's voice is one the network knows: heard by it alone, whatever Whisper would add.
+    assert not recogniser.whisper_needed(network_heard, RecogniserSettings())
+    alone = recogniser.recognise_posteriors(network_heard, None, RecogniserSettings())
+    assert recogniser.recognise(samples).phrases == alone.phrases
+    assert recogniser.recognise_posteriors(network_heard, whisper_heard).phrases == alone.phrases
+    # Asked to be surer than it can be, the recogniser hears both, as a person's take is heard.
+    always = RecogniserSettings(network_sure=2)
+    assert recogniser.whisper_needed(network_heard, always)
+    both = recogniser.recognise_posteriors(network_heard, whisper_heard, always)
+    assert recogniser.recognise(samples, always).phrases == both.phrases
+    assert both.phrases != alone.phrases
+    # Never with no weight; always where the network hears no speech at all.
+    assert not recogniser.whisper_needed(network_heard, RecogniserSettings(whisper_weight=0, network_sure=2))
+    silence = load_network().log_posteriors(recogniser_features(np.zeros(RATE, np.float32)))
+    assert recogniser.whisper_needed(silence, RecogniserSettings())
 
 
 def test_missing_or_foreign_weights_say_what_to_do(tmp_path):

@@ -4,6 +4,8 @@ The shipped network (acoustic/network.py) has heard eSpeak NG's Turkish voice in
 people; Whisper's encoder under its classifier (acoustic/whisper.py) has heard many people and few
 synthetic voices. Their scaled likelihoods (posteriors over priors) are averaged with the settings'
 whisper_weight, which keeps the first's hearing of synthetic voices and brings the second's of people.
+The network hears first; where it is sure of the take (settings.network_sure), as of eSpeak NG's voice
+in any room, Whisper's encoder, ten times its time, is not run.
 
 The decoder's sequence is checked against the posteriors it came from, segment by segment, so that a
 doubtful letter never shuts the mouth: a bilabial (b, m, p) the network is not sure of becomes the most
@@ -60,15 +62,29 @@ class Recognition:
 
 
 def recognise(samples: np.ndarray, settings: RecogniserSettings = DEFAULT_RECOGNISER) -> Recognition:
-    """The letters heard in 16 kHz float samples."""
-    return recognise_posteriors(*hearings(samples, settings.whisper_weight > 0), settings)
-
-
-def hearings(samples: np.ndarray, with_whisper: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
-    """The network's and Whisper's hearing's log posteriors (frames x classes) of 16 kHz float samples
-    (Whisper's None without it)."""
+    """The letters heard in 16 kHz float samples (Whisper's hearing only where the network needs it)."""
     network_heard = load_network().log_posteriors(recogniser_features(samples))
-    return network_heard, load_whisper_hearing().log_posteriors(samples) if with_whisper else None
+    whisper_heard = None
+    if whisper_needed(network_heard, settings):
+        whisper_heard = load_whisper_hearing().log_posteriors(samples)
+    return recognise_posteriors(network_heard, whisper_heard, settings)
+
+
+def hearings(samples: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The network's and Whisper's hearing's log posteriors (frames x classes) of 16 kHz float samples,
+    both whatever the settings (what a tuning run keeps)."""
+    network_heard = load_network().log_posteriors(recogniser_features(samples))
+    return network_heard, load_whisper_hearing().log_posteriors(samples)
+
+
+def whisper_needed(network_heard: np.ndarray, settings: RecogniserSettings) -> bool:
+    """Whether Whisper's hearing counts: it is weighed in, and the network is not sure of the take (its
+    likeliest class's mean posterior over the frames it hears as speech, none: not sure)."""
+    if settings.whisper_weight <= 0:
+        return False
+    likeliest = network_heard.max(axis=1)
+    speech = network_heard.argmax(axis=1) != 0
+    return not speech.any() or float(np.exp(likeliest[speech]).mean()) < settings.network_sure
 
 
 def recognise_posteriors(
@@ -76,8 +92,11 @@ def recognise_posteriors(
     whisper_heard: np.ndarray | None,
     settings: RecogniserSettings = DEFAULT_RECOGNISER,
 ) -> Recognition:
-    """The letters heard in the two hearings' log posteriors (hearings): what a tuning run varies."""
+    """The letters heard in the two hearings' log posteriors (hearings): what a tuning run varies.
+    Whisper's counts only where whisper_needed says so."""
     network = load_network()
+    if whisper_heard is not None and not whisper_needed(network_heard, settings):
+        whisper_heard = None
     log_posteriors, priors = _averaged(network_heard, whisper_heard, settings.whisper_weight)
     segments = decode(log_posteriors, priors, network.transitions, network.shortest, settings)
     return _phrases(segments, log_posteriors, settings)
@@ -89,7 +108,7 @@ def _averaged(
     """The two hearings' log posteriors as one (the scaled likelihoods averaged, over Whisper's priors)
     and the priors the decoder divides them by."""
     network_priors = load_network().priors
-    if whisper_heard is None or weight <= 0:
+    if whisper_heard is None:
         return network_heard, network_priors
     whisper_priors = load_whisper_hearing().priors
     count = min(len(network_heard), len(whisper_heard))
