@@ -25,6 +25,7 @@ from ..acoustic.labels import (
     CLASS_INDEX,
     CLASSES,
     FRAME_SECONDS,
+    SILENCE,
     VOWEL_LETTERS,
     frame_times,
 )
@@ -63,7 +64,7 @@ class Recognition:
 
 def recognise(samples: np.ndarray, settings: RecogniserSettings = DEFAULT_RECOGNISER) -> Recognition:
     """The letters heard in 16 kHz float samples (Whisper's hearing only where the network needs it)."""
-    network_heard = load_network().log_posteriors(recogniser_features(samples))
+    network_heard = _network_hearing(samples)
     whisper_heard = None
     if whisper_needed(network_heard, settings):
         whisper_heard = load_whisper_hearing().log_posteriors(samples)
@@ -73,8 +74,11 @@ def recognise(samples: np.ndarray, settings: RecogniserSettings = DEFAULT_RECOGN
 def hearings(samples: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The network's and Whisper's hearing's log posteriors (frames x classes) of 16 kHz float samples,
     both whatever the settings (what a tuning run keeps)."""
-    network_heard = load_network().log_posteriors(recogniser_features(samples))
-    return network_heard, load_whisper_hearing().log_posteriors(samples)
+    return _network_hearing(samples), load_whisper_hearing().log_posteriors(samples)
+
+
+def _network_hearing(samples: np.ndarray) -> np.ndarray:
+    return load_network().log_posteriors(recogniser_features(samples))
 
 
 def whisper_needed(network_heard: np.ndarray, settings: RecogniserSettings) -> bool:
@@ -83,7 +87,7 @@ def whisper_needed(network_heard: np.ndarray, settings: RecogniserSettings) -> b
     if settings.whisper_weight <= 0:
         return False
     likeliest = network_heard.max(axis=1)
-    speech = network_heard.argmax(axis=1) != 0
+    speech = network_heard.argmax(axis=1) != CLASS_INDEX[SILENCE]
     return not speech.any() or float(np.exp(likeliest[speech]).mean()) < settings.network_sure
 
 
