@@ -5,7 +5,7 @@ people; Whisper's encoder under its classifier (acoustic/whisper.py) has heard m
 synthetic voices. Their scaled likelihoods (posteriors over priors) are averaged with the settings'
 whisper_weight, which keeps the first's hearing of synthetic voices and brings the second's of people.
 The network hears first; where it is sure of the take (settings.network_sure), as of eSpeak NG's voice
-in any room, Whisper's encoder, ten times its time, is not run.
+outside a reverberant room, Whisper's encoder, ten times its time, is not run.
 
 The decoder's sequence is checked against the posteriors it came from, segment by segment, so that a
 doubtful letter never shuts the mouth: a bilabial (b, m, p) the network is not sure of becomes the most

@@ -22,8 +22,9 @@ class RecogniserSettings:
     network_sure: float = 0.9
     """A take the network hears at least this surely (its likeliest class's posterior, averaged over the
     frames it hears as speech) is heard by the network alone: Whisper's encoder, ten times the network's
-    time, adds nothing to a voice the network knows (eSpeak NG's, in any room). People's takes fall far
-    below (the tune part's Czech lines' median 0.53). Above 1: Whisper always heard."""
+    time, adds little to a voice the network knows (eSpeak NG's, but in a reverberant room, where it is
+    less sure and both are heard). People's takes fall far below (the tune part's Czech lines' median
+    0.53). Above 1: Whisper always heard."""
     prior_weight: float = 0.8
     """The decoder divides the posteriors by the classes' priors to this power (scaled likelihoods)."""
     language_weight: float = 0.5
