@@ -151,17 +151,22 @@ def measure_speed(minutes: float, folder: Path, of_people: bool = False) -> None
     """One long take of held-out sentences (voice m3, 30 dB), or of people's voice-acted lines one after
     the other (the report part's; the recogniser hears these with Whisper too): seconds, x real time and
     peak memory."""
+    if of_people:
+        lines = people.sentence_lines("report")
+
+        def said(n: int) -> np.ndarray:
+            return people.read(lines[n % len(lines)], RECORDED_RATE)
+    else:
+        texts = held_out_sentences()
+
+        def said(n: int) -> np.ndarray:
+            return speak(texts[n % len(texts)], *TEST_VOICES["m3"], sample_rate=RECORDED_RATE)[0]
+
     rng = np.random.default_rng(3)
     pieces = []
     total = 0.0
-    lines = people.sentence_lines("report") if of_people else []
-    texts = held_out_sentences()
     while total < minutes * 60:
-        if of_people:
-            samples = people.read(lines[len(pieces) % len(lines)], RECORDED_RATE)
-        else:
-            samples, _ = speak(texts[len(pieces) % len(texts)], *TEST_VOICES["m3"], sample_rate=RECORDED_RATE)
-        pieces.append(np.concatenate((samples, np.zeros(int(0.5 * RECORDED_RATE)))))
+        pieces.append(np.concatenate((said(len(pieces)), np.zeros(int(0.5 * RECORDED_RATE)))))
         total += pieces[-1].size / RECORDED_RATE
     reading = takes.Take(np.concatenate(pieces), np.zeros(0), np.zeros(0), np.zeros(0, bool))
     del pieces
