@@ -60,10 +60,25 @@ def test_the_halving_convolution_is_every_other_frame_of_the_full_one():
     )
 
 
-def test_gelu_is_close_to_the_exact_one():
+def test_gelu_is_close_to_the_exact_one_and_finite_far_out():
     x = np.linspace(-6, 6, 241).astype(np.float32)
     exact = np.array([0.5 * v * (1 + math.erf(v / math.sqrt(2))) for v in x.astype(np.float64)])
     assert np.abs(whisper._gelu(x.copy()) - exact).max() < 1e-3
+    far = whisper._gelu(np.array([-1e4, -60.0, 60.0, 1e4], np.float32))
+    np.testing.assert_array_equal(far, [0.0, 0.0, 60.0, 1e4])
+
+
+def test_the_attention_in_blocks_is_softmax_attention_head_by_head():
+    rng = np.random.default_rng(5)
+    heads, size, frames = 3, 8, whisper.ATTENTION_ROWS + 37  # a last block shorter than the others
+    qkv = (4 * rng.normal(size=(frames, 3 * heads * size))).astype(np.float32)
+    expected = np.empty((frames, heads * size))
+    for head in range(heads):
+        q, k, v = (qkv[:, (part * heads + head) * size :][:, :size].astype(np.float64) for part in range(3))
+        scores = q @ k.T / math.sqrt(size)
+        weights = np.exp(scores - scores.max(axis=1, keepdims=True))
+        expected[:, head * size : (head + 1) * size] = weights / weights.sum(axis=1, keepdims=True) @ v
+    np.testing.assert_allclose(whisper._attended(qkv, heads), expected, rtol=1e-4, atol=1e-4)
 
 
 def test_the_hearing_hears_a_held_out_voices_bilabials_and_vowels(spoken):

@@ -36,6 +36,7 @@ ENCODER_HOP = 2 * MEL_HOP  # the encoder's second convolution halves the frame r
 ENCODER_LEAD = 240
 HEAD_KERNEL = 5
 HEAD_DILATIONS = (1, 2, 4)
+ATTENTION_ROWS = 500  # the encoder's queries scored at a time (their scores: 3 MB a head)
 HEAD_BLOCK_FRAMES = 8192  # the classifier's frames at a time (about 80 s)
 
 
@@ -131,21 +132,10 @@ class WhisperHearing:
         x = _gelu(convolve(mel, w["conv1.weight"], w["conv1.bias"], 1))
         x = _gelu(_halving_convolution(x, w["conv2.weight"], w["conv2.bias"]))
         x += _positions(len(x), x.shape[1])
-        frames, width = x.shape
-        size = width // self.heads
         for n in range(self.layers):
             name = f"layer{n}."
             h = _normalised(x, w[name + "attention_norm.gamma"], w[name + "attention_norm.beta"])
-            qkv = h @ w[name + "qkv.weight"] + w[name + "qkv.bias"]
-            q, k, v = (
-                part.reshape(frames, self.heads, size).transpose(1, 0, 2) for part in np.split(qkv, 3, 1)
-            )
-            scores = (q * np.float32(size**-0.5)) @ k.transpose(0, 2, 1)
-            scores -= scores.max(axis=-1, keepdims=True)
-            np.exp(scores, out=scores)
-            scores /= scores.sum(axis=-1, keepdims=True)
-            attended = (scores @ v).transpose(1, 0, 2).reshape(frames, width)
-            del scores
+            attended = _attended(h @ w[name + "qkv.weight"] + w[name + "qkv.bias"], self.heads)
             x += attended @ w[name + "out.weight"] + w[name + "out.bias"]
             h = _normalised(x, w[name + "ffn_norm.gamma"], w[name + "ffn_norm.beta"])
             x += _gelu(h @ w[name + "ffn_in.weight"] + w[name + "ffn_in.bias"]) @ w[name + "ffn_out.weight"]
@@ -158,6 +148,28 @@ class WhisperHearing:
         for n, dilation in enumerate(HEAD_DILATIONS[1:], 1):
             h = h + np.maximum(convolve(h, head[f"conv{n}.weight"], head[f"conv{n}.bias"], dilation), 0)
         return h @ head["out.weight"] + head["out.bias"]
+
+
+def _attended(qkv: np.ndarray, heads: int) -> np.ndarray:
+    """Softmax attention of (frames x 3 width) queries, keys and values, head by head, ATTENTION_ROWS
+    queries at a time (their scores stay in the cache), each row's sum dividing its head-wide result
+    rather than its scores."""
+    frames, width = qkv.shape[0], qkv.shape[1] // 3
+    size = width // heads
+    scale = np.float32(size**-0.5)
+    out = np.empty((frames, width), np.float32)
+    for head in range(heads):
+        columns = slice(head * size, (head + 1) * size)
+        queries = qkv[:, columns] * scale
+        keys = np.ascontiguousarray(qkv[:, width + head * size : width + (head + 1) * size].T)
+        values = np.ascontiguousarray(qkv[:, 2 * width + head * size : 2 * width + (head + 1) * size])
+        for begin in range(0, frames, ATTENTION_ROWS):
+            rows = slice(begin, begin + ATTENTION_ROWS)
+            scores = queries[rows] @ keys
+            scores -= scores.max(axis=1, keepdims=True)
+            np.exp(scores, out=scores)
+            out[rows, columns] = (scores @ values) / scores.sum(axis=1, keepdims=True)
+    return out
 
 
 def encoder_frames_of(centres: np.ndarray, available: int) -> np.ndarray:
@@ -178,16 +190,17 @@ def _halving_convolution(x: np.ndarray, weight: np.ndarray, bias: np.ndarray) ->
 
 
 def _gelu(x: np.ndarray) -> np.ndarray:
-    """GELU in its tanh form (within 1e-3 of the exact one Whisper was trained with), in one new array."""
+    """GELU in its tanh form (within 1e-3 of the exact one Whisper was trained with), in one new array:
+    0.5 x (1 + tanh(z)) computed as x / (1 + exp(-2 z)), z = sqrt(2 / pi) (x + 0.044715 x^3), with an
+    exponential rather than numpy's slower tanh (a large negative x gives exp = inf and GELU = -0)."""
     out = x * x
-    out *= np.float32(0.044715)
-    out += 1
+    out *= np.float32(-2 * 0.7978845608 * 0.044715)
+    out += np.float32(-2 * 0.7978845608)
     out *= x
-    out *= np.float32(0.7978845608)
-    np.tanh(out, out=out)
+    with np.errstate(over="ignore"):
+        np.exp(out, out=out)
     out += 1
-    out *= x
-    out *= np.float32(0.5)
+    np.divide(x, out, out=out)
     return out
 
 
