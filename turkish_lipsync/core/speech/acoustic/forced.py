@@ -21,6 +21,7 @@ PRIOR_WEIGHT = 0.8  # posteriors / priors ** PRIOR_WEIGHT (the decoder's)
 ENTER_COST = 0.5  # natural-log units per letter entered: a slight push toward fewer, longer stays
 POSTERIOR_FLOOR = 1e-3
 PAUSE_COST = 2.0  # entering a pause between words costs this much more than going on speaking
+VITERBI_BLOCK_CELLS = 1 << 20  # the forward pass gathers its frames' band scores this many at a time
 
 
 @dataclass(frozen=True, eq=False)
@@ -163,7 +164,7 @@ def _viterbi(
 ) -> tuple[np.ndarray, np.ndarray]:
     """The forward pass within the band: the best path's score into each state at the last frame (with
     two guard states before state 0), and each frame's move into each state of its band (0 stay, 1 from
-    the state before, 2 from two before)."""
+    the state before, 2 from two before; a tie keeps the lower)."""
     frames, states = len(scores), len(model.classes)
     stay, enter, jump = _transitions(model)
     width = int((high - low).max())
@@ -178,24 +179,27 @@ def _viterbi(
     current[2:][: low[0]] = -np.inf
     current[2:][high[0] :] = -np.inf
     written = {id(current): (0, states + 2), id(previous): (0, 0)}  # each array's last finite stretch
-    for frame in range(1, frames):
-        previous, current = current, previous
-        first, stop = int(low[frame]), int(high[frame])
-        stale = written[id(current)]
-        current[stale[0] : stale[1]] = -np.inf
-        states_here = slice(first, stop)
-        best = previous[first + 2 : stop + 2] + stay[states_here]
-        entered = previous[first + 1 : stop + 1] + enter[states_here]
-        jumped = previous[first:stop] + jump[states_here]
-        choice = (entered > best).view(np.int8)
-        np.maximum(best, entered, out=best)
-        skipped = jumped > best
-        choice[skipped] = 2
-        np.maximum(best, jumped, out=best)
-        best += scores[frame, model.classes[states_here]]
-        current[first + 2 : stop + 2] = best
-        written[id(current)] = (first + 2, stop + 2)
-        moves[frame, : stop - first] = choice
+    lows, highs = low.tolist(), high.tolist()
+    block_length = max(1, VITERBI_BLOCK_CELLS // max(width, 1))
+    for block in range(1, frames, block_length):  # each frame's band of scores, a block of frames at a time
+        block_frames = np.arange(block, min(block + block_length, frames))
+        band_states = np.minimum(low[block_frames, None] + np.arange(width), states - 1)
+        band_scores = scores[block_frames[:, None], model.classes[band_states]]
+        for row, frame in enumerate(block_frames.tolist()):
+            previous, current = current, previous
+            first, stop = lows[frame], highs[frame]
+            stale = written[id(current)]
+            current[stale[0] : stale[1]] = -np.inf
+            best = previous[first + 2 : stop + 2] + stay[first:stop]
+            entered = previous[first + 1 : stop + 1] + enter[first:stop]
+            jumped = previous[first:stop] + jump[first:stop]
+            choice = moves[frame, : stop - first]
+            np.greater(entered, best, out=choice.view(bool))
+            np.maximum(best, entered, out=best)
+            np.putmask(choice, jumped > best, 2)
+            np.maximum(best, jumped, out=best)
+            np.add(best, band_scores[row, : stop - first], out=current[first + 2 : stop + 2])
+            written[id(current)] = (first + 2, stop + 2)
     return current, moves
 
 
