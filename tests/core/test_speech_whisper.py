@@ -135,7 +135,7 @@ def test_whisper_is_heard_only_where_the_network_is_not_sure(spoken):
     assert recogniser.recognise(samples).phrases == alone.phrases
     assert recogniser.recognise_posteriors(network_heard, whisper_heard).phrases == alone.phrases
     # Asked to be surer than it can be, the recogniser hears both, as a person's take is heard.
-    always = RecogniserSettings(network_sure=2)
+    always = RecogniserSettings(network_doubtful=2, network_sure=2)
     assert recogniser.whisper_needed(network_heard, always)
     both = recogniser.recognise_posteriors(network_heard, whisper_heard, always)
     assert recogniser.recognise(samples, always).phrases == both.phrases
@@ -144,6 +144,22 @@ def test_whisper_is_heard_only_where_the_network_is_not_sure(spoken):
     assert not recogniser.whisper_needed(network_heard, RecogniserSettings(whisper_weight=0, network_sure=2))
     silence = load_network().log_posteriors(recogniser_features(np.zeros(RATE, np.float32)))
     assert recogniser.whisper_needed(silence, RecogniserSettings())
+
+
+def test_whispers_weight_falls_as_the_network_grows_sure():
+    def heard(sureness: float) -> np.ndarray:  # every frame an "a" heard this surely
+        posteriors = np.full((50, len(CLASSES)), (1 - sureness) / (len(CLASSES) - 1))
+        posteriors[:, CLASS_INDEX["a"]] = sureness
+        return np.log(posteriors).astype(np.float32)
+
+    settings = RecogniserSettings(whisper_weight=0.5, network_doubtful=0.7, network_sure=0.9)
+    assert recogniser.whisper_share(heard(0.5), settings) == pytest.approx(0.5)  # doubtful: its full weight
+    assert recogniser.whisper_share(heard(0.7), settings) == pytest.approx(0.5)
+    assert recogniser.whisper_share(heard(0.8), settings) == pytest.approx(0.25)  # halfway: half of it
+    assert recogniser.whisper_share(heard(0.9), settings) == 0.0  # sure: not heard at all
+    assert not recogniser.whisper_needed(heard(0.95), settings)
+    step = RecogniserSettings(whisper_weight=0.5, network_doubtful=0.9, network_sure=0.9)
+    assert recogniser.whisper_share(heard(0.89), step) == pytest.approx(0.5)
 
 
 def test_missing_or_foreign_weights_say_what_to_do(tmp_path):

@@ -5,7 +5,8 @@ people; Whisper's encoder under its classifier (acoustic/whisper.py) has heard m
 synthetic voices. Their scaled likelihoods (posteriors over priors) are averaged with the settings'
 whisper_weight, which keeps the first's hearing of synthetic voices and brings the second's of people.
 The network hears first; where it is sure of the take (settings.network_sure), as of eSpeak NG's voice
-outside a reverberant room, Whisper's encoder, ten times its time, is not run.
+outside a reverberant room, Whisper's encoder, ten times its time, is not run; where it is nearly sure
+(settings.network_doubtful), Whisper's weight is less.
 
 The decoder's sequence is checked against the posteriors it came from, segment by segment, so that a
 doubtful letter never shuts the mouth: a bilabial (b, m, p) the network is not sure of becomes the most
@@ -82,13 +83,27 @@ def _network_hearing(samples: np.ndarray) -> np.ndarray:
 
 
 def whisper_needed(network_heard: np.ndarray, settings: RecogniserSettings) -> bool:
-    """Whether Whisper's hearing counts: it is weighed in, and the network is not sure of the take (its
-    likeliest class's mean posterior over the frames it hears as speech, none: not sure)."""
+    """Whether Whisper's hearing counts for the take (whisper_share above 0)."""
+    return whisper_share(network_heard, settings) > 0
+
+
+def whisper_share(network_heard: np.ndarray, settings: RecogniserSettings) -> float:
+    """Whisper's weight for the take: settings.whisper_weight where the network is doubtful of it (its
+    likeliest class's mean posterior over the frames it hears as speech under network_doubtful; no such
+    frames: doubtful), falling linearly to nothing at network_sure."""
     if settings.whisper_weight <= 0:
-        return False
+        return 0.0
     likeliest = network_heard.max(axis=1)
     speech = network_heard.argmax(axis=1) != CLASS_INDEX[SILENCE]
-    return not speech.any() or float(np.exp(likeliest[speech]).mean()) < settings.network_sure
+    if not speech.any():
+        return settings.whisper_weight
+    sureness = float(np.exp(likeliest[speech]).mean())
+    if sureness >= settings.network_sure:
+        return 0.0
+    span = settings.network_sure - settings.network_doubtful
+    if span <= 0 or sureness <= settings.network_doubtful:
+        return settings.whisper_weight
+    return settings.whisper_weight * (settings.network_sure - sureness) / span
 
 
 def recognise_posteriors(
@@ -97,13 +112,19 @@ def recognise_posteriors(
     settings: RecogniserSettings = DEFAULT_RECOGNISER,
 ) -> Recognition:
     """The letters heard in the two hearings' log posteriors (hearings): what a tuning run varies.
-    Whisper's counts only where whisper_needed says so."""
+    Whisper's counts with whisper_share's weight; the take's confidence is that of the take heard with
+    Whisper at its full weight wherever Whisper counts at all (the network, sure of a voice it knows, is
+    about as sure of another language in that voice: Whisper's hearing is what tells them apart)."""
     network = load_network()
-    if whisper_heard is not None and not whisper_needed(network_heard, settings):
-        whisper_heard = None
-    log_posteriors, priors = _averaged(network_heard, whisper_heard, settings.whisper_weight)
+    share = whisper_share(network_heard, settings)
+    log_posteriors, priors = _averaged(network_heard, whisper_heard if share > 0 else None, share)
     segments = decode(log_posteriors, priors, network.transitions, network.shortest, settings)
-    return _phrases(segments, log_posteriors, settings)
+    recognition = _phrases(segments, log_posteriors, settings)
+    if whisper_heard is None or not 0 < share < settings.whisper_weight:
+        return recognition
+    judged, judged_priors = _averaged(network_heard, whisper_heard, settings.whisper_weight)
+    segments = decode(judged, judged_priors, network.transitions, network.shortest, settings)
+    return Recognition(recognition.phrases, _phrases(segments, judged, settings).confidence)
 
 
 def _averaged(

@@ -24,7 +24,13 @@ class RecogniserSettings:
     frames it hears as speech) is heard by the network alone: Whisper's encoder, ten times the network's
     time, adds little to a voice the network knows (eSpeak NG's, but in a reverberant room, where it is
     less sure and both are heard). People's takes fall far below (the tune part's Czech lines' median
-    0.53). Above 1: Whisper always heard."""
+    0.53). Above 1 (and network_doubtful too): Whisper always heard at its full weight."""
+    network_doubtful: float = 0.7
+    """Whisper's hearing counts fully (whisper_weight) for a take the network hears less surely than this;
+    from here to network_sure its weight falls linearly to nothing (equal to network_sure: a step). The
+    network hears eSpeak NG's voice in a reverberant room better than Whisper does, though less surely
+    than elsewhere; people's takes lie far below. The low-confidence warning is judged with Whisper at
+    its full weight wherever it is heard."""
     prior_weight: float = 0.8
     """The decoder divides the posteriors by the classes' priors to this power (scaled likelihoods)."""
     language_weight: float = 0.5
