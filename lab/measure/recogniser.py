@@ -3,7 +3,7 @@
     python -m lab.measure.recogniser [--voices NAME ...] [--conditions NAME ...] [--sentences N]
     python -m lab.measure.recogniser --speed MINUTES [--people]  # one long take: x real time, memory
     python -m lab.measure.recogniser --bad               # silence, noise, music, other languages
-    python -m lab.measure.recogniser --tune [--set NAME=VALUE ...] [--try NAME=V1,V2 ...]
+    python -m lab.measure.recogniser --tune [--conditions NAME ...] [--set NAME=VALUE ...] [--try ...]
 
 The takes: the held-out sentences of examples/corpus_tr.txt (lines 31-50, never in training) spoken by
 eSpeak NG variants the network was not trained on (the weights' own list of held-out variants, checked
@@ -253,20 +253,25 @@ def weights_digest() -> str:
     return hashlib.sha1(WEIGHTS_FILE.read_bytes() + WHISPER_WEIGHTS_FILE.read_bytes()).hexdigest()[:12]
 
 
-def tuning_takes(folder: Path) -> list[tuple]:
-    """The tuning voices reading the tuning sentences, each in a random condition: per take its
-    posteriors, truth, lead and length (kept in TUNING_CACHE per weights file)."""
+def tuning_takes(folder: Path, conditions: tuple[str, ...] = TEST_CONDITIONS) -> list[tuple]:
+    """The tuning voices reading the tuning sentences, each in a condition drawn from `conditions`: per
+    take its posteriors, truth, lead and length (kept in TUNING_CACHE per weights file and conditions)."""
     from turkish_lipsync.core.speech.audio import read_audio, resample
     from turkish_lipsync.core.speech.recognition import recogniser
 
-    cached = TUNING_CACHE / f"synthetic_{weights_digest()}.pickle"
+    drawn = (
+        ""
+        if conditions == TEST_CONDITIONS
+        else "_" + hashlib.sha1("|".join(conditions).encode()).hexdigest()[:8]
+    )
+    cached = TUNING_CACHE / f"synthetic_{weights_digest()}{drawn}.pickle"
     if cached.exists():
         return pickle.loads(cached.read_bytes())
     rng = np.random.default_rng(21)
     takes = []
     for text in tuning_sentences():
         for voice in TUNING_VOICES.values():
-            condition = TEST_CONDITIONS[int(rng.integers(len(TEST_CONDITIONS)))]
+            condition = conditions[int(rng.integers(len(conditions)))]
             path, truth, lead, samples = make_take(text, voice, condition, folder, rng)
             native, rate = read_audio(path)
             duration = samples.size / RECORDED_RATE
@@ -276,13 +281,14 @@ def tuning_takes(folder: Path) -> list[tuple]:
     return takes
 
 
-def tune(folder: Path, baseline: list[str], tries: list[str]) -> None:
-    """The recogniser's constants on the tuning voices and sentences: r and bilabials closed per setting."""
+def tune(folder: Path, baseline: list[str], tries: list[str], conditions: tuple[str, ...]) -> None:
+    """The recogniser's constants on the tuning voices and sentences (each take in one of `conditions`):
+    r and bilabials closed per setting."""
     from turkish_lipsync.core.speech.recognition import recogniser
     from turkish_lipsync.core.speech.recognition.settings import DEFAULT_RECOGNISER
     from turkish_lipsync.core.speech.recognition.transcript import heard_timeline, heard_utterance
 
-    takes = tuning_takes(folder)
+    takes = tuning_takes(folder, conditions)
     for label, settings in settings_tried(DEFAULT_RECOGNISER, baseline, tries, TUNED):
         rs, closed, total, vowels_closed, vowels, confidences = [], 0, 0, 0, 0, []
         for posteriors, truth, lead, duration in takes:
@@ -329,7 +335,7 @@ def main(argv: list[str] | None = None) -> int:
         elif args.bad:
             measure_bad_input(Path(folder))
         elif args.tune:
-            tune(Path(folder), args.set, args.tries)
+            tune(Path(folder), args.set, args.tries, tuple(args.conditions))
         else:
             texts = held_out_sentences()[: args.sentences or None]
             measure(texts, args.voices, args.conditions, Path(folder))
