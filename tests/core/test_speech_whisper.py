@@ -162,6 +162,17 @@ def test_whispers_weight_falls_as_the_network_grows_sure():
     assert recogniser.whisper_share(heard(0.89), step) == pytest.approx(0.5)
 
 
+def test_a_take_in_the_fall_is_judged_as_with_whispers_full_weight(spoken):
+    samples, _ = spoken
+    network_heard, whisper_heard = recogniser.hearings(samples)
+    falling = RecogniserSettings(network_doubtful=0.5, network_sure=2)  # eSpeak NG's take: in the fall
+    share = recogniser.whisper_share(network_heard, falling)
+    assert 0 < share < falling.whisper_weight
+    full = RecogniserSettings(network_doubtful=2, network_sure=2)
+    heard = recogniser.recognise_posteriors(network_heard, whisper_heard, falling)
+    assert heard.confidence == recogniser.recognise_posteriors(network_heard, whisper_heard, full).confidence
+
+
 def test_missing_or_foreign_weights_say_what_to_do(tmp_path):
     with pytest.raises(DataError, match="missing; reinstall the extension"):
         whisper.load_whisper_hearing(tmp_path / "none.npz")

@@ -28,9 +28,9 @@ class RecogniserSettings:
     network_doubtful: float = 0.7
     """Whisper's hearing counts fully (whisper_weight) for a take the network hears less surely than this;
     from here to network_sure its weight falls linearly to nothing (equal to network_sure: a step). The
-    network hears eSpeak NG's voice in a reverberant room better than Whisper does, though less surely
-    than elsewhere; people's takes lie far below. The low-confidence warning is judged with Whisper at
-    its full weight wherever it is heard."""
+    network hears eSpeak NG's voice in a reverberant room better than the pair does, though less surely
+    than elsewhere; most people's takes lie below (the tune part's syllables' median 0.60). The
+    low-confidence warning is judged with Whisper at its full weight wherever it is heard."""
     prior_weight: float = 0.8
     """The decoder divides the posteriors by the classes' priors to this power (scaled likelihoods)."""
     language_weight: float = 0.5
