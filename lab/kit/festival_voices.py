@@ -67,15 +67,17 @@ PACKAGES = ("festival", "festival-czech", *sorted({voice.package for voice in VO
 
 def install() -> None:
     """Festival and the voices from Debian (apt-get install; run as root, as the training machine is)."""
-    missing = [name for name in PACKAGES if not _installed(name)]
+    missing = [name for name in PACKAGES if not installed(name)]
     if missing:
         subprocess.run(["apt-get", "update", "-qq"], check=True)
         subprocess.run(["apt-get", "install", "-y", "-qq", *missing], check=True)
 
 
-def _installed(package: str) -> bool:
+def installed(package: str) -> bool:
+    """Whether Debian's package is installed (its status's state is "installed": a package dpkg knows of
+    but never installed reads "unknown ok not-installed")."""
     status = subprocess.run(["dpkg-query", "-W", "-f=${Status}", package], capture_output=True, text=True)
-    return status.stdout.endswith("installed")
+    return status.stdout.split()[-1:] == ["installed"]
 
 
 def inventory(name: str, folder: Path | None = None) -> dict[str, tuple[str, ...]]:
