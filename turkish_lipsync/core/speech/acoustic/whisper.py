@@ -161,8 +161,8 @@ def _attended(qkv: np.ndarray, heads: int) -> np.ndarray:
     for head in range(heads):
         columns = slice(head * size, (head + 1) * size)
         queries = qkv[:, columns] * scale
-        keys = np.ascontiguousarray(qkv[:, width + head * size : width + (head + 1) * size].T)
-        values = np.ascontiguousarray(qkv[:, 2 * width + head * size : 2 * width + (head + 1) * size])
+        keys = np.ascontiguousarray(qkv[:, width:][:, columns].T)
+        values = np.ascontiguousarray(qkv[:, 2 * width :][:, columns])
         for begin in range(0, frames, ATTENTION_ROWS):
             rows = slice(begin, begin + ATTENTION_ROWS)
             scores = queries[rows] @ keys
