@@ -124,6 +124,32 @@ def test_bad_recordings_are_refused_with_a_clear_error(tmp_path, content, messag
     assert str(path) in str(raised.value)
 
 
+class CountingEngine:
+    """The real engine, counting the pieces of text it is asked to speak."""
+
+    def __init__(self, engine):
+        self.engine, self.spoken = engine, 0
+
+    def synthesize(self, utterance):
+        self.spoken += 1
+        return self.engine.synthesize(utterance)
+
+    def __getattr__(self, name):
+        return getattr(self.engine, name)
+
+
+def test_a_recording_that_cannot_be_read_stops_its_texts_rendition(tmp_path):
+    # The rendition starts before the take is read; a take that cannot be read leaves the rest unspoken.
+    engine = CountingEngine(get_engine("espeak"))
+    settings = AlignerSettings(chunk_letters=20)
+    utterance = build_utterance(" ".join([TEXT] * 4))
+    chunks = len(recording_module._chunks(utterance, settings))
+    assert chunks >= 8
+    with pytest.raises(AudioError, match="does not exist"):
+        fit_recording(utterance, tmp_path / "missing.wav", engine, settings)
+    assert engine.spoken < chunks // 2
+
+
 def test_a_recording_of_a_much_longer_text_is_refused(tmp_path):
     long_reading = synthesize_timeline(build_utterance(TEXT)).synthesis
     path = write_pcm_wav(tmp_path / "long.wav", long_reading.samples / 32768, long_reading.sample_rate)

@@ -25,9 +25,10 @@ confidence: a recording of another text is refused, a word left out or added is 
 from __future__ import annotations
 
 from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, replace
 from pathlib import Path
+from threading import Event
 
 import numpy as np
 
@@ -81,6 +82,18 @@ class _Reference:
 
 
 @dataclass(frozen=True, eq=False)
+class _Rendition:
+    """The synthetic rendition as the alignment needs it: its events, what is heard in it per analysis
+    frame (the DTW's features), its speech frames, and each letter's synthetic start and end (seconds)."""
+
+    reference: _Reference
+    features: np.ndarray
+    speech: np.ndarray
+    letter_starts: np.ndarray
+    letter_ends: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
 class RecordedAudio:
     """A recording already in memory: mono float samples in [-1, 1], their rate, and the name messages
     give it (its file, or a line of a scene's recording)."""
@@ -95,6 +108,7 @@ class _HeardRecording:
     """The user's audio (kept at its own rate up to 48 kHz as 16-bit PCM) and what is heard in it, per
     analysis frame."""
 
+    name: str  # what messages call the recording
     output: np.ndarray
     output_rate: int
     clipped: str
@@ -118,14 +132,20 @@ class _TextFound:
 
 
 def synthesize_reference(
-    utterance: Utterance, engine: SpeechEngine, settings: AlignerSettings = DEFAULT_ALIGNER
+    utterance: Utterance,
+    engine: SpeechEngine,
+    settings: AlignerSettings = DEFAULT_ALIGNER,
+    abandoned: Event | None = None,
 ) -> tuple[_Reference, np.ndarray]:
-    """The text spoken chunk by chunk (sentences up to chunk_letters letters), only its 16 kHz copy kept."""
+    """The text spoken chunk by chunk (sentences up to chunk_letters letters), only its 16 kHz copy kept;
+    _Abandoned is raised before the next chunk once `abandoned` is set (nobody waits for the rest)."""
     pieces: list[np.ndarray] = []
     phones: list[PhoneEvent] = []
     words: list[WordEvent] = []
     offset = 0.0
     for part, first_word in _chunks(utterance, settings):
+        if abandoned is not None and abandoned.is_set():
+            raise _Abandoned
         spoken = engine.synthesize(part)
         pieces.append(resample(spoken.samples, spoken.sample_rate, ANALYSIS_RATE, 1 / 32768))
         phones.extend(event.moved(offset, first_word) for event in spoken.phone_events)
@@ -133,6 +153,10 @@ def synthesize_reference(
         offset += spoken.duration
     analysis = np.concatenate(pieces) if pieces else np.zeros(0, np.float32)
     return _Reference(tuple(phones), tuple(words)), analysis
+
+
+class _Abandoned(Exception):
+    """The rendition was stopped: the recording it was for could not be read or heard."""
 
 
 def _chunks(utterance: Utterance, settings: AlignerSettings) -> list[tuple[Utterance, int]]:
@@ -230,35 +254,42 @@ def fit_recording(
     """The alignment before its judgement: what judgement.judge reads (a tuning run judges it again with
     other settings); heard by the shipped network unless another is given."""
     network = network or load_network()
-    if isinstance(recording, RecordedAudio):
-        native, native_rate, name = recording.samples, recording.sample_rate, recording.name
-    else:
-        native, native_rate = read_audio(recording)
-        name = str(recording)
-    # The synthetic rendition is made and heard in a thread of its own while the recording is heard:
-    # eSpeak NG and numpy's matrix products release the interpreter, so on two cores the two overlap.
+    # The synthetic rendition is made and heard in a thread of its own while the recording is read and
+    # heard: eSpeak NG, the decoders and numpy's matrix products release the interpreter, so on two cores
+    # the two overlap. Where the recording cannot be read or heard, the rendition stops at its next chunk.
+    # The letters' synthetic spans are found here while the rendition is heard there.
+    abandoned, synthesized = Event(), Future()
     with ThreadPoolExecutor(max_workers=1) as pool:
-        rendition = pool.submit(_synthetic_analysis, utterance, engine, settings, network)
-        # The user's audio is kept at its own rate (up to 48 kHz) as 16-bit PCM; a file's float copy is
-        # dropped before the hearing (the caller's samples stay theirs): a 30-minute take at 44.1 kHz
-        # holds 300 MB less through it.
-        output_rate = min(native_rate, MAX_OUTPUT_RATE)
-        output = resampled_pcm(native, native_rate, output_rate)
-        clipped = clipping(native)
-        del native
-        heard = _hear_recording(output, output_rate, clipped, name, settings, network)
-        reference, x, synthetic_speech = rendition.result()
-    _check_lengths(name, heard.speech, synthetic_speech, settings)
-    found = _find_text(reference, x, synthetic_speech, heard, settings)
-    letters = _place_letters(utterance, engine, reference, heard, found, settings, network)
+        rendition = pool.submit(
+            _synthetic_analysis, utterance, engine, settings, network, synthesized, abandoned
+        )
+        try:
+            heard = _read_and_hear(recording, settings, network)
+        except BaseException:
+            abandoned.set()
+            raise
+        reference = synthesized.result()
+        starts, ends, _ = phone_letter_spans(
+            utterance,
+            Synthesis(heard.output[:0], heard.output_rate, reference.phone_events, reference.word_events, ""),
+            engine,
+        )
+        rendered = _Rendition(reference, *rendition.result(), starts, ends)
+    _check_lengths(heard.name, heard.speech, rendered.speech, settings)
+    found = _find_text(rendered, heard, settings)
+    letters = _place_letters(utterance, rendered, heard, found, settings, network)
     if letters is None:
         raise AudioError(
-            f"recording {name} is too short for the text's letters, so it cannot read this text; check that "
-            "the recording and the text belong together"
+            f"recording {heard.name} is too short for the text's letters, so it cannot read this text; check "
+            "that the recording and the text belong together"
         )
     synthesis = warp_synthesis(
         Synthesis(
-            heard.output, heard.output_rate, reference.phone_events, reference.word_events, "recording"
+            heard.output,
+            heard.output_rate,
+            rendered.reference.phone_events,
+            rendered.reference.word_events,
+            "recording",
         ),
         letters.warp,
         heard.output,
@@ -275,28 +306,24 @@ def fit_recording(
         found.lead,
         found.order_ratio,
     )
-    return RecordingFit(reference.phone_events, letters.warp, synthesis, fit, name, heard.clipped)
+    return RecordingFit(
+        rendered.reference.phone_events, letters.warp, synthesis, fit, heard.name, heard.clipped
+    )
 
 
 def _place_letters(
     utterance: Utterance,
-    engine: SpeechEngine,
-    reference: _Reference,
+    rendered: _Rendition,
     heard: _HeardRecording,
     found: _TextFound,
     settings: AlignerSettings,
     network: PhoneNetwork,
 ) -> LetterFit | None:
     """Each letter where the network hears it, within reach of the DTW's path (letter_warp.py)."""
-    synthetic_starts, synthetic_ends, _ = phone_letter_spans(
-        utterance,
-        Synthesis(heard.output[:0], heard.output_rate, reference.phone_events, reference.word_events, ""),
-        engine,
-    )
     return letter_warp(
         utterance,
-        synthetic_starts,
-        synthetic_ends,
+        rendered.letter_starts,
+        rendered.letter_ends,
         heard.log_posteriors,
         _silence_bias(heard.speech, found.pause, heard.under_speech, settings),
         network,
@@ -305,6 +332,25 @@ def _place_letters(
         found.lead,
         heard.output.size / heard.output_rate,
     )
+
+
+def _read_and_hear(
+    recording: str | Path | RecordedAudio, settings: AlignerSettings, network: PhoneNetwork
+) -> _HeardRecording:
+    """The user's recording read (a file, or samples already read) and heard."""
+    if isinstance(recording, RecordedAudio):
+        native, native_rate, name = recording.samples, recording.sample_rate, recording.name
+    else:
+        native, native_rate = read_audio(recording)
+        name = str(recording)
+    # The user's audio is kept at its own rate (up to 48 kHz) as 16-bit PCM; a file's float copy is
+    # dropped before the hearing (the caller's samples stay theirs): a 30-minute take at 44.1 kHz holds
+    # 300 MB less through it.
+    output_rate = min(native_rate, MAX_OUTPUT_RATE)
+    output = resampled_pcm(native, native_rate, output_rate)
+    clipped = clipping(native)
+    del native
+    return _hear_recording(output, output_rate, clipped, name, settings, network)
 
 
 def _hear_recording(
@@ -322,18 +368,15 @@ def _hear_recording(
     )
     speech = _from_first_sound(speech, log_posteriors, under, settings)
     features = heard_features(_speech_not_silence(log_posteriors, speech, settings), settings)
-    return _HeardRecording(output, output_rate, clipped, speech, loudness, under, log_posteriors, features)
+    return _HeardRecording(
+        name, output, output_rate, clipped, speech, loudness, under, log_posteriors, features
+    )
 
 
-def _find_text(
-    reference: _Reference,
-    x: np.ndarray,
-    synthetic_speech: np.ndarray,
-    heard: _HeardRecording,
-    settings: AlignerSettings,
-) -> _TextFound:
+def _find_text(rendered: _Rendition, heard: _HeardRecording, settings: AlignerSettings) -> _TextFound:
     """The DTW of the synthetic rendition (padded by silence) against the recording, a pause possible at
     any word boundary and wherever the recording is silent or holds only quiet speech."""
+    x, synthetic_speech = rendered.features, rendered.speech
     spoken = np.flatnonzero(heard.speech)
     lead = int(spoken[0]) + settings.padding_frames
     tail = len(heard.speech) - int(spoken[-1]) + settings.padding_frames
@@ -342,8 +385,8 @@ def _find_text(
     y = heard.features
     order_ratio = _order_ratio(x, synthetic_speech, y, settings)
     pauses = _pauses(
-        _word_onsets(reference), lead, synthetic_speech, heard.speech, heard.loudness, heard.under_speech,
-        settings,
+        _word_onsets(rendered.reference), lead, synthetic_speech, heard.speech, heard.loudness,
+        heard.under_speech, settings,
     )  # fmt: skip
     path_x, path_y = coarse_dtw_path(x, y, step_penalty=settings.step_penalty, pauses=pauses)
     # Silence, or a stretch a voice in the background or a room's tail may fill: the speaker may pause.
@@ -472,13 +515,24 @@ def _silence(frames: int, classes: int, settings: AlignerSettings) -> np.ndarray
 
 
 def _synthetic_analysis(
-    utterance: Utterance, engine: SpeechEngine, settings: AlignerSettings, network: PhoneNetwork
-) -> tuple[_Reference, np.ndarray, np.ndarray]:
-    """The synthetic rendition's events, what is heard in it and its speech frames (its audio dropped)."""
-    reference, analysis = synthesize_reference(utterance, engine, settings)
+    utterance: Utterance,
+    engine: SpeechEngine,
+    settings: AlignerSettings,
+    network: PhoneNetwork,
+    synthesized: Future,
+    abandoned: Event,
+) -> tuple[np.ndarray, np.ndarray]:
+    """What is heard in the synthetic rendition and its speech frames (its audio dropped); its events are
+    handed to `synthesized` as soon as it is spoken, before it is heard."""
+    try:
+        reference, analysis = synthesize_reference(utterance, engine, settings, abandoned)
+    except BaseException as error:
+        synthesized.set_exception(error)
+        raise
+    synthesized.set_result(reference)
     frames = frame_count(analysis.size)
     heard = heard_features(heard_log_posteriors(analysis, frames, network), settings)
-    return reference, heard, clean_speech_frames(analysis, frames)
+    return heard, clean_speech_frames(analysis, frames)
 
 
 def _word_onsets(reference: _Reference) -> np.ndarray:
