@@ -13,7 +13,14 @@ from turkish_lipsync.core.speech.acoustic.features import (
     recogniser_features,
     sounding_frames,
 )
-from turkish_lipsync.core.speech.acoustic.forced import force_align, letter_model, text_units
+from turkish_lipsync.core.speech.acoustic.forced import (
+    POSTERIOR_FLOOR,
+    PRIOR_WEIGHT,
+    _transitions,
+    force_align,
+    letter_model,
+    text_units,
+)
 from turkish_lipsync.core.speech.acoustic.labels import CLASS_INDEX, CLASSES
 from turkish_lipsync.core.speech.acoustic.network import PEOPLE_WEIGHTS_FILE, WEIGHTS_FILE, load_network
 from turkish_lipsync.core.speech.audio import resample
@@ -65,6 +72,60 @@ def test_a_band_too_narrow_for_any_path_is_an_error():
     band = (np.zeros(frames, np.int64), np.ones(frames, np.int64))  # never past the leading silence
     with pytest.raises(ValueError, match="no path"):
         force_align(posteriors_of([a] * frames), np.full(len(CLASSES), 1 / len(CLASSES)), model, band)
+
+
+def test_a_band_that_moves_back_is_an_error():
+    a, b = CLASS_INDEX["a"], CLASS_INDEX["b"]
+    model = letter_model(np.array([a, b]), np.array([True, True]), np.ones(len(CLASSES), np.int64))
+    low = np.array([0, 1, 0, 1, 2, 3])
+    band = (low, np.full(6, len(model.classes)))
+    with pytest.raises(ValueError, match="moves back"):
+        force_align(posteriors_of([a] * 6), np.full(len(CLASSES), 1 / len(CLASSES)), model, band)
+
+
+def dense_path(scores: np.ndarray, model, low: np.ndarray, high: np.ndarray) -> np.ndarray:
+    """Each frame's state on the best path: every state of every frame scored, -inf outside the band,
+    ties kept as force_align keeps them (stay, then the state before, then two before)."""
+    frames, states = len(scores), len(model.classes)
+    stay, enter, jump = _transitions(model)
+    outside = (np.arange(states)[None, :] < low[:, None]) | (np.arange(states)[None, :] >= high[:, None])
+    emitted = np.where(outside, -np.inf, scores[:, model.classes])
+    value = np.full(states, -np.inf)
+    value[0] = 0.0
+    value[1] = 0.0 if model.skippable[0] else -np.inf
+    value = value + emitted[0]
+    moves = np.zeros((frames, states), np.int8)
+    for frame in range(1, frames):
+        before = np.concatenate(([-np.inf, -np.inf], value))
+        options = np.stack((before[2:] + stay, before[1:-1] + enter, before[:-2] + jump))
+        choice = np.where(options[1] > options[0], 1, 0)
+        choice = np.where(options[2] > np.maximum(options[0], options[1]), 2, choice)
+        moves[frame] = choice
+        value = options.max(axis=0) + emitted[frame]
+    state = states - 1 if value[-1] >= value[-2] else states - 2
+    path = np.empty(frames, np.int64)
+    for frame in range(frames - 1, -1, -1):
+        path[frame] = state
+        state -= moves[frame, state]
+    return path
+
+
+def test_a_moving_band_finds_the_path_every_state_scored_finds():
+    rng = np.random.default_rng(11)
+    classes = rng.integers(1, len(CLASSES), 40)
+    starts = rng.random(40) < 0.3
+    starts[0] = True
+    model = letter_model(classes, starts, rng.integers(1, 4, len(CLASSES)))
+    frames, states = 160, len(model.classes)
+    scores = np.log(rng.dirichlet(np.ones(len(CLASSES)), frames))
+    middle = np.linspace(0, states, frames)  # a band that climbs through the states, as a DTW path's does
+    low = np.clip(np.floor(middle - 4).astype(np.int64), 0, states - 1)
+    high = np.clip(np.ceil(middle + 4).astype(np.int64), 1, states)
+    low[0], high[-1] = 0, states
+    uniform = np.full(len(CLASSES), 1 / len(CLASSES))
+    found = force_align(scores, uniform, model, (low, high))
+    scored = np.maximum(scores, np.log(POSTERIOR_FLOOR)) - PRIOR_WEIGHT * np.log(uniform)[None, :]
+    assert np.array_equal(found.frame_letters, model.letter_of_state[dense_path(scored, model, low, high)])
 
 
 def test_letters_of_speech_are_found_near_where_they_were_spoken():

@@ -109,7 +109,8 @@ def force_align(
 ) -> ForcedAlignment:
     """The best path of the frames through the model (every letter at least its shortest duration).
 
-    band: per frame, the first state and the state after the last it may be in (the whole model if None).
+    band: per frame, the first state and the state after the last it may be in (the whole model if None);
+    neither may decrease from one frame to the next (the text is read in order).
     silence_bias: per frame, added to silence's score (natural-log units): negative where a speech
     detector hears the speaker (the network, unsure of a voice unlike any it learnt from, hears silence
     sooner than a wrong letter), positive where a quiet voice in the background may fill a pause.
@@ -120,6 +121,8 @@ def force_align(
         low, high = np.zeros(frames, np.int64), np.full(frames, states, np.int64)
     else:
         low, high = band
+        if np.any(np.diff(low) < 0) or np.any(np.diff(high) < 0):
+            raise ValueError("the band of states moves back between frames")
     heard = (log_posteriors - PRIOR_WEIGHT * np.log(priors)[None, :]).astype(np.float64)
     # The network is sometimes sure of silence in a voice unlike any it learnt from: no letter is taken
     # for less likely than POSTERIOR_FLOOR, so the detector's speech can still outweigh it.
@@ -169,6 +172,7 @@ def _viterbi(
     stay, enter, jump = _transitions(model)
     width = int((high - low).max())
     moves = np.zeros((frames, width), np.int8)
+    entering = moves.view(bool)  # a move's first decision: entered rather than stayed
     previous = np.full(states + 2, -np.inf)  # two guard states before state 0
     start = np.full(states, -np.inf)
     start[0] = 0.0
@@ -178,7 +182,9 @@ def _viterbi(
     current[2:][low[0] : high[0]] += scores[0, model.classes[low[0] : high[0]]]
     current[2:][: low[0]] = -np.inf
     current[2:][high[0] :] = -np.inf
-    written = {id(current): (0, states + 2), id(previous): (0, 0)}  # each array's last finite stretch
+    # Each array's scores are finite from this index up, and nowhere past its band's end: the bands never
+    # move back, so a frame's write covers all but what lies under its band (set to -inf there).
+    current_from, previous_from = 0, states + 2
     lows, highs = low.tolist(), high.tolist()
     block_length = max(1, VITERBI_BLOCK_CELLS // max(width, 1))
     for block in range(1, frames, block_length):  # each frame's band of scores, a block of frames at a time
@@ -187,19 +193,20 @@ def _viterbi(
         band_scores = scores[block_frames[:, None], model.classes[band_states]]
         for row, frame in enumerate(block_frames.tolist()):
             previous, current = current, previous
+            previous_from, current_from = current_from, previous_from
             first, stop = lows[frame], highs[frame]
-            stale = written[id(current)]
-            current[stale[0] : stale[1]] = -np.inf
+            if current_from < first + 2:
+                current[current_from : first + 2] = -np.inf
+            size = stop - first
             best = previous[first + 2 : stop + 2] + stay[first:stop]
             entered = previous[first + 1 : stop + 1] + enter[first:stop]
             jumped = previous[first:stop] + jump[first:stop]
-            choice = moves[frame, : stop - first]
-            np.greater(entered, best, out=choice.view(bool))
+            np.greater(entered, best, out=entering[frame, :size])
             np.maximum(best, entered, out=best)
-            np.putmask(choice, jumped > best, 2)
+            np.putmask(moves[frame, :size], jumped > best, 2)
             np.maximum(best, jumped, out=best)
-            np.add(best, band_scores[row, : stop - first], out=current[first + 2 : stop + 2])
-            written[id(current)] = (first + 2, stop + 2)
+            np.add(best, band_scores[row, :size], out=current[first + 2 : stop + 2])
+            current_from = first + 2
     return current, moves
 
 
