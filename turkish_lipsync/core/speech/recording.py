@@ -132,10 +132,7 @@ class _TextFound:
 
 
 def synthesize_reference(
-    utterance: Utterance,
-    engine: SpeechEngine,
-    settings: AlignerSettings = DEFAULT_ALIGNER,
-    abandoned: Event | None = None,
+    utterance: Utterance, engine: SpeechEngine, settings: AlignerSettings, abandoned: Event
 ) -> tuple[_Reference, np.ndarray]:
     """The text spoken chunk by chunk (sentences up to chunk_letters letters), only its 16 kHz copy kept;
     _Abandoned is raised before the next chunk once `abandoned` is set (nobody waits for the rest)."""
@@ -144,7 +141,7 @@ def synthesize_reference(
     words: list[WordEvent] = []
     offset = 0.0
     for part, first_word in _chunks(utterance, settings):
-        if abandoned is not None and abandoned.is_set():
+        if abandoned.is_set():
             raise _Abandoned
         spoken = engine.synthesize(part)
         pieces.append(resample(spoken.samples, spoken.sample_rate, ANALYSIS_RATE, 1 / 32768))
