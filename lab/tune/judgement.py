@@ -6,12 +6,12 @@ Every take of the tune part that lab/measure/people.py aligns with a text (words
 eight read with pauses with their own text and another speaker's, the Czech and Dutch lines with their
 own spelling and with the next line's) is aligned once per pair of weights files, heard by the shipped
 network and by the people's (the aligner's second hearing), and what the aligner hands the judgement (the
-text and the take's two fits: recording.fit_recording) is kept in a cache folder. Each setting then
-re-runs only the judgement and the choice between the hearings (recording.judged_fit, kept_hearing), so a
-sweep over its settings takes seconds per setting. Printed per set: how many takes of their own text are
-refused and warned, how many takes of another text are refused or warned (caught), and the take's
-mismatch and order ratio (the first hearing's) at their median and extremes, which say where a bar can
-go.
+text and the take's two fits: recording.fit_recording, fit_again) is kept in a cache folder. Each setting
+then re-runs only the judgement and the choice between the hearings (recording.judged_fit,
+kept_hearing), so a sweep over its settings takes seconds per setting. Printed per set: how many takes
+of their own text are refused and warned, how many takes of another text are refused or warned
+(caught), and the take's mismatch and order ratio (the first hearing's) at their median and extremes,
+which say where a bar can go.
 
 NAME is a setting of AlignerSettings that the judgement reads (e.g. loose, other_text); each --try varies
 one setting from the --set baseline.
@@ -40,7 +40,13 @@ from turkish_lipsync.core.speech import get_engine
 from turkish_lipsync.core.speech.acoustic.network import PEOPLE_WEIGHTS_FILE, WEIGHTS_FILE, load_network
 from turkish_lipsync.core.speech.aligner_settings import DEFAULT_ALIGNER, AlignerSettings
 from turkish_lipsync.core.speech.judgement import take_mismatch
-from turkish_lipsync.core.speech.recording import RecordingFit, fit_recording, judged_fit, kept_hearing
+from turkish_lipsync.core.speech.recording import (
+    RecordingFit,
+    fit_again,
+    fit_recording,
+    judged_fit,
+    kept_hearing,
+)
 from turkish_lipsync.core.text.utterance import build_utterance
 
 LIST_SEEDS = (8, 9, 10, 11, 12)  # measure_people draws the report part's lists with seed 8
@@ -51,15 +57,17 @@ def judged(text: str, path: Path) -> tuple[Utterance, RecordingFit, RecordingFit
     """The take fitted to the text as the shipped network and the people's hear it, as the judgement
     reads them (None where the first alignment fails before it; the second None where it alone fails)."""
     utterance = build_utterance(text)
-
-    def fitted(weights: Path) -> RecordingFit | None:
-        try:
-            return fit_recording(utterance, path, get_engine("espeak"), network=load_network(weights))
-        except LipSyncError:
-            return None
-
-    first = fitted(WEIGHTS_FILE)
-    return None if first is None else (utterance, first, fitted(PEOPLE_WEIGHTS_FILE))
+    try:
+        first, listening = fit_recording(
+            utterance, path, get_engine("espeak"), network=load_network(WEIGHTS_FILE)
+        )
+    except LipSyncError:
+        return None
+    try:
+        second = fit_again(utterance, listening, DEFAULT_ALIGNER, load_network(PEOPLE_WEIGHTS_FILE))
+    except LipSyncError:
+        second = None
+    return utterance, first, second
 
 
 def tune_takes(scratch: Path) -> list[tuple[str, bool, Path, str]]:

@@ -25,7 +25,7 @@ from turkish_lipsync.core.speech.audio import resample
 from turkish_lipsync.core.speech.dtw import dtw_path
 from turkish_lipsync.core.speech.features import frame_count
 from turkish_lipsync.core.speech.recognition import speech_from_audio
-from turkish_lipsync.core.speech.recording import fit_recording, judged_fit, kept_hearing
+from turkish_lipsync.core.speech.recording import fit_again, fit_recording, judged_fit, kept_hearing
 from turkish_lipsync.core.speech.voice_activity import speech_frames
 from turkish_lipsync.core.text.utterance import build_utterance
 
@@ -380,18 +380,62 @@ def test_a_take_fitted_with_no_warning_is_heard_once_and_a_loose_one_twice(tmp_p
     voice, _ = other_voice(OTHER_TEXT)
     whole = build_utterance(OTHER_TEXT)
     path = noisy_take(tmp_path / "take.wav", voice, snr=40)
-    clean = judged_fit(whole, fit_recording(whole, path, engine))
+    clean = judged_fit(whole, fit_recording(whole, path, engine)[0])
     assert not clean.warnings and kept_hearing(clean, never) is clean
     short, _ = other_voice(OTHER_TEXT.replace("bütün ", ""))
     path = noisy_take(tmp_path / "short.wav", short, snr=40)
-    first = judged_fit(whole, fit_recording(whole, path, engine))
-    second = judged_fit(whole, fit_recording(whole, path, engine, network=load_network(PEOPLE_WEIGHTS_FILE)))
+    first = judged_fit(whole, fit_recording(whole, path, engine)[0])
+    second = judged_fit(
+        whole, fit_recording(whole, path, engine, network=load_network(PEOPLE_WEIGHTS_FILE))[0]
+    )
     assert len(first.warnings) == len(second.warnings) == 1  # both hear the word left out
     assert kept_hearing(first, lambda: second) is first  # a tie keeps the shipped network's fit
     assert kept_hearing(first, lambda: replace(second, warnings=())) is not first
     assert kept_hearing(first, never, AlignerSettings(second_hearing=False)) is first
     refusal = AudioError("another text")
     assert kept_hearing(refusal, lambda: second) is second and kept_hearing(first, lambda: refusal) is first
+
+
+class RememberingEngine:
+    """The real engine, counting the texts it is asked to speak and speaking each only once: eSpeak NG
+    carries state from one synthesis to the next, so the same text spoken again comes out a little
+    different (phone ends up to about a millisecond apart)."""
+
+    def __init__(self, engine):
+        self.engine, self.asked, self.said = engine, 0, {}
+
+    def synthesize(self, utterance):
+        self.asked += 1
+        key = repr(utterance)
+        if key not in self.said:
+            self.said[key] = self.engine.synthesize(utterance)
+        return self.said[key]
+
+    def __getattr__(self, name):
+        return getattr(self.engine, name)
+
+
+def test_a_take_heard_again_is_neither_spoken_nor_read_again_and_fits_as_if_heard_afresh(tmp_path):
+    """The second hearing starts from what the first measured before its network heard anything: the
+    text is not spoken again nor the take read, and the fit is the one the people's network makes of the
+    same rendition from scratch."""
+    short, _ = other_voice(OTHER_TEXT.replace("bütün ", ""))
+    path = noisy_take(tmp_path / "short.wav", short, snr=40)
+    whole = build_utterance(OTHER_TEXT)
+    engine = RememberingEngine(get_engine("espeak"))
+    _, listening = fit_recording(whole, path, engine)
+    path.unlink()
+    people = load_network(PEOPLE_WEIGHTS_FILE)
+    again = fit_again(whole, listening, AlignerSettings(), people)
+    assert engine.asked == 1
+    afresh, _ = fit_recording(whole, noisy_take(path, short, snr=40), engine, network=people)
+    assert again.synthesis.phone_events == afresh.synthesis.phone_events
+    for name in ("synthetic", "recorded"):
+        assert np.array_equal(getattr(again.warp, name), getattr(afresh.warp, name))
+    for name in ("path_x", "path_y", "mismatch", "frame_words", "recorded_speech"):
+        assert np.array_equal(getattr(again.fit, name), getattr(afresh.fit, name)), name
+    assert judged_fit(whole, again).warnings == judged_fit(whole, afresh).warnings
+    assert len(judged_fit(whole, again).warnings) == 1
 
 
 def test_the_command_line_prints_the_warning_and_refuses_another_text(tmp_path):

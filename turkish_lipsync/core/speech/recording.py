@@ -83,11 +83,12 @@ class _Reference:
 
 @dataclass(frozen=True, eq=False)
 class _Rendition:
-    """The synthetic rendition as the alignment needs it: its events, what is heard in it per analysis
-    frame (the DTW's features), its speech frames, and each letter's synthetic start and end (seconds)."""
+    """The synthetic rendition as the alignment needs it before a network hears it: its events, its sound
+    per analysis frame (the acoustic model's input features), its speech frames, and each letter's
+    synthetic start and end (seconds)."""
 
     reference: _Reference
-    features: np.ndarray
+    sound: np.ndarray
     speech: np.ndarray
     letter_starts: np.ndarray
     letter_ends: np.ndarray
@@ -104,17 +105,38 @@ class RecordedAudio:
 
 
 @dataclass(frozen=True, eq=False)
-class _HeardRecording:
-    """The user's audio (kept at its own rate up to 48 kHz as 16-bit PCM) and what is heard in it, per
-    analysis frame."""
+class _Take:
+    """The user's audio (kept at its own rate up to 48 kHz as 16-bit PCM) and what is measured in it
+    before a network hears it, per analysis frame: its speech, levels, and the acoustic model's input
+    features on the stretch around its speech (acoustic.features.speech_stretch)."""
 
     name: str  # what messages call the recording
     output: np.ndarray
     output_rate: int
     clipped: str
-    speech: np.ndarray
+    speech: np.ndarray  # the speech detector's
     loudness: np.ndarray  # dB above the floor
     under_speech: np.ndarray  # dB under the speaker's loud frames
+    sound: np.ndarray  # the stretch's features
+    stretch_frames: int
+    around: tuple[int, int]  # frames before and after the stretch
+
+
+@dataclass(frozen=True, eq=False)
+class Listening:
+    """A take and its text's rendition as measured before a network hears them: what a second hearing
+    by another network starts from (fit_again), so the text is not spoken nor the take read twice."""
+
+    rendition: _Rendition
+    take: _Take
+
+
+@dataclass(frozen=True, eq=False)
+class _HeardRecording:
+    """The take and what a network hears in it, per analysis frame."""
+
+    take: _Take
+    speech: np.ndarray  # the detector's, each run's leading room dropped (_from_first_sound)
     log_posteriors: np.ndarray
     features: np.ndarray  # the DTW's
 
@@ -195,11 +217,12 @@ def align_recording(
     the network that learnt many people's voices too (acoustic/network.py's PEOPLE_WEIGHTS_FILE; the
     aligner's `second_hearing`), and the better of the two fits is kept: the one with fewer warnings, the
     first where they tie. The take is refused only where both hearings refuse it."""
-    first = judged_fit(utterance, fit_recording(utterance, recording, engine, settings), settings)
+    fitted, listening = fit_recording(utterance, recording, engine, settings)
+    first = judged_fit(utterance, fitted, settings)
 
     def heard_again() -> RecordingAlignment | AudioError:
         try:  # a take the second network cannot fit at all counts as refused by it: the first is kept
-            fitted = fit_recording(utterance, recording, engine, settings, load_network(PEOPLE_WEIGHTS_FILE))
+            fitted = fit_again(utterance, listening, settings, load_network(PEOPLE_WEIGHTS_FILE))
         except AudioError as refusal:
             return refusal
         return judged_fit(utterance, fitted, settings)
@@ -247,9 +270,10 @@ def fit_recording(
     engine: SpeechEngine,
     settings: AlignerSettings = DEFAULT_ALIGNER,
     network: PhoneNetwork | None = None,
-) -> RecordingFit:
+) -> tuple[RecordingFit, Listening]:
     """The alignment before its judgement: what judgement.judge reads (a tuning run judges it again with
-    other settings); heard by the shipped network unless another is given."""
+    other settings); heard by the shipped network unless another is given. With it, what was measured
+    before the network heard the take and its rendition (fit_again starts from it)."""
     network = network or load_network()
     # The synthetic rendition is made and heard in a thread of its own while the recording is read and
     # heard: eSpeak NG, the decoders and numpy's matrix products release the interpreter, so on two cores
@@ -261,35 +285,63 @@ def fit_recording(
             _synthetic_analysis, utterance, engine, settings, network, synthesized, abandoned
         )
         try:
-            heard = _read_and_hear(recording, settings, network)
+            take = _read_and_measure(recording, settings)
+            heard = _hear_take(take, settings, network)
         except BaseException:
             abandoned.set()
             raise
         reference = synthesized.result()
         starts, ends, _ = phone_letter_spans(
             utterance,
-            Synthesis(heard.output[:0], heard.output_rate, reference.phone_events, reference.word_events, ""),
+            Synthesis(take.output[:0], take.output_rate, reference.phone_events, reference.word_events, ""),
             engine,
         )
-        rendered = _Rendition(reference, *rendition.result(), starts, ends)
-    _check_lengths(heard.name, heard.speech, rendered.speech, settings)
-    found = _find_text(rendered, heard, settings)
+        sound, speech, rendition_features = rendition.result()
+    listening = Listening(_Rendition(reference, sound, speech, starts, ends), take)
+    return _fitted(utterance, listening.rendition, rendition_features, heard, settings, network), listening
+
+
+def fit_again(
+    utterance: Utterance, listening: Listening, settings: AlignerSettings, network: PhoneNetwork
+) -> RecordingFit:
+    """The take fitted as another network hears it, from what fit_recording measured before its network
+    heard the take and the rendition: the text is not spoken, nor the take read or searched for speech,
+    a second time. The rendition is heard in a thread of its own while the take is."""
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        rendition_features = pool.submit(_heard_rendition, listening.rendition.sound, settings, network)
+        heard = _hear_take(listening.take, settings, network)
+        return _fitted(utterance, listening.rendition, rendition_features.result(), heard, settings, network)
+
+
+def _fitted(
+    utterance: Utterance,
+    rendered: _Rendition,
+    rendition_features: np.ndarray,
+    heard: _HeardRecording,
+    settings: AlignerSettings,
+    network: PhoneNetwork,
+) -> RecordingFit:
+    """The text found in the take, its letters placed and the events warped, as the network heard both
+    (rendition_features: the DTW's features of the rendition)."""
+    take = heard.take
+    _check_lengths(take.name, heard.speech, rendered.speech, settings)
+    found = _find_text(rendered, rendition_features, heard, settings)
     letters = _place_letters(utterance, rendered, heard, found, settings, network)
     if letters is None:
         raise AudioError(
-            f"recording {heard.name} is too short for the text's letters, so it cannot read this text; check "
+            f"recording {take.name} is too short for the text's letters, so it cannot read this text; check "
             "that the recording and the text belong together"
         )
     synthesis = warp_synthesis(
         Synthesis(
-            heard.output,
-            heard.output_rate,
+            take.output,
+            take.output_rate,
             rendered.reference.phone_events,
             rendered.reference.word_events,
             "recording",
         ),
         letters.warp,
-        heard.output,
+        take.output,
     )
     fit = Fit(
         found.path_x,
@@ -299,12 +351,12 @@ def fit_recording(
         letters.frame_words,
         found.synthetic_speech,
         heard.speech & ~found.pause,  # what a pause holds (a background voice, a room's tail) is not judged
-        heard.under_speech,
+        take.under_speech,
         found.lead,
         found.order_ratio,
     )
     return RecordingFit(
-        rendered.reference.phone_events, letters.warp, synthesis, fit, heard.name, heard.clipped
+        rendered.reference.phone_events, letters.warp, synthesis, fit, take.name, take.clipped
     )
 
 
@@ -322,19 +374,17 @@ def _place_letters(
         rendered.letter_starts,
         rendered.letter_ends,
         heard.log_posteriors,
-        _silence_bias(heard.speech, found.pause, heard.under_speech, settings),
+        _silence_bias(heard.speech, found.pause, heard.take.under_speech, settings),
         network,
         found.path_x,
         found.path_y,
         found.lead,
-        heard.output.size / heard.output_rate,
+        heard.take.output.size / heard.take.output_rate,
     )
 
 
-def _read_and_hear(
-    recording: str | Path | RecordedAudio, settings: AlignerSettings, network: PhoneNetwork
-) -> _HeardRecording:
-    """The user's recording read (a file, or samples already read) and heard."""
+def _read_and_measure(recording: str | Path | RecordedAudio, settings: AlignerSettings) -> _Take:
+    """The user's recording read (a file, or samples already read) and measured (_measure_take)."""
     if isinstance(recording, RecordedAudio):
         native, native_rate, name = recording.samples, recording.sample_rate, recording.name
     else:
@@ -347,33 +397,26 @@ def _read_and_hear(
     output = resampled_pcm(native, native_rate, output_rate)
     clipped = clipping(native)
     del native
-    return _hear_recording(output, output_rate, clipped, name, settings, network)
+    return _measure_take(output, output_rate, clipped, name, settings)
 
 
-def _hear_recording(
-    output: np.ndarray,
-    output_rate: int,
-    clipped: str,
-    name: str,
-    settings: AlignerSettings,
-    network: PhoneNetwork,
-) -> _HeardRecording:
-    """What the speech detector and the acoustic model hear in the user's audio (16-bit PCM)."""
-    recorded = resample(output, output_rate, ANALYSIS_RATE, 1 / 32768)
-    speech, loudness, under, log_posteriors = _heard_around_speech(
-        name, recorded, frame_count(recorded.size), settings, network
+def _hear_take(take: _Take, settings: AlignerSettings, network: PhoneNetwork) -> _HeardRecording:
+    """What the network hears in the take: its log posteriors (silence only beyond the stretch around its
+    speech) and the DTW's features, and its speech with each run's leading room dropped."""
+    log_posteriors = _silence_around(
+        heard_log_posteriors(take.sound, take.stretch_frames, network), *take.around
     )
-    speech = _from_first_sound(speech, log_posteriors, under, settings)
+    speech = _from_first_sound(take.speech, log_posteriors, take.under_speech, settings)
     features = heard_features(_speech_not_silence(log_posteriors, speech, settings), settings)
-    return _HeardRecording(
-        name, output, output_rate, clipped, speech, loudness, under, log_posteriors, features
-    )
+    return _HeardRecording(take, speech, log_posteriors, features)
 
 
-def _find_text(rendered: _Rendition, heard: _HeardRecording, settings: AlignerSettings) -> _TextFound:
+def _find_text(
+    rendered: _Rendition, rendition_features: np.ndarray, heard: _HeardRecording, settings: AlignerSettings
+) -> _TextFound:
     """The DTW of the synthetic rendition (padded by silence) against the recording, a pause possible at
     any word boundary and wherever the recording is silent or holds only quiet speech."""
-    x, synthetic_speech = rendered.features, rendered.speech
+    x, synthetic_speech = rendition_features, rendered.speech
     spoken = np.flatnonzero(heard.speech)
     lead = int(spoken[0]) + settings.padding_frames
     tail = len(heard.speech) - int(spoken[-1]) + settings.padding_frames
@@ -382,20 +425,23 @@ def _find_text(rendered: _Rendition, heard: _HeardRecording, settings: AlignerSe
     y = heard.features
     order_ratio = _order_ratio(x, synthetic_speech, y, settings)
     pauses = _pauses(
-        _word_onsets(rendered.reference), lead, synthetic_speech, heard.speech, heard.loudness,
-        heard.under_speech, settings,
+        _word_onsets(rendered.reference), lead, synthetic_speech, heard.speech, heard.take.loudness,
+        heard.take.under_speech, settings,
     )  # fmt: skip
     path_x, path_y = coarse_dtw_path(x, y, step_penalty=settings.step_penalty, pauses=pauses)
     # Silence, or a stretch a voice in the background or a room's tail may fill: the speaker may pause.
     return _TextFound(lead, synthetic_speech, path_x, path_y, np.isfinite(pauses.y_hold_cost), order_ratio)
 
 
-def _heard_around_speech(
-    name: str, recorded: np.ndarray, frames: int, settings: AlignerSettings, network: PhoneNetwork
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """The recording's speech frames, dB above its floor, dB under its speech and log posteriors, each
-    measured on the stretch around its speech within its sound (acoustic.features.sounding_frames and
-    speech_stretch); beyond it, silence at the floor."""
+def _measure_take(
+    output: np.ndarray, output_rate: int, clipped: str, name: str, settings: AlignerSettings
+) -> _Take:
+    """The take (16-bit PCM) as measured before a network hears it: its speech frames, dB above its floor,
+    dB under its speech and the acoustic model's input features, each measured on the stretch around its
+    speech within its sound (acoustic.features.sounding_frames and speech_stretch); beyond it, silence at
+    the floor."""
+    recorded = resample(output, output_rate, ANALYSIS_RATE, 1 / 32768)
+    frames = frame_count(recorded.size)
     sound_first, sound_stop = sounding_frames(recorded, frames)
     recorded = frames_of(recorded, sound_first, sound_stop, frames)
     sound_frames = sound_stop - sound_first
@@ -407,20 +453,26 @@ def _heard_around_speech(
     first, stop = first + sound_first, stop + sound_first
     around = (first, frames - stop)
     under = under_speech(recorded, stop - first)
-    return (
+    return _Take(
+        name,
+        output,
+        output_rate,
+        clipped,
         np.pad(speech, around),
         np.pad(above_floor(recorded, stop - first), around),
         np.pad(under, around, constant_values=under.max()),
-        _silence_around(heard_log_posteriors(recorded, stop - first, network), *around),
+        recogniser_features(recorded),
+        stop - first,
+        around,
     )
 
 
-def heard_log_posteriors(samples: np.ndarray, frames: int, network: PhoneNetwork) -> np.ndarray:
-    """What the acoustic model hears in each of `frames` 10 ms frames of 16 kHz samples: the log of its
-    class posteriors (frames x classes, float32). The square roots of the posteriors are the DTW's
-    features: the Euclidean distance between two frames is then the Hellinger distance between what is
-    heard in them."""
-    heard = network.log_posteriors(recogniser_features(samples))
+def heard_log_posteriors(sound: np.ndarray, frames: int, network: PhoneNetwork) -> np.ndarray:
+    """What the acoustic model hears in each of `frames` 10 ms frames, given their input features
+    (acoustic.features.recogniser_features): the log of its class posteriors (frames x classes, float32).
+    The square roots of the posteriors are the DTW's features: the Euclidean distance between two frames
+    is then the Hellinger distance between what is heard in them."""
+    heard = network.log_posteriors(sound)
     return _silence_around(heard[:frames], 0, max(0, frames - len(heard)))
 
 
@@ -518,18 +570,25 @@ def _synthetic_analysis(
     network: PhoneNetwork,
     synthesized: Future,
     abandoned: Event,
-) -> tuple[np.ndarray, np.ndarray]:
-    """What is heard in the synthetic rendition and its speech frames (its audio dropped); its events are
-    handed to `synthesized` as soon as it is spoken, before it is heard."""
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The synthetic rendition's sound (the acoustic model's input features) and speech frames, and the
+    DTW's features of what the network hears in it (its audio dropped); its events are handed to
+    `synthesized` as soon as it is spoken, before it is heard."""
     try:
         reference, analysis = synthesize_reference(utterance, engine, settings, abandoned)
     except BaseException as error:
         synthesized.set_exception(error)
         raise
     synthesized.set_result(reference)
-    frames = frame_count(analysis.size)
-    heard = heard_features(heard_log_posteriors(analysis, frames, network), settings)
-    return heard, clean_speech_frames(analysis, frames)
+    sound = recogniser_features(analysis)
+    speech = clean_speech_frames(analysis, frame_count(analysis.size))
+    del analysis
+    return sound, speech, _heard_rendition(sound, settings, network)
+
+
+def _heard_rendition(sound: np.ndarray, settings: AlignerSettings, network: PhoneNetwork) -> np.ndarray:
+    """The DTW's features of what the network hears in the rendition's sound."""
+    return heard_features(heard_log_posteriors(sound, len(sound), network), settings)
 
 
 def _word_onsets(reference: _Reference) -> np.ndarray:
