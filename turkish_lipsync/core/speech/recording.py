@@ -19,7 +19,9 @@ every phone eSpeak spoke lands where its letter is heard (timewarp.py).
 How much less likely the text's letters are than what the network hears gives every word and phrase a
 confidence: a recording of another text is refused, a word left out or added is named in a warning
 (judgement.py). A take so judged is heard again by a second network that learnt many people's voices
-(align_recording), and the hearing with fewer warnings kept.
+(align_recording), and the hearing with fewer warnings kept. The second hearing starts from what the first
+measured before its network heard anything (Listening, fit_again): the text is spoken and the take read
+once.
 """
 
 from __future__ import annotations
