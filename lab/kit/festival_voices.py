@@ -149,13 +149,18 @@ WORD_PHONES = """(define (word_phones utt)
 
 def render(voice: Voice, texts: list[str], stretches: list[float], folder: Path) -> list[Path]:
     """Each text spoken by the voice at its duration stretch: folder/NNNN.wav, .segs and .words (each
-    word's segments), made once."""
+    word's segments), made once: folder/NNNN.said keeps what was asked of the voice, so a stem made for
+    another text or stretch (another seed, another count) is made again, not taken for this one."""
     folder.mkdir(parents=True, exist_ok=True)
     wanted = [folder / f"{number:04d}" for number in range(len(texts))]
     lines = [WORD_PHONES, f"({voice.select})"]
     for stem, text, stretch in zip(wanted, texts, stretches, strict=True):
-        if stem.with_suffix(".segs").exists():
+        said = f"{voice.select}\n{stretch:.3f}\n{text}"
+        if stem.with_suffix(".segs").exists() and _read_said(stem) == said:
             continue
+        for suffix in (".wav", ".segs", ".words"):
+            stem.with_suffix(suffix).unlink(missing_ok=True)
+        stem.with_suffix(".said").write_text(said, encoding="utf-8")
         spoken = unicodedata.normalize("NFC", text).replace('"', "").replace("\\", "")
         # A sentence the voice's letter-to-sound rules cannot read is left out (unwind-protect), not the rest.
         lines += [
@@ -174,6 +179,14 @@ def render(voice: Voice, texts: list[str], stretches: list[float], folder: Path)
     return [
         stem for stem in wanted if stem.with_suffix(".segs").exists() and stem.with_suffix(".wav").exists()
     ]
+
+
+def _read_said(stem: Path) -> str | None:
+    """What a stem was made from (render's .said), None where it was not written."""
+    try:
+        return stem.with_suffix(".said").read_text(encoding="utf-8")
+    except OSError:
+        return None
 
 
 def segments(path: Path) -> list[tuple[float, float, str]]:

@@ -94,3 +94,25 @@ def test_a_voiceless_stop_inside_speech_starts_at_its_burst(tmp_path):
     assert (labels[11:14] == CLASS_INDEX["a"]).all()  # the closure, centred at 122-142 ms
     assert (labels[16:19] == CLASS_INDEX["p"]).all()
     assert (labels[21:29] == CLASS_INDEX["a"]).all()
+
+
+def test_a_stem_made_for_another_text_is_made_again_and_a_stem_for_the_same_text_is_kept(tmp_path):
+    """render keys what it keeps on the text, the stretch and the voice: read speech measured with
+    another seed took the first seed's audio for its sentences before."""
+    if shutil.which("festival") is None:
+        pytest.skip("Festival is not installed")
+    italian = festival_voices.Voice("festvox-italp16k", "voice_lp_diphone", "it", "iso-8859-1", "italian")
+    candidates = [*festival_voices.VOICES.values(), italian]
+    voice = next((v for v in candidates if festival_voices.installed(v.package)), None)
+    if voice is None:
+        pytest.skip("no Festival voice of the lab's is installed")
+    first = festival_voices.render(voice, ["a"], [1.0], tmp_path)[0]
+    words = first.with_suffix(".words").read_text(encoding="utf-8")
+    made = first.with_suffix(".segs").stat().st_mtime_ns
+    assert festival_voices.render(voice, ["a"], [1.0], tmp_path) == [first]
+    assert first.with_suffix(".segs").stat().st_mtime_ns == made  # the same text: kept
+    again = festival_voices.render(voice, ["a a a"], [1.0], tmp_path)[0]
+    assert again == first and first.with_suffix(".words").read_text(encoding="utf-8") != words
+    spoken = festival_voices.segments(first.with_suffix(".segs"))[-1][1]
+    festival_voices.render(voice, ["a a a"], [2.0], tmp_path)
+    assert festival_voices.segments(first.with_suffix(".segs"))[-1][1] > 1.5 * spoken  # another stretch
