@@ -9,6 +9,9 @@ from turkish_lipsync.core.speech.acoustic.features import (
     BANDS,
     SHORT_OWN_WEIGHT,
     frames_of,
+    levelled,
+    log_bands,
+    long_quiet,
     own_level_weight,
     recogniser_features,
     sounding_frames,
@@ -157,6 +160,29 @@ def spoken_samples(text: str) -> np.ndarray:
 def test_a_take_with_speech_enough_is_levelled_on_itself_alone():
     samples = spoken_samples("Bugün hava çok güzel, parka gidip biraz yürüyelim.")
     assert np.array_equal(recogniser_features(samples), recogniser_features(samples, whole_take_level=True))
+
+
+def test_a_long_break_in_the_recording_is_left_out_of_its_speech_level():
+    """A stretch of room at least LONG_QUIET_FRAMES long (two sentences 20 s apart) is levelled as if cut
+    out of the take; a shorter pause is counted as before."""
+    rng = np.random.default_rng(8)
+    first = spoken_samples("Bugün hava çok güzel.")
+    second = spoken_samples("Parka gidip biraz yürüyelim.")
+    room = 10 ** (-50 / 20) * np.abs(first).max()
+
+    def take(seconds):
+        pause = rng.normal(0, room, int(seconds * ANALYSIS_RATE))
+        return np.concatenate((first + rng.normal(0, room, first.size), pause, second))
+
+    short, long = log_bands(take(1.0)), log_bands(take(20.0))
+    assert not long_quiet(_loudness(short)).any()
+    kept = ~long_quiet(_loudness(long))
+    assert 2000 <= np.count_nonzero(~kept) <= 2100  # the break and the quiet either side of it
+    np.testing.assert_array_equal(levelled(long)[kept], levelled(long[kept]))
+
+
+def _loudness(decibels):
+    return 10.0 * np.log10(np.sum(10.0 ** (decibels / 10.0), axis=1) + 1e-10)
 
 
 def test_a_syllable_alone_keeps_its_vowel_colour():

@@ -2,10 +2,11 @@
 
 40 mel bands from 60 Hz (a nasal's murmur and a stop's voice bar sit low) to 7.6 kHz, 25 ms windows every
 10 ms (speech/features.py computes them, block by block). Each band is taken relative to the take's
-speech level in that band (the mean over its loudest frames), which removes the microphone's and the
-voice's colour and the recording's gain; the frame's loudness relative to the speech joins them, so
-silence and quiet consonants stay apart from vowels. Everything is floored far below the speech (eSpeak's
-digital silence and a quiet room then look alike) and scaled to units of about one.
+speech level in that band (the mean over its loudest frames, a long break in the take left out), which
+removes the microphone's and the voice's colour and the recording's gain; the frame's loudness relative
+to the speech joins them, so silence and quiet consonants stay apart from vowels. Everything is floored
+far below the speech (eSpeak's digital silence and a quiet room then look alike) and scaled to units of
+about one.
 
 A take's own level stands for the voice's long-term spectrum only when the take holds speech enough for
 several vowels. In a syllable or a single word the loudest frames are one vowel, and levelling on them
@@ -28,7 +29,13 @@ from ..features import HOP, WINDOW, mel_energies
 BANDS = 40
 LOW_HERTZ = 60.0
 TOP_HERTZ = 7600.0
-LOUD_SHARE = 0.3  # the loudest 30 % of the frames stand for the take's speech level
+LOUD_SHARE = 0.3  # the loudest 30 % of the frames stand for the take's speech level ...
+# ... leaving out a long quiet stretch: this many frames (3 s) or more, each QUIET_UNDER_DB under the take's
+# loudest frames (their 99th percentile), is a break in the recording, not a pause of its speech. Counted,
+# it filled the loud share where the speech holds less than 30 % of the take (a voice's sentence, then
+# 20 s of room, then the next: the first sentence recognised 0.985 -> 0.955 alike, 0.879 with 40 s).
+LONG_QUIET_FRAMES = 300
+QUIET_UNDER_DB = 30.0
 FLOOR_DB = -60.0  # below the speech level; quieter is the same as this
 SCALE_DB = 10.0  # decibels per feature unit
 FEATURE_COUNT = BANDS + 1
@@ -63,11 +70,27 @@ def log_bands(samples: np.ndarray) -> np.ndarray:
 
 def speech_levels(decibels: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
     """Each frame's loudness, the take's spectral shape (band levels minus the speech level) and its speech
-    level (decibels), all from the loudest LOUD_SHARE of the frames."""
+    level (decibels), all from the loudest LOUD_SHARE of the frames outside long quiet stretches."""
     loudness = 10.0 * np.log10(np.sum(10.0 ** (decibels / 10.0), axis=1) + 1e-10)
-    loud = loudness >= np.percentile(loudness, 100 * (1 - LOUD_SHARE))
+    counted = ~long_quiet(loudness)
+    if counted.all():
+        loud = loudness >= np.percentile(loudness, 100 * (1 - LOUD_SHARE))
+    else:
+        loud = counted & (loudness >= np.percentile(loudness[counted], 100 * (1 - LOUD_SHARE)))
     speech_level = float(loudness[loud].mean())
     return loudness, decibels[loud].mean(axis=0) - speech_level, speech_level
+
+
+def long_quiet(loudness: np.ndarray) -> np.ndarray:
+    """The frames of runs of at least LONG_QUIET_FRAMES frames each QUIET_UNDER_DB under the take's loudest
+    (none where that would leave nothing)."""
+    quiet = loudness < np.percentile(loudness, 99) - QUIET_UNDER_DB
+    found = np.zeros(loudness.size, bool)
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], quiet.astype(np.int8), [0]))))
+    for start, stop in zip(edges[::2], edges[1::2], strict=True):
+        if stop - start >= LONG_QUIET_FRAMES:
+            found[start:stop] = True
+    return found if not found.all() else np.zeros(loudness.size, bool)
 
 
 @cache
