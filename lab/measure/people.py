@@ -28,7 +28,13 @@ own rate.
   digital silence before and after (a take exported from an editor's timeline): how many lines' word
   onsets move by more than 50 ms, and how many are warned either way. The speech is the same: ideally
   none moves;
-- mbrola-words (only when named, MBROLA installed: lab/kit/diphone_voices.py): two Turkish speakers'
+- breaks (only when named): the Czech lines (every --sentences-th), three at a time, joined by BREAK_SECONDS
+  of room (noise BREAK_ROOM_DB under their peak) into one take (a session's lines recorded in one file):
+  without a text, how closely the letters heard match the three lines' spellings (difflib's ratio),
+  beside each line heard alone; with the three lines' text, each word's onset against the line aligned
+  alone (median / p90 / max) and how many takes are warned. The speech is the same: ideally the joined
+  take is heard and aligned as its lines are;
+- mbrola-words (only when named, MBROLA installed: lab/kit/diphone_voices.py): two Turkish speakers''
   diphones saying every distinct word of examples/corpus_tr.txt's held-out sentences alone, with their
   text (refused / warned / clean, the onset's error) and without ("no speech found").
 
@@ -38,6 +44,7 @@ Not a test: the figures go into docs/developer/measured/people.md.
 from __future__ import annotations
 
 import argparse
+import difflib
 import re
 import sys
 import tempfile
@@ -262,6 +269,50 @@ def measure_padded(part: str, folder: Path, every: int, scratch: Path) -> None:
         print(f"  not clean as they come: {not_clean['as they come']}, padded: {not_clean['padded']}")
 
 
+BREAK_SECONDS = 20.0
+BREAK_ROOM_DB = 55.0
+
+
+def measure_breaks(part: str, folder: Path, every: int, scratch: Path) -> None:
+    lines = [r for r in people.sentence_lines(part, folder) if r.source.startswith("fillets-cs")][::every]
+    rng = np.random.default_rng(5)
+    joined_match, alone_match, errors, warned, groups = [], [], [], 0, 0
+    for first in range(0, len(lines) - 2, 3):
+        group = lines[first : first + 3]
+        clips = [people.read(recording, RATE) for recording in group]
+        room = 10 ** (-BREAK_ROOM_DB / 20) * max(np.abs(clip).max() for clip in clips)
+        spelling = "".join(recording.turkish for recording in group).replace(" ", "")
+        heard_alone, starts, offset = "", [], 0.0
+        for recording, clip in zip(group, clips, strict=True):
+            path = write_wav(scratch / "line.wav", clip, RATE)
+            alone, _ = heard(path)
+            heard_alone += "".join(phone.letter for phone in alone.phones) if alone is not None else ""
+            timeline, _ = aligned(recording.turkish, path)
+            starts += [word.start + offset for word in timeline.words] if timeline is not None else []
+            offset += clip.size / RATE + BREAK_SECONDS
+        pieces = [part for clip in clips for part in (clip, rng.normal(0, room, int(BREAK_SECONDS * RATE)))]
+        path = write_wav(scratch / "joined.wav", np.concatenate(pieces), RATE)
+        joined, _ = heard(path)
+        heard_joined = "".join(phone.letter for phone in joined.phones) if joined is not None else ""
+        joined_match.append(difflib.SequenceMatcher(None, heard_joined, spelling).ratio())
+        alone_match.append(difflib.SequenceMatcher(None, heard_alone, spelling).ratio())
+        timeline, result = aligned(" ".join(recording.turkish for recording in group), path)
+        groups += 1
+        warned += result != "clean"
+        if timeline is not None and len(timeline.words) == len(starts):
+            errors.append(np.abs(np.array([word.start for word in timeline.words]) - starts))
+    ms = 1000 * np.concatenate(errors)
+    print(f"breaks, fillets-cs ({groups} takes of three lines, {BREAK_SECONDS:.0f} s of room between them)")
+    print(
+        f"  no text: letters against the spellings {np.mean(joined_match):.3f} joined, "
+        f"{np.mean(alone_match):.3f} each line alone"
+    )
+    print(
+        f"  with the text: not clean {warned} of {groups}; word onsets against each line aligned alone "
+        f"median {np.median(ms):.0f}, p90 {np.percentile(ms, 90):.0f}, max {ms.max():.0f} ms"
+    )
+
+
 def measure_diphone_words(scratch: Path) -> None:
     """MBROLA's two Turkish speakers (lab/kit/diphone_voices.py) saying every distinct word of the held-out
     sentences alone, 0.4 s of silence each side, 40 dB pink noise: with the word's text, and with none."""
@@ -311,6 +362,8 @@ def main(argv: list[str] | None = None) -> int:
                 measure_sentences(arguments.part, arguments.folder, arguments.sentences, Path(scratch))
             elif name == "padded":
                 measure_padded(arguments.part, arguments.folder, arguments.sentences, Path(scratch))
+            elif name == "breaks":
+                measure_breaks(arguments.part, arguments.folder, arguments.sentences, Path(scratch))
             elif name == "mbrola-words":
                 measure_diphone_words(Path(scratch))
             sys.stdout.flush()
