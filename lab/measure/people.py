@@ -32,7 +32,8 @@ own rate.
   of room (noise BREAK_ROOM_DB under their peak) into one take (a session's lines recorded in one file):
   without a text, how closely the letters heard match the three lines' spellings (difflib's ratio),
   beside each line heard alone; with the three lines' text, each word's onset against the line aligned
-  alone (median / p90 / max) and how many takes are warned. The speech is the same: ideally the joined
+  alone (median / p90 / max), how many takes are warned, and in how many a word is put across a break
+  (more than half a break from where its line alone puts it). The speech is the same: ideally the joined
   take is heard and aligned as its lines are;
 - mbrola-words (only when named, MBROLA installed: lab/kit/diphone_voices.py): two Turkish speakers''
   diphones saying every distinct word of examples/corpus_tr.txt's held-out sentences alone, with their
@@ -276,7 +277,7 @@ BREAK_ROOM_DB = 55.0
 def measure_breaks(part: str, folder: Path, every: int, scratch: Path) -> None:
     lines = [r for r in people.sentence_lines(part, folder) if r.source.startswith("fillets-cs")][::every]
     rng = np.random.default_rng(5)
-    joined_match, alone_match, errors, warned, groups = [], [], [], 0, 0
+    joined_match, alone_match, errors, warned, groups, across = [], [], [], 0, 0, 0
     for first in range(0, len(lines) - 2, 3):
         group = lines[first : first + 3]
         clips = [people.read(recording, RATE) for recording in group]
@@ -301,6 +302,7 @@ def measure_breaks(part: str, folder: Path, every: int, scratch: Path) -> None:
         warned += result != "clean"
         if timeline is not None and len(timeline.words) == len(starts):
             errors.append(np.abs(np.array([word.start for word in timeline.words]) - starts))
+            across += bool((errors[-1] > BREAK_SECONDS / 2).any())
     ms = 1000 * np.concatenate(errors)
     print(f"breaks, fillets-cs ({groups} takes of three lines, {BREAK_SECONDS:.0f} s of room between them)")
     print(
@@ -308,8 +310,9 @@ def measure_breaks(part: str, folder: Path, every: int, scratch: Path) -> None:
         f"{np.mean(alone_match):.3f} each line alone"
     )
     print(
-        f"  with the text: not clean {warned} of {groups}; word onsets against each line aligned alone "
-        f"median {np.median(ms):.0f}, p90 {np.percentile(ms, 90):.0f}, max {ms.max():.0f} ms"
+        f"  with the text: not clean {warned} of {groups}; a word put across a break in {across}; "
+        f"word onsets against each line aligned alone median {np.median(ms):.0f}, "
+        f"p90 {np.percentile(ms, 90):.0f}, max {ms.max():.0f} ms"
     )
 
 

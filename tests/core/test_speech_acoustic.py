@@ -59,6 +59,28 @@ def test_each_letter_is_found_where_it_is_heard_and_pauses_are_skipped_or_taken(
     assert found.starts.tolist() == [2, 5, 7]
 
 
+def test_a_break_lies_where_the_text_pauses_not_inside_its_sentence():
+    """Two sentences 1.5 s apart ("a. o e"): the o may be heard in the a's dying tail or where a sound
+    between o and e starts after the break. Alike to the network (the tail a little more o-like), a
+    pause the text does not mark costs its frames in a break: the break goes before the o."""
+    silence, a, o, e = (CLASS_INDEX[name] for name in "_aoe")
+    heard = np.full((160, len(CLASSES)), 1e-4)
+    heard[0:3, a] = 1.0
+    heard[3:5, o], heard[3:5, silence] = 0.55, 0.45  # the tail of the a
+    heard[5:155, silence] = 1.0  # the break
+    heard[155:157, o], heard[155:157, e] = 0.5, 0.5  # an o or an e
+    heard[157:160, e] = 1.0
+    log_posteriors = np.log(heard / heard.sum(axis=1, keepdims=True))
+    units = text_units(build_utterance("A. O e"))
+    assert units.marked.tolist() == [False, True, False]
+    model = letter_model(units.classes, units.word_starts, np.ones(len(CLASSES), np.int64), units.marked)
+    priors = np.full(len(CLASSES), 1 / len(CLASSES))
+    assert force_align(log_posteriors, priors, model).starts.tolist()[1] == 3  # no cost: the o in the tail
+    cost = np.zeros(160)
+    cost[5:155] = 0.1
+    assert force_align(log_posteriors, priors, model, break_cost=cost).starts.tolist()[:2] == [0, 155]
+
+
 def test_every_letter_lasts_at_least_its_shortest_duration():
     silence, a, b = (CLASS_INDEX[name] for name in "_ab")
     frames = [silence] * 2 + [a] * 6 + [silence] * 2  # the b is not heard at all

@@ -87,6 +87,13 @@ class AlignerSettings:
     loud frames ..."""
     rising_db: float = 3.0
     """... until it rises this much from the lowest it reached (the next sound's onset)."""
+    break_frames: int = 200
+    """A stretch of the recording this long with no speech is a break (a session's lines recorded in one
+    take) ..."""
+    break_pause_cost: float = 0.1
+    """... where each frame of a pause between two words the text puts no pause between (no comma, no
+    stop) costs this much more: the break lies where the text pauses, and the first words after it are
+    not drawn before it into the dying sound of the line before."""
 
     # -- the judgement: a confidence per phrase, another text refused, warnings
     matched: float = 0.5

@@ -51,6 +51,7 @@ def letter_warp(
     synthetic_ends: np.ndarray,
     log_posteriors: np.ndarray,
     silence_bias: np.ndarray,
+    break_cost: np.ndarray,
     network: PhoneNetwork,
     path_x: np.ndarray,
     path_y: np.ndarray,
@@ -61,14 +62,15 @@ def letter_warp(
 
     synthetic_starts, synthetic_ends: each utterance letter's span in the synthetic speech (seconds).
     log_posteriors: what the network hears in each recorded frame; silence_bias: what the speech
-    detector adds to silence's score in each (acoustic/forced.py). path_x, path_y: the DTW path
-    (synthetic frames padded by `lead`, recorded frames).
+    detector adds to silence's score in each, break_cost: what a pause the text does not mark costs in
+    each (acoustic/forced.py). path_x, path_y: the DTW path (synthetic frames padded by `lead`, recorded
+    frames).
     """
     units = text_units(utterance)
     if units.classes.size == 0:
         return None
     shortest = np.maximum(1, np.round(network.shortest * SHORTEST_SCALE)).astype(np.int64)
-    model = letter_model(units.classes, units.word_starts, shortest)
+    model = letter_model(units.classes, units.word_starts, shortest, units.marked)
     starts = synthetic_starts[units.letters]
     ends = synthetic_ends[units.letters]
     if len(log_posteriors) * len(model.classes) <= UNBANDED_CELLS:
@@ -77,7 +79,7 @@ def letter_warp(
         bands = [_band(model, starts, path_x, path_y, lead, len(log_posteriors), reach) for reach in REACHES]
     for band in bands:
         try:
-            found = force_align(log_posteriors, network.priors, model, band, silence_bias)
+            found = force_align(log_posteriors, network.priors, model, band, silence_bias, break_cost)
             break
         except ValueError:
             continue

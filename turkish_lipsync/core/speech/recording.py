@@ -377,6 +377,7 @@ def _place_letters(
         rendered.letter_ends,
         heard.log_posteriors,
         _silence_bias(heard.speech, found.pause, heard.take.under_speech, settings),
+        _break_cost(heard.speech, settings),
         network,
         found.path_x,
         found.path_y,
@@ -500,6 +501,16 @@ def _silence_bias(
     speaking = _inner(recorded_speech & ~recorded_pause, settings.speech_edge_frames)
     bias[speaking & ~fading(recorded_under_speech, settings)] = settings.speaker_silence_bias
     return bias
+
+
+def _break_cost(recorded_speech: np.ndarray, settings: AlignerSettings) -> np.ndarray:
+    """What a pause the text does not mark costs in each recorded frame: break_pause_cost in a break (at
+    least break_frames with no speech), nothing elsewhere."""
+    cost = np.zeros(recorded_speech.size)
+    for start, stop in runs(~recorded_speech):
+        if stop - start >= settings.break_frames:
+            cost[start:stop] = settings.break_pause_cost
+    return cost
 
 
 def fading(under_speech_db: np.ndarray, settings: AlignerSettings = DEFAULT_ALIGNER) -> np.ndarray:

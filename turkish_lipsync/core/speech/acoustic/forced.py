@@ -31,11 +31,12 @@ class TextUnits:
     classes: np.ndarray
     word_starts: np.ndarray  # True where a letter begins a word (a pause may come before it)
     letters: np.ndarray  # index into Utterance.letters
+    marked: np.ndarray  # True where a letter begins a word the text puts a pause before (a comma, a stop)
 
 
 def text_units(utterance: Utterance) -> TextUnits:
     """The utterance's letters as the network's classes (a ğ, which is no sound of its own, left out)."""
-    classes, starts, letters = [], [], []
+    classes, starts, letters, marked = [], [], [], []
     for word in utterance.words:
         first = True
         for index in range(word.first_letter, word.first_letter + word.letter_count):
@@ -44,8 +45,14 @@ def text_units(utterance: Utterance) -> TextUnits:
                 classes.append(CLASS_INDEX[name])
                 starts.append(first)
                 letters.append(index)
+                marked.append(first and word.pause_before > 0)
                 first = False
-    return TextUnits(np.array(classes, np.int64), np.array(starts, bool), np.array(letters, np.int64))
+    return TextUnits(
+        np.array(classes, np.int64),
+        np.array(starts, bool),
+        np.array(letters, np.int64),
+        np.array(marked, bool),
+    )
 
 
 @dataclass(frozen=True, eq=False)
@@ -57,36 +64,46 @@ class LetterModel:
     skippable: np.ndarray  # per state: a pause that may be skipped (the path jumps over it)
     letter_of_state: np.ndarray  # per state: index of its letter, -1 for a pause
     first_states: np.ndarray  # per letter: its first state
+    unmarked: np.ndarray  # per state: a pause between two words the text puts none between
 
 
-def letter_model(units: np.ndarray, word_starts: np.ndarray, shortest: np.ndarray) -> LetterModel:
+def letter_model(
+    units: np.ndarray, word_starts: np.ndarray, shortest: np.ndarray, marked: np.ndarray | None = None
+) -> LetterModel:
     """The model of a sequence of letter classes (`units`), pauses possible before each word start.
 
-    shortest: per class, the fewest frames a letter of it lasts.
+    shortest: per class, the fewest frames a letter of it lasts. marked: per unit, whether the text puts
+    a pause before it (TextUnits.marked; every pause counts as marked where it is not given).
     """
+    marked = np.ones(len(units), bool) if marked is None else marked
     classes, loops, skippable, owners, firsts = [CLASS_INDEX[SILENCE]], [True], [True], [-1], []
+    unmarked = [False]
     for index, (unit, starts_word) in enumerate(zip(units, word_starts, strict=True)):
         if starts_word and index:
             classes.append(CLASS_INDEX[SILENCE])
             loops.append(True)
             skippable.append(True)
             owners.append(-1)
+            unmarked.append(not marked[index])
         firsts.append(len(classes))
         length = int(max(1, shortest[unit]))
         classes += [int(unit)] * length
         loops += [False] * (length - 1) + [True]
         skippable += [False] * length
         owners += [index] * length
+        unmarked += [False] * length
     classes.append(CLASS_INDEX[SILENCE])
     loops.append(True)
     skippable.append(True)
     owners.append(-1)
+    unmarked.append(False)
     return LetterModel(
         np.array(classes, np.int64),
         np.array(loops),
         np.array(skippable),
         np.array(owners, np.int64),
         np.array(firsts, np.int64),
+        np.array(unmarked),
     )
 
 
@@ -106,6 +123,7 @@ def force_align(
     model: LetterModel,
     band: tuple[np.ndarray, np.ndarray] | None = None,
     silence_bias: np.ndarray | None = None,
+    break_cost: np.ndarray | None = None,
 ) -> ForcedAlignment:
     """The best path of the frames through the model (every letter at least its shortest duration).
 
@@ -114,6 +132,9 @@ def force_align(
     silence_bias: per frame, added to silence's score (natural-log units): negative where a speech
     detector hears the speaker (the network, unsure of a voice unlike any it learnt from, hears silence
     sooner than a wrong letter), positive where a quiet voice in the background may fill a pause.
+    break_cost: per frame, what a pause the text does not mark (LetterModel.unmarked) costs there more than
+    one it marks: a long break in a session's recording lies where the text puts a pause, and the first
+    words of the line after it are not drawn before it into the last one's dying sound.
     """
     frames = len(log_posteriors)
     states = len(model.classes)
@@ -129,7 +150,11 @@ def force_align(
     scores = np.maximum(log_posteriors, np.log(POSTERIOR_FLOOR)) - PRIOR_WEIGHT * np.log(priors)[None, :]
     if silence_bias is not None:
         scores[:, CLASS_INDEX[SILENCE]] += silence_bias[:frames]
-    last_scores, moves = _viterbi(scores, model, low, high)
+    # An unmarked pause emits a class of its own: silence's score less the break's cost.
+    unmarked = scores[:, CLASS_INDEX[SILENCE]] - (0.0 if break_cost is None else break_cost[:frames])
+    scores = np.column_stack((scores, unmarked))
+    emitted = np.where(model.unmarked, scores.shape[1] - 1, model.classes)
+    last_scores, moves = _viterbi(scores, emitted, model, low, high)
     last = states - 1
     end = last if last_scores[last + 2] >= last_scores[last + 1] else last - 1
     if not np.isfinite(last_scores[end + 2]):
@@ -163,11 +188,12 @@ def _transitions(model: LetterModel) -> tuple[np.ndarray, np.ndarray, np.ndarray
 
 
 def _viterbi(
-    scores: np.ndarray, model: LetterModel, low: np.ndarray, high: np.ndarray
+    scores: np.ndarray, emitted: np.ndarray, model: LetterModel, low: np.ndarray, high: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
-    """The forward pass within the band: the best path's score into each state at the last frame (with
-    two guard states before state 0), and each frame's move into each state of its band (0 stay, 1 from
-    the state before, 2 from two before; a tie keeps the lower)."""
+    """The forward pass within the band, each state scored by its `emitted` column of `scores`: the best
+    path's score into each state at the last frame (with two guard states before state 0), and each
+    frame's move into each state of its band (0 stay, 1 from the state before, 2 from two before; a tie
+    keeps the lower)."""
     frames, states = len(scores), len(model.classes)
     stay, enter, jump = _transitions(model)
     width = int((high - low).max())
@@ -179,7 +205,7 @@ def _viterbi(
     start[1] = 0.0 if model.skippable[0] else -np.inf
     current = np.full(states + 2, -np.inf)
     current[2:] = start
-    current[2:][low[0] : high[0]] += scores[0, model.classes[low[0] : high[0]]]
+    current[2:][low[0] : high[0]] += scores[0, emitted[low[0] : high[0]]]
     current[2:][: low[0]] = -np.inf
     current[2:][high[0] :] = -np.inf
     # Each array's scores are finite from this index up, and nowhere past its band's end: the bands never
@@ -190,7 +216,7 @@ def _viterbi(
     for block in range(1, frames, block_length):  # each frame's band of scores, a block of frames at a time
         block_frames = np.arange(block, min(block + block_length, frames))
         band_states = np.minimum(low[block_frames, None] + np.arange(width), states - 1)
-        band_scores = scores[block_frames[:, None], model.classes[band_states]]
+        band_scores = scores[block_frames[:, None], emitted[band_states]]
         for row, frame in enumerate(block_frames.tolist()):
             previous, current = current, previous
             previous_from, current_from = current_from, previous_from
