@@ -25,6 +25,7 @@ import numpy as np
 
 from ...base.errors import DataError
 from ..features import HOP, WINDOW, mel_energies
+from ..voice_activity import runs
 
 BANDS = 40
 LOW_HERTZ = 60.0
@@ -73,24 +74,19 @@ def speech_levels(decibels: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
     level (decibels), all from the loudest LOUD_SHARE of the frames outside long quiet stretches."""
     loudness = 10.0 * np.log10(np.sum(10.0 ** (decibels / 10.0), axis=1) + 1e-10)
     counted = ~long_quiet(loudness)
-    if counted.all():
-        loud = loudness >= np.percentile(loudness, 100 * (1 - LOUD_SHARE))
-    else:
-        loud = counted & (loudness >= np.percentile(loudness[counted], 100 * (1 - LOUD_SHARE)))
+    loud = counted & (loudness >= np.percentile(loudness[counted], 100 * (1 - LOUD_SHARE)))
     speech_level = float(loudness[loud].mean())
     return loudness, decibels[loud].mean(axis=0) - speech_level, speech_level
 
 
 def long_quiet(loudness: np.ndarray) -> np.ndarray:
     """The frames of runs of at least LONG_QUIET_FRAMES frames each QUIET_UNDER_DB under the take's loudest
-    (none where that would leave nothing)."""
-    quiet = loudness < np.percentile(loudness, 99) - QUIET_UNDER_DB
+    (their 99th percentile: the loudest frames are never quiet, so some are always left)."""
     found = np.zeros(loudness.size, bool)
-    edges = np.flatnonzero(np.diff(np.concatenate(([0], quiet.astype(np.int8), [0]))))
-    for start, stop in zip(edges[::2], edges[1::2], strict=True):
+    for start, stop in runs(loudness < np.percentile(loudness, 99) - QUIET_UNDER_DB):
         if stop - start >= LONG_QUIET_FRAMES:
             found[start:stop] = True
-    return found if not found.all() else np.zeros(loudness.size, bool)
+    return found
 
 
 @cache
