@@ -49,7 +49,14 @@ from .judgement import Fit, PhraseMatch, judge
 from .letter_warp import LetterFit, letter_warp
 from .speech_detector import detect_speech
 from .timewarp import TimeWarp, warp_synthesis
-from .voice_activity import above_floor, clean_speech_frames, runs, speech_frames, under_speech
+from .voice_activity import (
+    above_floor,
+    clean_speech_frames,
+    long_runs,
+    runs,
+    speech_frames,
+    under_speech,
+)
 
 
 @dataclass(frozen=True, eq=False)
@@ -506,11 +513,7 @@ def _silence_bias(
 def _break_cost(recorded_speech: np.ndarray, settings: AlignerSettings) -> np.ndarray:
     """What a pause the text does not mark costs in each recorded frame: break_pause_cost in a break (at
     least break_frames with no speech), nothing elsewhere."""
-    cost = np.zeros(recorded_speech.size)
-    for start, stop in runs(~recorded_speech):
-        if stop - start >= settings.break_frames:
-            cost[start:stop] = settings.break_pause_cost
-    return cost
+    return np.where(long_runs(~recorded_speech, settings.break_frames), settings.break_pause_cost, 0.0)
 
 
 def fading(under_speech_db: np.ndarray, settings: AlignerSettings = DEFAULT_ALIGNER) -> np.ndarray:
@@ -646,9 +649,7 @@ def _pauses(
         (far_under, settings.under_speech_pause_frames, settings.far_under_hold_cost),
         (near_floor, settings.floor_pause_frames, settings.pause_cost),
     ):
-        for start, stop in runs(quiet):
-            if stop - start >= shortest:
-                hold[start:stop] = cost
+        hold[long_runs(quiet, shortest)] = cost
     hold[~recorded_speech] = settings.pause_cost
     return Pauses(free, ~synthetic_speech, hold, settings.pause_cost)
 

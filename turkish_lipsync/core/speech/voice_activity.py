@@ -144,6 +144,15 @@ def runs(mask: np.ndarray) -> np.ndarray:
     return np.stack((np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)), axis=1)
 
 
+def long_runs(mask: np.ndarray, shortest: int) -> np.ndarray:
+    """The frames of the mask's True runs that last at least `shortest` frames."""
+    found = np.zeros(mask.size, bool)
+    for start, stop in runs(mask):
+        if stop - start >= shortest:
+            found[start:stop] = True
+    return found
+
+
 def _bridge_gaps(mask: np.ndarray) -> np.ndarray:
     mask = mask.copy()
     spans = runs(mask)
@@ -154,11 +163,7 @@ def _bridge_gaps(mask: np.ndarray) -> np.ndarray:
 
 
 def _drop_short_runs(mask: np.ndarray) -> np.ndarray:
-    mask = mask.copy()
-    for start, stop in runs(mask):
-        if stop - start < SHORTEST_RUN:
-            mask[start:stop] = False
-    return mask
+    return long_runs(mask, SHORTEST_RUN)
 
 
 def _drop_isolated_weak_runs(mask: np.ndarray, levels: np.ndarray, loud: float) -> np.ndarray:

@@ -25,7 +25,7 @@ import numpy as np
 
 from ...base.errors import DataError
 from ..features import HOP, WINDOW, mel_energies
-from ..voice_activity import runs
+from ..voice_activity import long_runs
 
 BANDS = 40
 LOW_HERTZ = 60.0
@@ -82,11 +82,7 @@ def speech_levels(decibels: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
 def long_quiet(loudness: np.ndarray) -> np.ndarray:
     """The frames of runs of at least LONG_QUIET_FRAMES frames each QUIET_UNDER_DB under the take's loudest
     (their 99th percentile: the loudest frames are never quiet, so some are always left)."""
-    found = np.zeros(loudness.size, bool)
-    for start, stop in runs(loudness < np.percentile(loudness, 99) - QUIET_UNDER_DB):
-        if stop - start >= LONG_QUIET_FRAMES:
-            found[start:stop] = True
-    return found
+    return long_runs(loudness < np.percentile(loudness, 99) - QUIET_UNDER_DB, LONG_QUIET_FRAMES)
 
 
 @cache
