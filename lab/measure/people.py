@@ -35,6 +35,10 @@ own rate.
   alone (median / p90 / max), how many takes are warned, and in how many a word is put across a break
   (more than half a break from where its line alone puts it). The speech is the same: ideally the joined
   take is heard and aligned as its lines are;
+- long (only when named): the report part's acted lines one after the other, 0.5 s apart, in one 10-minute
+  take (lab/measure/recogniser.py's long_take, the take its speed is measured on), no text: how closely the
+  letters heard within each line's span match its spelling (difflib's ratio, mean over the lines), beside
+  each line heard alone. Ideally the long take is heard as its lines are;
 - mbrola-words (only when named, MBROLA installed: lab/kit/diphone_voices.py): two Turkish speakers''
   diphones saying every distinct word of examples/corpus_tr.txt's held-out sentences alone, with their
   text (refused / warned / clean, the onset's error) and without ("no speech found").
@@ -58,6 +62,8 @@ from lab.kit import diphone_voices, people
 from lab.kit.corpus import held_out_sentences
 from lab.kit.scores import bilabial_scores, correlation, opening_trajectory
 from lab.kit.takes import write_wav
+from lab.kit.voices import RECORDED_RATE
+from lab.measure.recogniser import long_take
 from lab.measure.recordings import aeneas_onsets, takes
 from turkish_lipsync.core.base.errors import LipSyncError
 from turkish_lipsync.core.speech import synthesize_timeline
@@ -277,18 +283,19 @@ BREAK_ROOM_DB = 55.0
 def measure_breaks(part: str, folder: Path, every: int, scratch: Path) -> None:
     lines = [r for r in people.sentence_lines(part, folder) if r.source.startswith("fillets-cs")][::every]
     rng = np.random.default_rng(5)
-    joined_match, alone_match, errors, warned, groups, across = [], [], [], 0, 0, 0
+    joined_match, alone_match, errors, warned, groups, across, warned_alone = [], [], [], 0, 0, 0, 0
     for first in range(0, len(lines) - 2, 3):
         group = lines[first : first + 3]
         clips = [people.read(recording, RATE) for recording in group]
         room = 10 ** (-BREAK_ROOM_DB / 20) * max(np.abs(clip).max() for clip in clips)
         spelling = "".join(recording.turkish for recording in group).replace(" ", "")
-        heard_alone, starts, offset = "", [], 0.0
+        heard_alone, starts, offset, results = "", [], 0.0, set()
         for recording, clip in zip(group, clips, strict=True):
             path = write_wav(scratch / "line.wav", clip, RATE)
             alone, _ = heard(path)
             heard_alone += "".join(phone.letter for phone in alone.phones) if alone is not None else ""
-            timeline, _ = aligned(recording.turkish, path)
+            timeline, result = aligned(recording.turkish, path)
+            results.add(result)
             starts += [word.start + offset for word in timeline.words] if timeline is not None else []
             offset += clip.size / RATE + BREAK_SECONDS
         pieces = [part for clip in clips for part in (clip, rng.normal(0, room, int(BREAK_SECONDS * RATE)))]
@@ -300,6 +307,7 @@ def measure_breaks(part: str, folder: Path, every: int, scratch: Path) -> None:
         timeline, result = aligned(" ".join(recording.turkish for recording in group), path)
         groups += 1
         warned += result != "clean"
+        warned_alone += results != {"clean"}
         if timeline is not None and len(timeline.words) == len(starts):
             errors.append(np.abs(np.array([word.start for word in timeline.words]) - starts))
             across += bool((errors[-1] > BREAK_SECONDS / 2).any())
@@ -310,9 +318,34 @@ def measure_breaks(part: str, folder: Path, every: int, scratch: Path) -> None:
         f"{np.mean(alone_match):.3f} each line alone"
     )
     print(
-        f"  with the text: not clean {warned} of {groups}; a word put across a break in {across}; "
+        f"  with the text: not clean {warned} of {groups} (a line of the take not clean alone: "
+        f"{warned_alone}); a word put across a break in {across}; "
         f"word onsets against each line aligned alone median {np.median(ms):.0f}, "
         f"p90 {np.percentile(ms, 90):.0f}, max {ms.max():.0f} ms"
+    )
+
+
+LONG_MINUTES = 10
+
+
+def measure_long(scratch: Path) -> None:
+    take, spans = long_take(LONG_MINUTES, of_people=True)
+    path = write_wav(scratch / "long.wav", take, RECORDED_RATE)
+    del take
+    joined, _ = heard(path)
+    phones = joined.phones if joined is not None else ()
+    together, alone = [], []
+    for start, end, recording in spans:
+        spelling = re.sub(r"[^\w]", "", recording.turkish)
+        inside = "".join(p.letter for p in phones if start <= (p.start + p.end) / 2 < end)
+        together.append(difflib.SequenceMatcher(None, inside, spelling, autojunk=False).ratio())
+        line, _ = heard(recording.path)
+        letters = "".join(p.letter for p in line.phones) if line is not None else ""
+        alone.append(difflib.SequenceMatcher(None, letters, spelling, autojunk=False).ratio())
+    print(f"long take, no text ({LONG_MINUTES} minutes: {len(spans)} acted lines one after the other)")
+    print(
+        f"  letters within each line's span against its spelling {np.mean(together):.4f}; "
+        f"each line heard alone {np.mean(alone):.4f}"
     )
 
 
@@ -367,6 +400,8 @@ def main(argv: list[str] | None = None) -> int:
                 measure_padded(arguments.part, arguments.folder, arguments.sentences, Path(scratch))
             elif name == "breaks":
                 measure_breaks(arguments.part, arguments.folder, arguments.sentences, Path(scratch))
+            elif name == "long":
+                measure_long(Path(scratch))
             elif name == "mbrola-words":
                 measure_diphone_words(Path(scratch))
             sys.stdout.flush()

@@ -148,35 +148,44 @@ def _row(name: str, results: list[dict]) -> str:
 
 
 def measure_speed(minutes: float, folder: Path, of_people: bool = False) -> None:
-    """One long take of held-out sentences (voice m3, 30 dB), or of people's voice-acted lines one after
-    the other (the report part's; the recogniser hears these with Whisper too): seconds, x real time and
-    peak memory."""
-    if of_people:
-        lines = people.sentence_lines("report")
-
-        def said(n: int) -> np.ndarray:
-            return people.read(lines[n % len(lines)], RECORDED_RATE)
-    else:
-        texts = held_out_sentences()
-
-        def said(n: int) -> np.ndarray:
-            return speak(texts[n % len(texts)], *TEST_VOICES["m3"], sample_rate=RECORDED_RATE)[0]
-
-    rng = np.random.default_rng(3)
-    pieces = []
-    total = 0.0
-    while total < minutes * 60:
-        pieces.append(np.concatenate((said(len(pieces)), np.zeros(int(0.5 * RECORDED_RATE)))))
-        total += pieces[-1].size / RECORDED_RATE
-    reading = takes.Take(np.concatenate(pieces), np.zeros(0), np.zeros(0), np.zeros(0, bool))
-    del pieces
-    take = takes.add_noise(reading, 30, "white", rng).samples
+    """long_take's take: seconds, x real time and peak memory."""
+    take, _ = long_take(minutes, of_people)
     path = write_wav(folder / "long.wav", take, RECORDED_RATE)
     del take
     # Recognised by a process of its own, so its peak memory is the recogniser's, not the take's making.
     subprocess.run(
         [sys.executable, "-m", __spec__.name, "--recognise", str(path)], check=True, cwd=REPOSITORY
     )
+
+
+def long_take(minutes: float, of_people: bool = False) -> tuple[np.ndarray, list]:
+    """One long take at RECORDED_RATE (30 dB of white noise over it) of held-out sentences (voice m3), or
+    of people's voice-acted lines one after the other (the report part's; the recogniser hears these with
+    Whisper too), 0.5 s apart; and each line's span in it (start, end in seconds, and the line: a
+    people.Recording, or the sentence's text)."""
+    if of_people:
+        lines = people.sentence_lines("report")
+
+        def said(n: int) -> tuple[np.ndarray, object]:
+            return people.read(lines[n % len(lines)], RECORDED_RATE), lines[n % len(lines)]
+    else:
+        texts = held_out_sentences()
+
+        def said(n: int) -> tuple[np.ndarray, object]:
+            text = texts[n % len(texts)]
+            return speak(text, *TEST_VOICES["m3"], sample_rate=RECORDED_RATE)[0], text
+
+    rng = np.random.default_rng(3)
+    pieces, spans = [], []
+    total = 0.0
+    while total < minutes * 60:
+        samples, line = said(len(pieces))
+        spans.append((total, total + samples.size / RECORDED_RATE, line))
+        pieces.append(np.concatenate((samples, np.zeros(int(0.5 * RECORDED_RATE)))))
+        total += pieces[-1].size / RECORDED_RATE
+    reading = takes.Take(np.concatenate(pieces), np.zeros(0), np.zeros(0), np.zeros(0, bool))
+    del pieces
+    return takes.add_noise(reading, 30, "white", rng).samples, spans
 
 
 def peak_memory_mb() -> float:

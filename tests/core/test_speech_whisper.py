@@ -32,7 +32,7 @@ def spoken():
 def test_the_mel_bands_put_a_tone_in_its_band_and_keep_whispers_range():
     tone = 0.5 * np.sin(2 * np.pi * 1000 * np.arange(RATE) / RATE).astype(np.float32)
     mel = whisper.log_mel(tone)
-    assert mel.shape == (3000, 80)
+    assert mel.shape == (whisper.WINDOW_SAMPLES // whisper.MEL_HOP, 80)
     centres = whisper._slaney_hz(
         np.linspace(0, whisper._slaney_mel(np.array(8000.0)), whisper.MEL_BANDS + 2)
     )[1:-1]
@@ -94,16 +94,41 @@ def test_the_hearing_hears_a_held_out_voices_bilabials_and_vowels(spoken):
     assert np.mean(np.isin(best[vowel], [CLASS_INDEX[letter] for letter in "aeıioöuü"])) > 0.8
 
 
-def test_a_take_longer_than_a_window_is_heard_frame_for_frame(spoken):
+def test_a_take_longer_than_a_window_is_heard_frame_for_frame_as_its_pieces_are(spoken):
     samples, _ = spoken
-    long = np.concatenate([samples] * int(np.ceil(31 * RATE / len(samples))))[: 31 * RATE]
+    seconds = whisper.WINDOW_SAMPLES // RATE + 1
+    long = np.concatenate([samples] * int(np.ceil(seconds * RATE / len(samples))))[: seconds * RATE]
     hearing = whisper.load_whisper_hearing()
     heard = hearing.log_posteriors(long)
     assert len(heard) == len(recogniser_features(long))
-    # The first window is heard as it is alone; the second second's frames belong to the second window.
-    first = hearing.log_posteriors(long[: 30 * RATE])
-    np.testing.assert_allclose(heard[: len(first) - 20], first[:-20], atol=1e-4)
     assert np.isfinite(heard).all()
+    # Heard in shorter windows than a take that fits one, its pieces are heard nearly as each alone is.
+    pieces = whisper.windows(long)
+    assert len(pieces) == 4
+    for begin, stop in pieces:
+        alone = hearing.log_posteriors(long[begin:stop]).argmax(axis=1)
+        first = begin // whisper.HOP
+        assert np.mean(heard[first : first + len(alone)].argmax(axis=1) == alone) > 0.9
+
+
+def test_a_long_takes_windows_end_in_its_pauses():
+    rng = np.random.default_rng(9)
+    window = whisper.LONG_TAKE_WINDOW
+    take = rng.normal(0, 0.1, 3 * window + 1234).astype(np.float32)
+    pause = slice(window - RATE, window - RATE + 4000)  # 0.25 s, 1 s before the window's end
+    take[pause] *= 0.001
+    found = whisper.windows(take)
+    assert found[0][0] == 0 and found[-1][1] == len(take)
+    assert all(stop == begin for (_, stop), (begin, _) in zip(found, found[1:], strict=False))
+    assert all(0 < stop - begin <= window for begin, stop in found)
+    assert all(stop % whisper.ENCODER_HOP == 0 for _, stop in found[:-1])  # on the encoder's frame grid
+    assert pause.start < found[0][1] < pause.stop  # the first ends in the pause
+    # With no pause in its last CUT_SEARCH samples, a window still ends within them (the quietest moment).
+    assert window - whisper.CUT_SEARCH < found[1][1] - found[1][0] <= window
+    # A take that fits Whisper's own window is one window, however short.
+    assert whisper.windows(take[: whisper.WINDOW_SAMPLES]) == [(0, whisper.WINDOW_SAMPLES)]
+    assert whisper.windows(take[:100]) == [(0, 100)]
+    assert whisper.windows(take[:0]) == [(0, 0)]
 
 
 def test_the_settings_weigh_the_two_hearings(spoken):
@@ -195,3 +220,17 @@ def test_blocks_of_a_long_take_give_the_same_posteriors_as_one_piece(spoken, mon
     whole = hearing.log_posteriors(samples)
     monkeypatch.setattr(whisper, "HEAD_BLOCK_FRAMES", 64)
     np.testing.assert_allclose(hearing.log_posteriors(samples), whole, atol=1e-4)
+
+
+def test_the_classifiers_first_convolution_over_repeated_frames_is_the_convolution_of_them():
+    rng = np.random.default_rng(11)
+    x = rng.normal(size=(30, 6)).astype(np.float32)
+    rows = np.repeat(np.arange(30), 2)[1:-3]  # each frame twice, as our frames take the encoder's
+    weight = matrix_of_taps(rng.normal(size=(4, 6, 5)).astype(np.float32))
+    bias = rng.normal(size=4).astype(np.float32)
+    for dilation in (1, 2, 40):
+        np.testing.assert_allclose(
+            whisper.convolve_repeated(x, rows, weight, bias, dilation),
+            convolve(x[rows], weight, bias, dilation),
+            atol=1e-4,
+        )

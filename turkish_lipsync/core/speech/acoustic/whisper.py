@@ -2,8 +2,8 @@
 
 Whisper (OpenAI, MIT licence) learnt its encoder from 680,000 hours of many thousands of speakers in
 many languages; its tiny model's encoder (4 transformer layers 384 wide, 8.2 M weights) is run here with
-numpy alone, on 30 s windows of 80 log mel bands as Whisper computes them (log_mel). A small classifier
-(HEAD_DILATIONS: three 'same' convolutions over its 20 ms frames, 256 wide) turns them into the
+numpy alone, on windows of 80 log mel bands as Whisper computes them (log_mel; windows). A small
+classifier (HEAD_DILATIONS: three 'same' convolutions over its 20 ms frames, 256 wide) turns them into the
 recogniser's classes (labels.py) at the recogniser's 10 ms frames. The encoder's weights are stored as
 int8 with a scale per output row (dequantised once per process); both the encoder's and the
 classifier's weights ship beside this file and are made by lab/train/whisper_head.py.
@@ -26,7 +26,15 @@ from .labels import CLASSES
 from .network import convolve, matrix_of_taps, stored_weights
 
 WEIGHTS_FILE = Path(__file__).with_name("whisper_hearing.npz")
-WINDOW_SAMPLES = 30 * ANALYSIS_RATE  # the encoder hears 30 s at a time, shorter audio padded with silence
+# The encoder hears a take of up to 30 s in one window, padded with silence to 30 s as Whisper was trained
+# (the classifier learnt such windows: a short take padded less is heard otherwise). A longer take is heard
+# in windows of at most 10 s, padded to 10 s: the same letters heard in three quarters of the time (the
+# attention's cost grows with the square of the window; docs: audio alone, speed). Each of them ends at the
+# quietest 100 ms of its last 2 s: in a pause where there is one.
+WINDOW_SAMPLES = 30 * ANALYSIS_RATE
+LONG_TAKE_WINDOW = 10 * ANALYSIS_RATE
+CUT_SEARCH = 2 * ANALYSIS_RATE
+CUT_SMOOTHING = 5  # encoder frames (100 ms)
 MEL_BANDS = 80
 FFT_SIZE = 400  # 25 ms
 MEL_HOP = 160  # 10 ms
@@ -40,19 +48,17 @@ ATTENTION_ROWS = 500  # the encoder's queries scored at a time (their scores: 3 
 HEAD_BLOCK_FRAMES = 8192  # the classifier's frames at a time (about 80 s)
 
 
-def log_mel(samples: np.ndarray) -> np.ndarray:
-    """Whisper's input for up to 30 s of 16 kHz samples: (3000 x 80) log10 mel power, padded with silence
-    to 30 s, floored 8 below its maximum and scaled as (x + 4) / 4."""
-    if len(samples) > WINDOW_SAMPLES:
-        raise ValueError(f"log_mel takes at most {WINDOW_SAMPLES} samples, not {len(samples)}")
-    padded = np.zeros(WINDOW_SAMPLES + FFT_SIZE, np.float32)
+def log_mel(samples: np.ndarray, window: int = WINDOW_SAMPLES) -> np.ndarray:
+    """Whisper's input for up to `window` 16 kHz samples: (window / 160 x 80) log10 mel power, padded with
+    silence to the window, floored 8 below its maximum and scaled as (x + 4) / 4."""
+    if len(samples) > window:
+        raise ValueError(f"log_mel takes at most {window} samples, not {len(samples)}")
+    padded = np.zeros(window + FFT_SIZE, np.float32)
     half = FFT_SIZE // 2
     padded[half : half + len(samples)] = samples
     if len(samples) > half:  # centred frames: the start reflected, as torch.stft(center=True) pads
         padded[:half] = samples[half:0:-1]
-    frames = np.lib.stride_tricks.sliding_window_view(padded, FFT_SIZE)[::MEL_HOP][
-        : WINDOW_SAMPLES // MEL_HOP
-    ]
+    frames = np.lib.stride_tricks.sliding_window_view(padded, FFT_SIZE)[::MEL_HOP][: window // MEL_HOP]
     power = np.abs(np.fft.rfft(frames * _hann(), axis=1)) ** 2
     mel = np.log10(np.maximum(power.astype(np.float32) @ _mel_filters(), 1e-10))
     mel = np.maximum(mel, mel.max() - 8.0)
@@ -107,10 +113,11 @@ class WhisperHearing:
         frame_count of them, frame i centred on sample i * HOP + WINDOW / 2) of 16 kHz float samples."""
         count = frame_count(len(samples))
         pieces = []  # each window's encoder frames (float16: a 30-minute take's are 70 MB)
-        for begin in range(0, max(1, len(samples)), WINDOW_SAMPLES):
-            chunk = samples[begin : begin + WINDOW_SAMPLES]
+        window = WINDOW_SAMPLES if len(samples) <= WINDOW_SAMPLES else LONG_TAKE_WINDOW
+        for begin, stop in windows(samples):
+            chunk = samples[begin:stop]
             heard = -(-len(chunk) // ENCODER_HOP)
-            pieces.append(self.encode(log_mel(chunk))[: max(1, heard)].astype(np.float16))
+            pieces.append(self.encode(log_mel(chunk, window))[: max(1, heard)].astype(np.float16))
         encoded = np.concatenate(pieces)
         nearest = encoder_frames_of(np.arange(count) * HOP + WINDOW / 2, len(encoded))
         out = np.empty((count, len(CLASSES)), np.float32)
@@ -118,16 +125,16 @@ class WhisperHearing:
         for begin in range(0, count, HEAD_BLOCK_FRAMES):  # blocks overlapping by what the classifier hears
             stop = min(begin + HEAD_BLOCK_FRAMES, count)
             first, last = max(0, begin - radius), min(count, stop + radius)
-            frames = (encoded[nearest[first:last]].astype(np.float32) - self.head["mean"]) * self.head[
-                "inverse_std"
-            ]
-            out[begin:stop] = self._classified(frames)[begin - first : stop - first]
+            low, high = nearest[first], nearest[last - 1] + 1
+            frames = (encoded[low:high].astype(np.float32) - self.head["mean"]) * self.head["inverse_std"]
+            logits = self._classified(frames, nearest[first:last] - low)
+            out[begin:stop] = logits[begin - first : stop - first]
         out -= out.max(axis=1, keepdims=True)
         out -= np.log(np.exp(out).sum(axis=1, keepdims=True))
         return out
 
     def encode(self, mel: np.ndarray) -> np.ndarray:
-        """(1500 x 384) encoder frames, one every 20 ms, of one window's log mel (3000 x 80)."""
+        """(window / 320 x 384) encoder frames, one every 20 ms, of a window's log mel (window / 160 x 80)."""
         w = self.encoder
         x = _gelu(convolve(mel, w["conv1.weight"], w["conv1.bias"], 1))
         x = _gelu(_halving_convolution(x, w["conv2.weight"], w["conv2.bias"]))
@@ -142,12 +149,36 @@ class WhisperHearing:
             x += w[name + "ffn_out.bias"]
         return _normalised(x, w["norm.gamma"], w["norm.beta"])
 
-    def _classified(self, x: np.ndarray) -> np.ndarray:
+    def _classified(self, encoded: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        """The classifier's logits over the frames encoded[rows] (each encoder frame serves two of ours)."""
         head = self.head
-        h = np.maximum(convolve(x, head["conv0.weight"], head["conv0.bias"], HEAD_DILATIONS[0]), 0)
+        first = convolve_repeated(encoded, rows, head["conv0.weight"], head["conv0.bias"], HEAD_DILATIONS[0])
+        h = np.maximum(first, 0)
         for n, dilation in enumerate(HEAD_DILATIONS[1:], 1):
             h = h + np.maximum(convolve(h, head[f"conv{n}.weight"], head[f"conv{n}.bias"], dilation), 0)
         return h @ head["out.weight"] + head["out.bias"]
+
+
+def convolve_repeated(
+    x: np.ndarray, rows: np.ndarray, weight: np.ndarray, bias: np.ndarray, dilation: int
+) -> np.ndarray:
+    """network.convolve over the frames x[rows] without making them: each tap's product is taken once per
+    row of x and gathered (x's rows repeat: the encoder's 20 ms frames at our 10 ms, half the products)."""
+    width = x.shape[1]
+    taps = weight.shape[0] // width
+    middle = taps // 2
+    side_by_side = weight.reshape(taps, width, -1).transpose(1, 0, 2).reshape(width, -1)
+    products = (x @ side_by_side).reshape(len(x), taps, -1)
+    out = products[rows, middle] + bias
+    for tap in range(taps):
+        shift = (tap - middle) * dilation
+        if shift == 0 or abs(shift) >= len(rows):
+            continue
+        if shift < 0:
+            out[-shift:] += products[rows[:shift], tap]
+        else:
+            out[:-shift] += products[rows[shift:], tap]
+    return out
 
 
 def _attended(qkv: np.ndarray, heads: int) -> np.ndarray:
@@ -170,6 +201,26 @@ def _attended(qkv: np.ndarray, heads: int) -> np.ndarray:
             np.exp(scores, out=scores)
             out[rows, columns] = (scores @ values) / scores.sum(axis=1, keepdims=True)
     return out
+
+
+def windows(samples: np.ndarray) -> list[tuple[int, int]]:
+    """(begin, stop) of the encoder's windows over a take, one after the other: the whole take if it fits
+    WINDOW_SAMPLES, else pieces of at most LONG_TAKE_WINDOW, each but the last a whole number of encoder
+    frames long (so that the windows' frames fall on the take's ENCODER_HOP grid) and ending in the middle
+    of the quietest CUT_SMOOTHING frames of its last CUT_SEARCH samples (a pause where there is one: few
+    sounds are cut in two)."""
+    if len(samples) <= WINDOW_SAMPLES:
+        return [(0, len(samples))]
+    found, begin = [], 0
+    while len(samples) - begin > LONG_TAKE_WINDOW:
+        first = begin + LONG_TAKE_WINDOW - CUT_SEARCH
+        frames = samples[first : begin + LONG_TAKE_WINDOW].reshape(-1, ENCODER_HOP).astype(np.float64)
+        energy = np.convolve((frames**2).sum(axis=1), np.ones(CUT_SMOOTHING), "same")
+        stop = first + ENCODER_HOP * (int(np.argmin(energy)) + 1)
+        found.append((begin, stop))
+        begin = stop
+    found.append((begin, len(samples)))
+    return found
 
 
 def encoder_frames_of(centres: np.ndarray, available: int) -> np.ndarray:
