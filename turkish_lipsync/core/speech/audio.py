@@ -39,7 +39,7 @@ def decode_audio(path: str | Path) -> DecodedAudio:
     decoded = decode_recording(path)
     if decoded.samples.size == 0 or decoded.rate <= 0:
         raise AudioError(f"recording {path} holds no audio; record the text again")
-    if not np.isfinite(decoded.samples).all():
+    if not np.isfinite(decoded.samples.sum(dtype=np.float64)):  # a NaN or infinity makes the sum one
         raise AudioError(
             f"recording {path} contains invalid samples (NaN or infinite); export it again as WAV"
         )
@@ -83,7 +83,10 @@ def to_pcm16(samples: np.ndarray) -> np.ndarray:
     """Float samples in [-1, 1] as 16-bit PCM, rounded and clipped (1.0 is 32767, never wrapping): the
     exact inverse of reading PCM as float (divided by 32768), so a 16-bit sound read and written again
     is the same to the bit."""
-    return np.clip(np.round(samples * 32768), -32768, 32767).astype(np.int16)
+    scaled = samples * 32768
+    np.round(scaled, out=scaled)
+    np.clip(scaled, -32768, 32767, out=scaled)
+    return scaled.astype(np.int16)
 
 
 def resampled_pcm(samples: np.ndarray, source_rate: int, target_rate: int) -> np.ndarray:

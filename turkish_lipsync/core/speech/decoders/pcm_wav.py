@@ -41,8 +41,13 @@ def _read_pcm_wav(path: Path) -> tuple[np.ndarray, int]:
             frames = len(data) // (width * channels)
             if frames == 0:
                 break
-            samples = _pcm_to_float(data[: frames * width * channels], width).reshape(frames, channels)
-            mono[filled : filled + frames] = samples.mean(axis=1)
+            into = mono[filled : filled + frames]
+            if width == 2 and channels == 1:  # the usual take, converted in one pass straight into place
+                pcm = np.frombuffer(data, "<i2", frames)
+                np.multiply(pcm, np.float32(1 / 32768), out=into, dtype=np.float32)
+            else:
+                samples = _pcm_to_float(data[: frames * width * channels], width).reshape(frames, channels)
+                into[:] = samples.mean(axis=1)
             filled += frames
     return mono[:filled], rate
 
