@@ -39,6 +39,8 @@ own rate.
   take (lab/measure/recogniser.py's long_take, the take its speed is measured on), no text: how closely the
   letters heard within each line's span match its spelling (difflib's ratio, mean over the lines), beside
   each line heard alone. Ideally the long take is heard as its lines are;
+- breaks-lines (only when named): the same takes, the script the lines' spellings without punctuation,
+  one line each (its line breaks the only marks of where a line ends);
 - mbrola-words (only when named, MBROLA installed: lab/kit/diphone_voices.py): two Turkish speakers''
   diphones saying every distinct word of examples/corpus_tr.txt's held-out sentences alone, with their
   text (refused / warned / clean, the onset's error) and without ("no speech found").
@@ -280,8 +282,14 @@ BREAK_SECONDS = 20.0
 BREAK_ROOM_DB = 55.0
 
 
-def measure_breaks(part: str, folder: Path, every: int, scratch: Path) -> None:
+def measure_breaks(part: str, folder: Path, every: int, scratch: Path, a_line_each: bool = False) -> None:
+    """a_line_each: the script is the lines' spellings without punctuation, one line each (the text's only
+    marks of where a line ends are its line breaks); else the spellings as they are, joined by spaces."""
     lines = [r for r in people.sentence_lines(part, folder) if r.source.startswith("fillets-cs")][::every]
+
+    def script(recording: people.Recording) -> str:
+        return re.sub(r"[^\w\s]", "", recording.turkish) if a_line_each else recording.turkish
+
     rng = np.random.default_rng(5)
     joined_match, alone_match, errors, warned, groups, across, warned_alone = [], [], [], 0, 0, 0, 0
     for first in range(0, len(lines) - 2, 3):
@@ -294,7 +302,7 @@ def measure_breaks(part: str, folder: Path, every: int, scratch: Path) -> None:
             path = write_wav(scratch / "line.wav", clip, RATE)
             alone, _ = heard(path)
             heard_alone += "".join(phone.letter for phone in alone.phones) if alone is not None else ""
-            timeline, result = aligned(recording.turkish, path)
+            timeline, result = aligned(script(recording), path)
             results.add(result)
             starts += [word.start + offset for word in timeline.words] if timeline is not None else []
             offset += clip.size / RATE + BREAK_SECONDS
@@ -304,7 +312,7 @@ def measure_breaks(part: str, folder: Path, every: int, scratch: Path) -> None:
         heard_joined = "".join(phone.letter for phone in joined.phones) if joined is not None else ""
         joined_match.append(difflib.SequenceMatcher(None, heard_joined, spelling).ratio())
         alone_match.append(difflib.SequenceMatcher(None, heard_alone, spelling).ratio())
-        timeline, result = aligned(" ".join(recording.turkish for recording in group), path)
+        timeline, result = aligned(("\n" if a_line_each else " ").join(map(script, group)), path)
         groups += 1
         warned += result != "clean"
         warned_alone += results != {"clean"}
@@ -312,7 +320,10 @@ def measure_breaks(part: str, folder: Path, every: int, scratch: Path) -> None:
             errors.append(np.abs(np.array([word.start for word in timeline.words]) - starts))
             across += bool((errors[-1] > BREAK_SECONDS / 2).any())
     ms = 1000 * np.concatenate(errors)
-    print(f"breaks, fillets-cs ({groups} takes of three lines, {BREAK_SECONDS:.0f} s of room between them)")
+    print(
+        f"breaks, fillets-cs ({groups} takes of three lines, {BREAK_SECONDS:.0f} s of room between them"
+        + ("; the script a line each, no punctuation)" if a_line_each else ")")
+    )
     print(
         f"  no text: letters against the spellings {np.mean(joined_match):.3f} joined, "
         f"{np.mean(alone_match):.3f} each line alone"
@@ -398,8 +409,9 @@ def main(argv: list[str] | None = None) -> int:
                 measure_sentences(arguments.part, arguments.folder, arguments.sentences, Path(scratch))
             elif name == "padded":
                 measure_padded(arguments.part, arguments.folder, arguments.sentences, Path(scratch))
-            elif name == "breaks":
-                measure_breaks(arguments.part, arguments.folder, arguments.sentences, Path(scratch))
+            elif name in ("breaks", "breaks-lines"):
+                every, a_line_each = arguments.sentences, name == "breaks-lines"
+                measure_breaks(arguments.part, arguments.folder, every, Path(scratch), a_line_each)
             elif name == "long":
                 measure_long(Path(scratch))
             elif name == "mbrola-words":

@@ -59,10 +59,12 @@ def test_each_letter_is_found_where_it_is_heard_and_pauses_are_skipped_or_taken(
     assert found.starts.tolist() == [2, 5, 7]
 
 
-def test_a_break_lies_where_the_text_pauses_not_inside_its_sentence():
-    """Two sentences 1.5 s apart ("a. o e"): the o may be heard in the a's dying tail or where a sound
-    between o and e starts after the break. Alike to the network (the tail a little more o-like), a
-    pause the text does not mark costs its frames in a break: the break goes before the o."""
+@pytest.mark.parametrize("text", ["A. O e", "A\nO e"])
+def test_a_break_lies_where_the_text_pauses_not_inside_its_sentence(text):
+    """Two sentences 1.5 s apart ("a. o e", or "a" and "o e" on two lines): the o may be heard in the a's
+    dying tail or where a sound between o and e starts after the break. Alike to the network (the tail a
+    little more o-like), a pause the text does not mark costs its frames in a break: the break goes
+    before the o."""
     silence, a, o, e = (CLASS_INDEX[name] for name in "_aoe")
     heard = np.full((160, len(CLASSES)), 1e-4)
     heard[0:3, a] = 1.0
@@ -71,7 +73,7 @@ def test_a_break_lies_where_the_text_pauses_not_inside_its_sentence():
     heard[155:157, o], heard[155:157, e] = 0.5, 0.5  # an o or an e
     heard[157:160, e] = 1.0
     log_posteriors = np.log(heard / heard.sum(axis=1, keepdims=True))
-    units = text_units(build_utterance("A. O e"))
+    units = text_units(build_utterance(text))
     assert units.marked.tolist() == [False, True, False]
     model = letter_model(units.classes, units.word_starts, np.ones(len(CLASSES), np.int64), units.marked)
     priors = np.full(len(CLASSES), 1 / len(CLASSES))
@@ -79,6 +81,19 @@ def test_a_break_lies_where_the_text_pauses_not_inside_its_sentence():
     cost = np.zeros(160)
     cost[5:155] = 0.1
     assert force_align(log_posteriors, priors, model, break_cost=cost).starts.tolist()[:2] == [0, 155]
+
+
+def test_a_line_break_marks_a_place_to_pause_but_asks_for_no_silence():
+    lines = build_utterance("Merhaba Ali\nnasılsın\r\n  bugün")
+    assert [word.line_start for word in lines.words] == [False, False, True, True]
+    assert all(word.pause_before == 0 for word in lines.words)  # eSpeak NG reads it as one line
+    assert text_units(build_utterance("A O e")).marked.tolist() == [False, False, False]
+    assert not build_utterance("\nMerhaba").words[0].line_start  # a text's first word begins no line
+    # After a stop the word is marked by its pause; a blank line is a paragraph's pause, not a line.
+    for text in ("A.\nO", "A\n\nO"):
+        word = build_utterance(text).words[1]
+        assert word.pause_before > 0 and not word.line_start
+        assert text_units(build_utterance(text)).marked.tolist() == [False, True]
 
 
 def test_every_letter_lasts_at_least_its_shortest_duration():

@@ -78,7 +78,7 @@ class Pause:
 
     seconds: float
     offset: int  # source index of what caused it
-    kind: str  # "break", "sentence", "paragraph", "comma", "clause"
+    kind: str  # "break", "sentence", "paragraph", "comma", "clause", "line" (a line break: no silence)
 
 
 # ---------------------------------------------------------------- normalised text (normalize.py)
@@ -123,6 +123,9 @@ class Word:
     syllable_count: int
     style: Style
     pause_before: float = 0.0  # seconds of silence before this word
+    # The word begins a line of the written text (one line break before it, no punctuation): no silence is
+    # asked for, but a reader may pause there (a script's lines, a list one item a line).
+    line_start: bool = False
     # Punctuation closing the word's phrase where a pause follows: "." "?" "!" "," or "" (none, a BREAK).
     # The voice needs it: a question rises.
     ending: str = ""

@@ -159,6 +159,8 @@ class _RunNormalizer:
             token = tokens[index]
             kind = token.kind
             if kind == "space":
+                if "\n" in token.text:  # a line break: no silence is asked for, but a place to pause
+                    self.output.append(Pause(seconds=0.0, offset=self.offsets[token.start], kind="line"))
                 index += 1
             elif kind == "word" and not self._may_be_written_form(token):
                 self.word(token)

@@ -61,15 +61,18 @@ def assemble_utterance(
     words: list[Word] = []
     syllables: list[Syllable] = []
     letters: list[Letter] = []
-    pending_pause = 0.0
+    pending_pause, line_start = 0.0, False
     for item in items:
         if isinstance(item, Pause):
             pending_pause += item.seconds
+            line_start = line_start or item.kind == "line"
             if words and item.kind in PAUSE_ENDINGS and not words[-1].ending:
                 words[-1] = replace(words[-1], ending=PAUSE_ENDINGS[item.kind])
             continue
         _append_word(item, pending_pause, words, syllables, letters)
-        pending_pause = 0.0
+        if line_start and len(words) > 1:
+            words[-1] = replace(words[-1], line_start=True)
+        pending_pause, line_start = 0.0, False
     if not words:
         raise TextError("nothing to speak: the text has no Turkish words after normalisation")
     return Utterance(
