@@ -28,7 +28,7 @@ from turkish_lipsync.core.speech.acoustic.labels import CLASS_INDEX, CLASSES
 from turkish_lipsync.core.speech.acoustic.network import PEOPLE_WEIGHTS_FILE, WEIGHTS_FILE, load_network
 from turkish_lipsync.core.speech.audio import resample
 from turkish_lipsync.core.speech.features import ANALYSIS_RATE, HOP, WINDOW, frame_count
-from turkish_lipsync.core.text.utterance import build_utterance
+from turkish_lipsync.core.text.utterance import build_utterance, read_aloud
 
 
 def posteriors_of(labels: list[int]) -> np.ndarray:
@@ -73,7 +73,7 @@ def test_a_break_lies_where_the_text_pauses_not_inside_its_sentence(text):
     heard[155:157, o], heard[155:157, e] = 0.5, 0.5  # an o or an e
     heard[157:160, e] = 1.0
     log_posteriors = np.log(heard / heard.sum(axis=1, keepdims=True))
-    units = text_units(build_utterance(text))
+    units = text_units(read_aloud(build_utterance(text)))
     assert units.marked.tolist() == [False, True, False]
     model = letter_model(units.classes, units.word_starts, np.ones(len(CLASSES), np.int64), units.marked)
     priors = np.full(len(CLASSES), 1 / len(CLASSES))
@@ -83,17 +83,26 @@ def test_a_break_lies_where_the_text_pauses_not_inside_its_sentence(text):
     assert force_align(log_posteriors, priors, model, break_cost=cost).starts.tolist()[:2] == [0, 155]
 
 
-def test_a_line_break_marks_a_place_to_pause_but_asks_for_no_silence():
+def test_a_line_break_is_spoken_as_a_space_and_read_aloud_as_a_commas_pause():
     lines = build_utterance("Merhaba Ali\nnasılsın\r\n  bugün")
     assert [word.line_start for word in lines.words] == [False, False, True, True]
-    assert all(word.pause_before == 0 for word in lines.words)  # eSpeak NG reads it as one line
-    assert text_units(build_utterance("A O e")).marked.tolist() == [False, False, False]
+    assert all(word.pause_before == 0 for word in lines.words)  # the voice reads on as across a space
+    read = read_aloud(lines)
+    comma = build_utterance("Merhaba Ali, nasılsın, bugün")
+    assert [word.pause_before for word in read.words] == [word.pause_before for word in comma.words]
+    assert [word.ending for word in read.words] == [word.ending for word in comma.words]
+    assert text_units(read).marked.tolist() == text_units(comma).marked.tolist()
     assert not build_utterance("\nMerhaba").words[0].line_start  # a text's first word begins no line
-    # After a stop the word is marked by its pause; a blank line is a paragraph's pause, not a line.
-    for text in ("A.\nO", "A\n\nO"):
-        word = build_utterance(text).words[1]
-        assert word.pause_before > 0 and not word.line_start
-        assert text_units(build_utterance(text)).marked.tolist() == [False, True]
+    # After a stop the word keeps its stop's pause; a blank line is a paragraph's pause, not a line.
+    assert (
+        read_aloud(build_utterance("A.\nO")).words[1].pause_before
+        == build_utterance("A. O").words[1].pause_before
+    )
+    paragraph = read_aloud(build_utterance("A\n\nO")).words[1]
+    assert (
+        not paragraph.line_start
+        and paragraph.pause_before == build_utterance("<PARA>A</PARA> O").words[1].pause_before
+    )
 
 
 def test_every_letter_lasts_at_least_its_shortest_duration():

@@ -92,8 +92,8 @@ class AlignerSettings:
     take) ..."""
     break_pause_cost: float = 0.1
     """... where each frame of a pause between two words the text puts no pause between (no comma, no
-    stop, no line break) costs this much more: the break lies where the text pauses, and the first words after it are
-    not drawn before it into the dying sound of the line before."""
+    stop, no line break) costs this much more: the break lies where the text pauses, and the first words
+    after it are not drawn before it into the dying sound of the line before."""
 
     # -- the judgement: a confidence per phrase, another text refused, warnings
     matched: float = 0.5

@@ -36,6 +36,7 @@ import numpy as np
 
 from ..base.errors import AudioError
 from ..base.model import Utterance
+from ..text.utterance import read_aloud
 from .acoustic.features import frames_of, recogniser_features, sounding_frames, speech_stretch
 from .acoustic.labels import CLASS_INDEX, SILENCE
 from .acoustic.network import PEOPLE_WEIGHTS_FILE, PhoneNetwork, load_network
@@ -225,7 +226,9 @@ def align_recording(
     A take the shipped network fits loosely (warned) or hears as another text (refused) is heard again by
     the network that learnt many people's voices too (acoustic/network.py's PEOPLE_WEIGHTS_FILE; the
     aligner's `second_hearing`), and the better of the two fits is kept: the one with fewer warnings, the
-    first where they tie. The take is refused only where both hearings refuse it."""
+    first where they tie. The take is refused only where both hearings refuse it. The text is aligned as a
+    person reads it aloud (text.utterance.read_aloud: a line break a pause, as a comma)."""
+    utterance = read_aloud(utterance)
     fitted, listening = fit_recording(utterance, recording, engine, settings)
     first = judged_fit(utterance, fitted, settings)
 

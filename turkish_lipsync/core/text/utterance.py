@@ -9,7 +9,7 @@ from dataclasses import replace
 
 from ..base.errors import TextError
 from ..base.model import Letter, Pause, SpokenWord, Syllable, TextRun, Utterance, Word
-from .jsml import parse_jsml
+from .jsml import parse_jsml, pause_seconds
 from .normalize import normalize
 from .syllables import VOWELS, syllabify, syllable_vowel
 from .tables import fold_letter
@@ -182,3 +182,17 @@ def with_rate(utterance: Utterance, rate: float) -> Utterance:
         for word in utterance.words
     )
     return dataclasses.replace(utterance, words=words)
+
+
+def read_aloud(utterance: Utterance) -> Utterance:
+    """The utterance as a person reading the text aloud says it: a pause at each line break, as at a comma
+    (a list an item a line, a script's lines). The voice reads a line break as a space; a recording of the
+    text is aligned to this reading (speech/recording.py)."""
+    comma = pause_seconds()["punctuation"]["comma"]
+    words = list(utterance.words)
+    for index, word in enumerate(words):
+        if word.line_start and word.pause_before == 0:
+            words[index] = replace(word, pause_before=comma)
+            if not words[index - 1].ending:
+                words[index - 1] = replace(words[index - 1], ending=PAUSE_ENDINGS["comma"])
+    return replace(utterance, words=tuple(words))

@@ -31,8 +31,7 @@ class TextUnits:
     classes: np.ndarray
     word_starts: np.ndarray  # True where a letter begins a word (a pause may come before it)
     letters: np.ndarray  # index into Utterance.letters
-    # True where a letter begins a word the text puts a pause before (a comma, a stop) or begins a line with
-    marked: np.ndarray
+    marked: np.ndarray  # True where a letter begins a word the text puts a pause before (a comma, a stop)
 
 
 def text_units(utterance: Utterance) -> TextUnits:
@@ -46,7 +45,7 @@ def text_units(utterance: Utterance) -> TextUnits:
                 classes.append(CLASS_INDEX[name])
                 starts.append(first)
                 letters.append(index)
-                marked.append(first and (word.pause_before > 0 or word.line_start))
+                marked.append(first and word.pause_before > 0)
                 first = False
     return TextUnits(
         np.array(classes, np.int64),
