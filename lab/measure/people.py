@@ -19,7 +19,8 @@ own rate.
 - lists: lists of eight words or syllables of one speaker read with pauses (people.lists_of_eight), with
   their text written with commas: refused / warned, each item's onset against where its sound starts
   (median / p90 / max), and aeneas' on the same takes with --aeneas;
-- lists-lines (only when named): the same lists, their text written an item a line, with no commas;
+- lists-lines, lists-spaces (only when named): the same lists, their text written an item a line, or on
+  one line with spaces only (no commas either way);
 - sentences: the voice-acted lines of three words or more (every --sentences-th), with their Turkish
   spelling (refused / warned / clean), with the next line's spelling (another text: refused or warned),
   and without a text: "no speech found", the mouth's opening against the mouth aligned to the text
@@ -191,13 +192,16 @@ def measure_syllables(part: str, folder: Path) -> None:
     )
 
 
-def measure_lists(part: str, folder: Path, aeneas: bool, scratch: Path, a_line_each: bool = False) -> None:
-    """a_line_each: the list's text written an item a line, with no commas."""
+LIST_SEPARATORS = {"lists": ", ", "lists-lines": "\n", "lists-spaces": " "}
+
+
+def measure_lists(part: str, folder: Path, aeneas: bool, scratch: Path, separator: str = ", ") -> None:
+    """separator: what the list's text puts between its items (a comma, a line break, a space)."""
     takes = people.lists_of_eight(list_items(part, folder), np.random.default_rng(8), RATE)
     counts, errors, theirs = Counter(), [], []
     for number, take in enumerate(takes):
         path = write_wav(scratch / f"list{number}.wav", take.samples, RATE)
-        timeline, result = aligned(take.text.replace(", ", "\n") if a_line_each else take.text, path)
+        timeline, result = aligned(take.text.replace(", ", separator), path)
         counts[result] += 1
         if timeline is not None:
             found = np.array([word.start for word in timeline.words])
@@ -207,7 +211,7 @@ def measure_lists(part: str, folder: Path, aeneas: bool, scratch: Path, a_line_e
             onsets, _ = aeneas_onsets(path, [item.strip(" .") for item in take.text.split(",")])
             if onsets.size == take.onsets.size:
                 theirs.append(np.abs(onsets - take.onsets))
-    written = "an item a line" if a_line_each else "written with commas"
+    written = {", ": "written with commas", "\n": "an item a line", " ": "with spaces only"}[separator]
     outcomes = shares(counts, len(takes))
     print(f"lists of eight read with pauses ({len(takes)} takes), their text {written}: {outcomes}")
     for name, found in (("item onsets", errors), ("aeneas", theirs)):
@@ -405,9 +409,9 @@ def main(argv: list[str] | None = None) -> int:
                 measure_words(arguments.part, arguments.folder)
             elif name == "syllables":
                 measure_syllables(arguments.part, arguments.folder)
-            elif name in ("lists", "lists-lines"):
-                a_line_each = name == "lists-lines"
-                measure_lists(arguments.part, arguments.folder, arguments.aeneas, Path(scratch), a_line_each)
+            elif name in LIST_SEPARATORS:
+                separator = LIST_SEPARATORS[name]
+                measure_lists(arguments.part, arguments.folder, arguments.aeneas, Path(scratch), separator)
             elif name == "sentences":
                 measure_sentences(arguments.part, arguments.folder, arguments.sentences, Path(scratch))
             elif name == "padded":

@@ -14,11 +14,11 @@ LIST = "pi, tu, ba, ne, rje, ko, no, si"
 WORD_FRAMES, GAP_FRAMES = 30, 10  # each item 0.3 s, 0.1 s of pause after it (10 ms frames)
 
 
-def judged(word_mismatch: list[float], order_ratio: float, text: str = LIST):
+def judged(word_mismatch: list[float], order_ratio: float, text: str = LIST, gap_frames: int = GAP_FRAMES):
     """judge() on a take of `text` (eight words) whose words fit their letters with these mismatches, each
-    word 0.3 s and a 0.1 s pause after it."""
+    word 0.3 s and a pause of gap_frames after it."""
     utterance = build_utterance(text)
-    step = WORD_FRAMES + GAP_FRAMES
+    step = WORD_FRAMES + gap_frames
     frames = step * len(utterance.words)
     frame_words = np.full(frames, -1)
     mismatch = np.zeros(frames)
@@ -72,3 +72,11 @@ def test_a_list_is_allowed_a_looser_fit_than_a_sentence():
     assert judged(fit, order_ratio=0.85)[1] == ()
     sentence = judged(fit, order_ratio=0.85, text="pi tu ba ne rje ko no si")[1]
     assert any("fits this text only loosely" in warning for warning in sentence)
+
+
+def test_a_list_written_without_commas_is_a_list_where_it_is_read_item_by_item():
+    """A list typed with spaces only, read with a clear pause after each item, is judged as the list it is."""
+    fit, unpunctuated = [1.4] * 8, "pi tu ba ne rje ko no si"
+    assert judged(fit, order_ratio=0.85, text=unpunctuated, gap_frames=40)[1] == ()
+    run_on = judged(fit, order_ratio=0.85, text=unpunctuated, gap_frames=10)[1]  # pauses of a sentence
+    assert any("fits this text only loosely" in warning for warning in run_on)

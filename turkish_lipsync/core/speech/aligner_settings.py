@@ -127,9 +127,13 @@ class AlignerSettings:
     order_weight: float = 2.0
     """How much the order ratio counts in the looseness against the mismatch."""
     list_items: int = 4
-    """A text of this many phrases or more, none longer than two words, is a list ..."""
+    """A text of this many phrases or more, none longer than two words, is a list (a phrase ends where the
+    text pauses, or where the recording pauses for list_pause: a list read item by item, written with no
+    commas) ..."""
     list_loose: float = 2.05
     """... and is loose past this instead of `loose`: each item is found on its own between pauses."""
+    list_pause: float = 0.3
+    """Seconds of pause in the recording between two words that end a phrase (see list_items)."""
     short_loose: float = 2.6
     """A take or a text with less speech than refusal_evidence_frames is never refused, and warned as loose
     only past this mismatch ..."""

@@ -87,14 +87,25 @@ def word_scores(
     # (a person's "a", "ve", "bu" are said in a breath, and the network hears little of them).
     prior = settings.word_prior_frames * take_mismatch(fit, settings)
     mismatch = np.where(voiced, (sums + prior) / (frames + settings.word_prior_frames), np.nan)
+    starts, ends = _word_times(count, phone_events)
+    pace = np.full(count, np.nan)
+    recorded = _recorded_times(starts[voiced], ends[voiced], warp)
+    pace[voiced] = (recorded[1] - recorded[0]) / np.maximum(ends[voiced] - starts[voiced], 1e-3)
+    return spans, mismatch, pace / np.nanmedian(pace)
+
+
+def _word_times(count: int, phone_events: tuple[PhoneEvent, ...]) -> tuple[np.ndarray, np.ndarray]:
+    """Each word's synthetic start and end (seconds; inf and -inf for a word the engine did not voice)."""
     starts, ends = np.full(count, np.inf), np.full(count, -np.inf)
     for event in phone_events:
         starts[event.word_index] = min(starts[event.word_index], event.start)
         ends[event.word_index] = max(ends[event.word_index], event.end)
-    pace = np.full(count, np.nan)
-    recorded = warp(starts[voiced]), warp(ends[voiced] - JUMP)
-    pace[voiced] = (recorded[1] - recorded[0]) / np.maximum(ends[voiced] - starts[voiced], 1e-3)
-    return spans, mismatch, pace / np.nanmedian(pace)
+    return starts, ends
+
+
+def _recorded_times(starts: np.ndarray, ends: np.ndarray, warp: TimeWarp) -> tuple[np.ndarray, np.ndarray]:
+    """Synthetic spans' recorded starts and ends (an end taken before the warp's jump over a pause)."""
+    return warp(starts), warp(ends - JUMP)
 
 
 def take_mismatch(fit: Fit, settings: AlignerSettings = DEFAULT_ALIGNER) -> float:
@@ -117,7 +128,7 @@ def judge(
     the take's clipping (audio.clipping), given as the likelier cause where the take fits loosely."""
     spans, mismatch, pace = word_scores(utterance, phone_events, warp, fit, settings)
     take = take_mismatch(fit, settings)
-    phrases = _phrases(utterance, warp, spans, fit, settings)
+    phrases = _phrases(utterance, phone_events, warp, spans, fit, settings)
     texts = [word.text for word in utterance.words]
     voiced = np.flatnonzero(spans[:, 0] >= 0)
     worst = voiced[np.argsort(-mismatch[voiced], kind="stable")]
@@ -233,10 +244,17 @@ def _is_list(phrases: tuple[PhraseMatch, ...], settings: AlignerSettings) -> boo
 
 
 def _phrases(
-    utterance: Utterance, warp: TimeWarp, spans: np.ndarray, fit: Fit, settings: AlignerSettings
+    utterance: Utterance,
+    phone_events: tuple[PhoneEvent, ...],
+    warp: TimeWarp,
+    spans: np.ndarray,
+    fit: Fit,
+    settings: AlignerSettings,
 ) -> tuple[PhraseMatch, ...]:
-    """Words between pauses, each phrase with its place in the recording and its confidence."""
-    starts = [index for index, word in enumerate(utterance.words) if index == 0 or word.pause_before > 0]
+    """Words between pauses, the text's or the recording's (list_pause), each phrase with its place in
+    the recording and its confidence."""
+    starts = {index for index, word in enumerate(utterance.words) if index == 0 or word.pause_before > 0}
+    starts = sorted(starts | _recorded_pauses(utterance, phone_events, warp, settings))
     phrases = []
     for first, stop in zip(starts, [*starts[1:], len(utterance.words)], strict=True):
         voiced = [index for index in range(first, stop) if spans[index, 0] >= 0]
@@ -253,6 +271,19 @@ def _phrases(
             )
         )
     return tuple(phrases)
+
+
+def _recorded_pauses(
+    utterance: Utterance, phone_events: tuple[PhoneEvent, ...], warp: TimeWarp, settings: AlignerSettings
+) -> set[int]:
+    """The words the recording pauses before for list_pause or longer (after the word voiced before)."""
+    starts, ends = _word_times(len(utterance.words), phone_events)
+    voiced = np.flatnonzero(np.isfinite(starts))
+    if voiced.size < 2:
+        return set()
+    recorded_starts, recorded_ends = _recorded_times(starts[voiced], ends[voiced], warp)
+    gaps = recorded_starts[1:] - recorded_ends[:-1]
+    return {int(index) for index in voiced[1:][gaps >= settings.list_pause]}
 
 
 def _stalls(fit: Fit, settings: AlignerSettings) -> list[tuple[int, int, float]]:
