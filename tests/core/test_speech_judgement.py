@@ -6,9 +6,9 @@ import pytest
 
 from turkish_lipsync.core.base.errors import AudioError
 from turkish_lipsync.core.speech.base import PhoneEvent
-from turkish_lipsync.core.speech.judgement import Fit, judge
+from turkish_lipsync.core.speech.judgement import Fit, judge, pauses_read_as_list
 from turkish_lipsync.core.speech.timewarp import TimeWarp
-from turkish_lipsync.core.text.utterance import build_utterance
+from turkish_lipsync.core.text.utterance import build_utterance, read_aloud
 
 LIST = "pi, tu, ba, ne, rje, ko, no, si"
 WORD_FRAMES, GAP_FRAMES = 30, 10  # each item 0.3 s, 0.1 s of pause after it (10 ms frames)
@@ -17,17 +17,23 @@ WORD_FRAMES, GAP_FRAMES = 30, 10  # each item 0.3 s, 0.1 s of pause after it (10
 def judged(word_mismatch: list[float], order_ratio: float, text: str = LIST, gap_frames: int = GAP_FRAMES):
     """judge() on a take of `text` (eight words) whose words fit their letters with these mismatches, each
     word 0.3 s and a pause of gap_frames after it."""
+    return judge(*take_of(word_mismatch, order_ratio, text, gap_frames), "take.wav")
+
+
+def take_of(word_mismatch: list[float], order_ratio: float, text: str, gap_frames: int | list[int]):
+    """(utterance, phone events, warp, fit) of such a take (gap_frames: one for all words, or each word's)."""
     utterance = build_utterance(text)
-    step = WORD_FRAMES + gap_frames
-    frames = step * len(utterance.words)
+    gaps = gap_frames if isinstance(gap_frames, list) else [gap_frames] * len(utterance.words)
+    starts = np.concatenate(([0], np.cumsum([WORD_FRAMES + gap for gap in gaps])))
+    frames = int(starts[-1])
     frame_words = np.full(frames, -1)
     mismatch = np.zeros(frames)
     for index, value in enumerate(word_mismatch):
-        frame_words[index * step : index * step + WORD_FRAMES] = index
-        mismatch[index * step : index * step + WORD_FRAMES] = value
+        frame_words[starts[index] : starts[index] + WORD_FRAMES] = index
+        mismatch[starts[index] : starts[index] + WORD_FRAMES] = value
     spoken = frame_words >= 0
     events = tuple(
-        PhoneEvent(index * step / 100, (index * step + WORD_FRAMES) / 100, "a", index)
+        PhoneEvent(starts[index] / 100, (starts[index] + WORD_FRAMES) / 100, "a", index)
         for index in range(len(utterance.words))
     )
     fit = Fit(
@@ -47,7 +53,7 @@ def judged(word_mismatch: list[float], order_ratio: float, text: str = LIST, gap
         recorded=np.array([0.0, frames / 100]),
         recording_duration=frames / 100,
     )
-    return judge(utterance, events, warp, fit, "take.wav")
+    return utterance, events, warp, fit
 
 
 def test_a_take_fitting_as_another_text_does_is_refused():
@@ -80,3 +86,30 @@ def test_a_list_written_without_commas_is_a_list_where_it_is_read_item_by_item()
     assert judged(fit, order_ratio=0.85, text=unpunctuated, gap_frames=40)[1] == ()
     run_on = judged(fit, order_ratio=0.85, text=unpunctuated, gap_frames=10)[1]  # pauses of a sentence
     assert any("fits this text only loosely" in warning for warning in run_on)
+
+
+def test_a_list_typed_without_commas_and_read_item_by_item_is_read_aloud_with_its_pauses():
+    """The recording aligner aligns such a take again with a pause before each item (recording.py)."""
+    unpunctuated = "pi tu ba ne rje ko no si"
+    utterance, events, warp, _ = take_of([0.3] * 8, 0.7, unpunctuated, gap_frames=40)
+    pauses = pauses_read_as_list(utterance, events, warp)
+    assert pauses == set(range(1, 8))
+    as_read = read_aloud(utterance, pauses)
+    assert [word.pause_before for word in as_read.words] == [
+        word.pause_before for word in build_utterance(LIST).words
+    ]
+    # Read as a sentence is (pauses of 0.1 s), or a list its commas already pause: nothing to add.
+    assert pauses_read_as_list(*take_of([0.3] * 8, 0.7, unpunctuated, gap_frames=10)[:3]) == set()
+    assert pauses_read_as_list(*take_of([0.3] * 8, 0.7, LIST, gap_frames=40)[:3]) == set()
+    # Pauses that leave a phrase of three words make no list: a sentence read with a few hesitations.
+    hesitant = [40, 40, 40, 40, 40, 10, 10, 40]  # no pause after "ko" and "no"
+    assert pauses_read_as_list(*take_of([0.3] * 8, 0.7, unpunctuated, gap_frames=hesitant)[:3]) == set()
+    two_words = [40, 40, 40, 40, 40, 10, 40, 40]  # "ko no" one item
+    assert pauses_read_as_list(*take_of([0.3] * 8, 0.7, unpunctuated, gap_frames=two_words)[:3]) == {
+        1,
+        2,
+        3,
+        4,
+        5,
+        7,
+    }

@@ -16,6 +16,7 @@ from turkish_lipsync.core.speech.acoustic.labels import CLASS_INDEX, CLASSES, fr
 from turkish_lipsync.core.speech.acoustic.network import convolve, load_network, matrix_of_taps
 from turkish_lipsync.core.speech.recognition import recogniser
 from turkish_lipsync.core.speech.recognition.settings import RecogniserSettings
+from turkish_lipsync.core.speech.speech_detector import detect_speech
 
 RATE = 16_000
 
@@ -234,3 +235,35 @@ def test_the_classifiers_first_convolution_over_repeated_frames_is_the_convoluti
             convolve(x[rows], weight, bias, dilation),
             atol=1e-4,
         )
+
+
+def test_a_long_break_is_not_heard_by_the_encoder_and_the_network_hears_it_alone(spoken, monkeypatch):
+    samples, _ = spoken
+    rng = np.random.default_rng(2)
+    room = (0.001 * rng.normal(size=25 * RATE)).astype(np.float32)
+    take = np.concatenate([samples, room, samples])
+    speech = detect_speech(take).speech
+    hearing = whisper.load_whisper_hearing()
+    encoded = []
+    real = whisper.WhisperHearing.encode
+    monkeypatch.setattr(
+        whisper.WhisperHearing, "encode", lambda self, mel: encoded.append(1) or real(self, mel)
+    )
+    everywhere = hearing.log_posteriors(take)
+    windows = len(encoded)
+    around_speech = hearing.log_posteriors(take, speech)
+    assert len(encoded) == 2 * windows - 1  # the window inside the break was not encoded
+    (_, first_stop), (begin, stop), *_ = whisper.windows(take)
+    inside = slice(begin // whisper.HOP, stop // whisper.HOP)
+    assert np.isnan(around_speech[inside]).all()
+    heard = ~np.isnan(around_speech[:, 0])
+    assert heard.sum() > len(take) // whisper.HOP - (stop - begin) // whisper.HOP - 40  # the rest is heard
+    near = first_stop // whisper.HOP - 20  # the first window's frames, beyond the classifier's reach
+    np.testing.assert_allclose(around_speech[:near], everywhere[:near], atol=1e-4)
+    # Averaged with the network, the break's frames are the network's hearing alone.
+    network_heard = recogniser._network_hearing(take)
+    averaged, _ = recogniser._averaged(network_heard, around_speech, 0.5)
+    alone, _ = recogniser._averaged(network_heard, around_speech, 0.0)
+    assert np.isfinite(averaged).all()
+    np.testing.assert_allclose(averaged[inside], alone[inside], atol=1e-4)
+    assert np.abs(averaged[heard] - alone[heard]).max() > 1  # elsewhere Whisper counts

@@ -273,6 +273,23 @@ def _phrases(
     return tuple(phrases)
 
 
+def pauses_read_as_list(
+    utterance: Utterance,
+    phone_events: tuple[PhoneEvent, ...],
+    warp: TimeWarp,
+    settings: AlignerSettings = DEFAULT_ALIGNER,
+) -> set[int]:
+    """The words the recording pauses before (list_pause) where the text runs on, when with the text's own
+    pauses they make it a list as read (list_items phrases or more, none longer than two words): a list
+    typed with spaces only, read item by item. Else none."""
+    marked = {index for index, word in enumerate(utterance.words) if index == 0 or word.pause_before > 0}
+    starts = sorted(marked | _recorded_pauses(utterance, phone_events, warp, settings))
+    lengths = np.diff([*starts, len(utterance.words)])
+    if len(starts) < settings.list_items or lengths.max() > 2:
+        return set()
+    return set(starts) - marked
+
+
 def _recorded_pauses(
     utterance: Utterance, phone_events: tuple[PhoneEvent, ...], warp: TimeWarp, settings: AlignerSettings
 ) -> set[int]:

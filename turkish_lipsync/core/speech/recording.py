@@ -46,7 +46,7 @@ from .audio import MAX_OUTPUT_RATE, clipping, read_audio, resample, resampled_pc
 from .base import PhoneEvent, SpeechEngine, Synthesis, WordEvent
 from .dtw import Pauses, coarse_dtw_path, dtw_path
 from .features import ANALYSIS_RATE, HOP, frame_count
-from .judgement import Fit, PhraseMatch, judge
+from .judgement import Fit, PhraseMatch, judge, pauses_read_as_list
 from .letter_warp import LetterFit, letter_warp
 from .speech_detector import detect_speech
 from .timewarp import TimeWarp, warp_synthesis
@@ -227,8 +227,29 @@ def align_recording(
     the network that learnt many people's voices too (acoustic/network.py's PEOPLE_WEIGHTS_FILE; the
     aligner's `second_hearing`), and the better of the two fits is kept: the one with fewer warnings, the
     first where they tie. The take is refused only where both hearings refuse it. The text is aligned as a
-    person reads it aloud (text.utterance.read_aloud: a line break a pause, as a comma)."""
+    person reads it aloud (text.utterance.read_aloud: a line break a pause, as a comma); a take warned or
+    refused that reads its text as a list where the text runs on (judgement.pauses_read_as_list) is
+    aligned again with a pause before each item, and the alignment with fewer warnings kept."""
     utterance = read_aloud(utterance)
+    fitted, kept = _heard(utterance, recording, engine, settings)
+    if isinstance(kept, AudioError) or kept.warnings:
+        # A list typed with no commas, read item by item: aligned again as read, a pause before each item.
+        pauses = pauses_read_as_list(utterance, fitted.phone_events, fitted.warp, settings)
+        if pauses:
+            kept = fewer_warnings(kept, _heard(read_aloud(utterance, pauses), recording, engine, settings)[1])
+    if isinstance(kept, AudioError):
+        raise kept
+    return kept
+
+
+def _heard(
+    utterance: Utterance,
+    recording: str | Path | RecordedAudio,
+    engine: SpeechEngine,
+    settings: AlignerSettings,
+) -> tuple[RecordingFit, RecordingAlignment | AudioError]:
+    """The take fitted as the shipped network hears it, and the alignment kept after the second hearing
+    (or the refusal)."""
     fitted, listening = fit_recording(utterance, recording, engine, settings)
     first = judged_fit(utterance, fitted, settings)
 
@@ -239,10 +260,7 @@ def align_recording(
             return refusal
         return judged_fit(utterance, fitted, settings)
 
-    kept = kept_hearing(first, heard_again, settings)
-    if isinstance(kept, AudioError):
-        raise kept
-    return kept
+    return fitted, kept_hearing(first, heard_again, settings)
 
 
 def judged_fit(
@@ -268,7 +286,14 @@ def kept_hearing(
     the first where they tie."""
     if not settings.second_hearing or (isinstance(first, RecordingAlignment) and not first.warnings):
         return first
-    again = second()
+    return fewer_warnings(first, second())
+
+
+def fewer_warnings(
+    first: RecordingAlignment | AudioError, again: RecordingAlignment | AudioError
+) -> RecordingAlignment | AudioError:
+    """Of two alignments of a take, the one with fewer warnings (a refusal counts as the most), the first
+    where they tie."""
     if isinstance(again, AudioError):
         return first
     if isinstance(first, AudioError) or len(again.warnings) < len(first.warnings):

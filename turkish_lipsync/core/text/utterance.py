@@ -184,14 +184,15 @@ def with_rate(utterance: Utterance, rate: float) -> Utterance:
     return dataclasses.replace(utterance, words=words)
 
 
-def read_aloud(utterance: Utterance) -> Utterance:
+def read_aloud(utterance: Utterance, pauses: Iterable[int] = ()) -> Utterance:
     """The utterance as a person reading the text aloud says it: a pause at each line break, as at a comma
-    (a list an item a line, a script's lines). The voice reads a line break as a space; a recording of the
-    text is aligned to this reading (speech/recording.py)."""
+    (a list an item a line, a script's lines), and before each word of `pauses` (indices). The voice reads
+    a line break as a space; a recording of the text is aligned to this reading (speech/recording.py)."""
     comma = pause_seconds()["punctuation"]["comma"]
+    before = set(pauses)
     words = list(utterance.words)
     for index, word in enumerate(words):
-        if word.line_start and word.pause_before == 0:
+        if index and (word.line_start or index in before) and word.pause_before == 0:
             words[index] = replace(word, pause_before=comma)
             if not words[index - 1].ending:
                 words[index - 1] = replace(words[index - 1], ending=PAUSE_ENDINGS["comma"])

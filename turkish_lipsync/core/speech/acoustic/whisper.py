@@ -108,16 +108,23 @@ class WhisperHearing:
     priors: np.ndarray
     metadata: dict
 
-    def log_posteriors(self, samples: np.ndarray) -> np.ndarray:
+    def log_posteriors(self, samples: np.ndarray, speech: np.ndarray | None = None) -> np.ndarray:
         """(frames x classes) float32 natural-log posteriors at the recogniser's frames (features.py's
-        frame_count of them, frame i centred on sample i * HOP + WINDOW / 2) of 16 kHz float samples."""
+        frame_count of them, frame i centred on sample i * HOP + WINDOW / 2) of 16 kHz float samples.
+        speech: where a speech detector hears speech, per frame; a long take's window with none in it (a
+        long break) is not heard, without the encoder's time: its frames, and those the classifier reaches
+        from them, are NaN."""
         count = frame_count(len(samples))
         pieces = []  # each window's encoder frames (float16: a 30-minute take's are 70 MB)
         window = WINDOW_SAMPLES if len(samples) <= WINDOW_SAMPLES else LONG_TAKE_WINDOW
         for begin, stop in windows(samples):
             chunk = samples[begin:stop]
-            heard = -(-len(chunk) // ENCODER_HOP)
-            pieces.append(self.encode(log_mel(chunk, window))[: max(1, heard)].astype(np.float16))
+            heard = max(1, -(-len(chunk) // ENCODER_HOP))
+            around = slice(max(0, begin // HOP - 1), stop // HOP + 2)  # the frames any of its samples are in
+            if window == LONG_TAKE_WINDOW and speech is not None and not speech[around].any():
+                pieces.append(np.full((heard, self.encoder["norm.beta"].size), np.nan, np.float16))
+            else:
+                pieces.append(self.encode(log_mel(chunk, window))[:heard].astype(np.float16))
         encoded = np.concatenate(pieces)
         nearest = encoder_frames_of(np.arange(count) * HOP + WINDOW / 2, len(encoded))
         out = np.empty((count, len(CLASSES)), np.float32)

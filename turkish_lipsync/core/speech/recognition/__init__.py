@@ -69,7 +69,7 @@ def _recognised_around_speech(
     """What is heard in the stretch around the detector's speech (acoustic.features.speech_stretch), timed
     in the whole take: silence beyond it would change how the same speech is heard."""
     first, stop = speech_stretch(speech)
-    recognition = recognise(samples[first * HOP : stop * HOP], settings)
+    recognition = recognise(samples[first * HOP : stop * HOP], settings, speech[first:stop])
     offset = first * HOP / ANALYSIS_RATE
     return Recognition(
         tuple(

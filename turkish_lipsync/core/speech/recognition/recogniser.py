@@ -63,12 +63,15 @@ class Recognition:
     confidence: float
 
 
-def recognise(samples: np.ndarray, settings: RecogniserSettings = DEFAULT_RECOGNISER) -> Recognition:
-    """The letters heard in 16 kHz float samples (Whisper's hearing only where the network needs it)."""
+def recognise(
+    samples: np.ndarray, settings: RecogniserSettings = DEFAULT_RECOGNISER, speech: np.ndarray | None = None
+) -> Recognition:
+    """The letters heard in 16 kHz float samples (Whisper's hearing only where the network needs it, and
+    not in a long break: speech, the speech detector's frames, where given)."""
     network_heard = _network_hearing(samples)
     whisper_heard = None
     if whisper_needed(network_heard, settings):
-        whisper_heard = load_whisper_hearing().log_posteriors(samples)
+        whisper_heard = load_whisper_hearing().log_posteriors(samples, speech)
     return recognise_posteriors(network_heard, whisper_heard, settings)
 
 
@@ -131,15 +134,19 @@ def _averaged(
     network_heard: np.ndarray, whisper_heard: np.ndarray | None, weight: float
 ) -> tuple[np.ndarray, np.ndarray]:
     """The two hearings' log posteriors as one (the scaled likelihoods averaged, over Whisper's priors)
-    and the priors the decoder divides them by."""
+    and the priors the decoder divides them by. Where Whisper did not hear (NaN: a long break), the
+    network's alone."""
     network_priors = load_network().priors
     if whisper_heard is None:
         return network_heard, network_priors
     whisper_priors = load_whisper_hearing().priors
     count = min(len(network_heard), len(whisper_heard))
     log_priors = np.log(whisper_priors).astype(np.float32)
-    averaged = (1 - weight) * (network_heard[:count] - np.log(network_priors).astype(np.float32))
-    averaged += weight * (whisper_heard[:count] - log_priors)
+    network_scaled = network_heard[:count] - np.log(network_priors).astype(np.float32)
+    whisper_scaled = whisper_heard[:count] - log_priors
+    unheard = np.isnan(whisper_scaled[:, 0])
+    whisper_scaled[unheard] = network_scaled[unheard]
+    averaged = (1 - weight) * network_scaled + weight * whisper_scaled
     averaged += log_priors
     averaged -= averaged.max(axis=1, keepdims=True)
     averaged -= np.log(np.exp(averaged).sum(axis=1, keepdims=True))
