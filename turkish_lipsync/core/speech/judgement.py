@@ -253,8 +253,7 @@ def _phrases(
 ) -> tuple[PhraseMatch, ...]:
     """Words between pauses, the text's or the recording's (list_pause), each phrase with its place in
     the recording and its confidence."""
-    starts = {index for index, word in enumerate(utterance.words) if index == 0 or word.pause_before > 0}
-    starts = sorted(starts | _recorded_pauses(utterance, phone_events, warp, settings))
+    starts, _ = _phrase_starts(utterance, phone_events, warp, settings)
     phrases = []
     for first, stop in zip(starts, [*starts[1:], len(utterance.words)], strict=True):
         voiced = [index for index in range(first, stop) if spans[index, 0] >= 0]
@@ -282,12 +281,20 @@ def pauses_read_as_list(
     """The words the recording pauses before (list_pause) where the text runs on, when with the text's own
     pauses they make it a list as read (list_items phrases or more, none longer than two words): a list
     typed with spaces only, read item by item. Else none."""
-    marked = {index for index, word in enumerate(utterance.words) if index == 0 or word.pause_before > 0}
-    starts = sorted(marked | _recorded_pauses(utterance, phone_events, warp, settings))
+    starts, marked = _phrase_starts(utterance, phone_events, warp, settings)
     lengths = np.diff([*starts, len(utterance.words)])
     if len(starts) < settings.list_items or lengths.max() > 2:
         return set()
     return set(starts) - marked
+
+
+def _phrase_starts(
+    utterance: Utterance, phone_events: tuple[PhoneEvent, ...], warp: TimeWarp, settings: AlignerSettings
+) -> tuple[list[int], set[int]]:
+    """The words phrases start at, in order (the first, those the text pauses before, those the recording
+    pauses before for list_pause), and those of them that the text marks."""
+    marked = {index for index, word in enumerate(utterance.words) if index == 0 or word.pause_before > 0}
+    return sorted(marked | _recorded_pauses(utterance, phone_events, warp, settings)), marked
 
 
 def _recorded_pauses(

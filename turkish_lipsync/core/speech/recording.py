@@ -236,7 +236,11 @@ def align_recording(
         # A list typed with no commas, read item by item: aligned again as read, a pause before each item.
         pauses = pauses_read_as_list(utterance, fitted.phone_events, fitted.warp, settings)
         if pauses:
-            kept = fewer_warnings(kept, _heard(read_aloud(utterance, pauses), recording, engine, settings)[1])
+            try:  # an alignment as read that fails outright counts as refused: the first is kept
+                again = _heard(read_aloud(utterance, pauses), recording, engine, settings)[1]
+            except AudioError as refusal:
+                again = refusal
+            kept = _fewer_warnings(kept, again)
     if isinstance(kept, AudioError):
         raise kept
     return kept
@@ -286,10 +290,10 @@ def kept_hearing(
     the first where they tie."""
     if not settings.second_hearing or (isinstance(first, RecordingAlignment) and not first.warnings):
         return first
-    return fewer_warnings(first, second())
+    return _fewer_warnings(first, second())
 
 
-def fewer_warnings(
+def _fewer_warnings(
     first: RecordingAlignment | AudioError, again: RecordingAlignment | AudioError
 ) -> RecordingAlignment | AudioError:
     """Of two alignments of a take, the one with fewer warnings (a refusal counts as the most), the first
