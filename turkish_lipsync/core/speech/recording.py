@@ -231,13 +231,14 @@ def align_recording(
     refused that reads its text as a list where the text runs on (judgement.pauses_read_as_list) is
     aligned again with a pause before each item, and the alignment with fewer warnings kept."""
     utterance = read_aloud(utterance)
-    fitted, kept = _heard(utterance, recording, engine, settings)
+    fitted, take, kept = _heard(utterance, recording, engine, settings)
     if isinstance(kept, AudioError) or kept.warnings:
-        # A list typed with no commas, read item by item: aligned again as read, a pause before each item.
+        # A list typed with no commas, read item by item: aligned again as read, a pause before each item
+        # (the take as the first alignment read and measured it).
         pauses = pauses_read_as_list(utterance, fitted.phone_events, fitted.warp, settings)
         if pauses:
             try:  # an alignment as read that fails outright counts as refused: the first is kept
-                again = _heard(read_aloud(utterance, pauses), recording, engine, settings)[1]
+                again = _heard(read_aloud(utterance, pauses), take, engine, settings)[2]
             except AudioError as refusal:
                 again = refusal
             kept = _fewer_warnings(kept, again)
@@ -248,12 +249,12 @@ def align_recording(
 
 def _heard(
     utterance: Utterance,
-    recording: str | Path | RecordedAudio,
+    recording: str | Path | RecordedAudio | _Take,
     engine: SpeechEngine,
     settings: AlignerSettings,
-) -> tuple[RecordingFit, RecordingAlignment | AudioError]:
-    """The take fitted as the shipped network hears it, and the alignment kept after the second hearing
-    (or the refusal)."""
+) -> tuple[RecordingFit, _Take, RecordingAlignment | AudioError]:
+    """The take fitted as the shipped network hears it, the take as read and measured, and the alignment
+    kept after the second hearing (or the refusal)."""
     fitted, listening = fit_recording(utterance, recording, engine, settings)
     first = judged_fit(utterance, fitted, settings)
 
@@ -264,7 +265,7 @@ def _heard(
             return refusal
         return judged_fit(utterance, fitted, settings)
 
-    return fitted, kept_hearing(first, heard_again, settings)
+    return fitted, listening.take, kept_hearing(first, heard_again, settings)
 
 
 def judged_fit(
@@ -307,14 +308,15 @@ def _fewer_warnings(
 
 def fit_recording(
     utterance: Utterance,
-    recording: str | Path | RecordedAudio,
+    recording: str | Path | RecordedAudio | _Take,
     engine: SpeechEngine,
     settings: AlignerSettings = DEFAULT_ALIGNER,
     network: PhoneNetwork | None = None,
 ) -> tuple[RecordingFit, Listening]:
     """The alignment before its judgement: what judgement.judge reads (a tuning run judges it again with
     other settings); heard by the shipped network unless another is given. With it, what was measured
-    before the network heard the take and its rendition (fit_again starts from it)."""
+    before the network heard the take and its rendition (fit_again starts from it). The recording: a
+    file, samples already read, or a take an earlier fit read and measured (Listening.take)."""
     network = network or load_network()
     # The synthetic rendition is made and heard in a thread of its own while the recording is read and
     # heard: eSpeak NG, the decoders and numpy's matrix products release the interpreter, so on two cores
@@ -425,8 +427,11 @@ def _place_letters(
     )
 
 
-def _read_and_measure(recording: str | Path | RecordedAudio, settings: AlignerSettings) -> _Take:
-    """The user's recording read (a file, or samples already read) and measured (_measure_take)."""
+def _read_and_measure(recording: str | Path | RecordedAudio | _Take, settings: AlignerSettings) -> _Take:
+    """The user's recording read (a file, or samples already read) and measured (_measure_take); a take
+    already measured as it is."""
+    if isinstance(recording, _Take):
+        return recording
     if isinstance(recording, RecordedAudio):
         native, native_rate, name = recording.samples, recording.sample_rate, recording.name
     else:
