@@ -69,9 +69,7 @@ def assemble_utterance(
             if words and item.kind in PAUSE_ENDINGS and not words[-1].ending:
                 words[-1] = replace(words[-1], ending=PAUSE_ENDINGS[item.kind])
             continue
-        _append_word(item, pending_pause, words, syllables, letters)
-        if line_start and len(words) > 1:
-            words[-1] = replace(words[-1], line_start=True)
+        _append_word(item, pending_pause, line_start and bool(words), words, syllables, letters)
         pending_pause, line_start = 0.0, False
     if not words:
         raise TextError("nothing to speak: the text has no Turkish words after normalisation")
@@ -125,6 +123,7 @@ def unspoken_warning(utterance: Utterance) -> tuple[str, ...]:
 def _append_word(
     spoken: SpokenWord,
     pause_before: float,
+    line_start: bool,
     words: list[Word],
     syllables: list[Syllable],
     letters: list[Letter],
@@ -161,6 +160,7 @@ def _append_word(
             syllable_count=len(parts),
             style=spoken.style,
             pause_before=pause_before,
+            line_start=line_start,
         )
     )
 
