@@ -35,6 +35,9 @@ WINDOW_SAMPLES = 30 * ANALYSIS_RATE
 LONG_TAKE_WINDOW = 10 * ANALYSIS_RATE
 CUT_SEARCH = 2 * ANALYSIS_RATE
 CUT_SMOOTHING = 5  # encoder frames (100 ms)
+# A long take is heard this far either side of the speech the detector finds in it (speech_spans); a
+# break, or the silence between lines, is not heard by the encoder at all.
+SPEECH_MARGIN = 3 * ANALYSIS_RATE // 10
 MEL_BANDS = 80
 FFT_SIZE = 400  # 25 ms
 MEL_HOP = 160  # 10 ms
@@ -111,20 +114,36 @@ class WhisperHearing:
     def log_posteriors(self, samples: np.ndarray, speech: np.ndarray | None = None) -> np.ndarray:
         """(frames x classes) float32 natural-log posteriors at the recogniser's frames (features.py's
         frame_count of them, frame i centred on sample i * HOP + WINDOW / 2) of 16 kHz float samples.
-        speech: where a speech detector hears speech, per frame; a long take's window with none in it (a
-        long break) is not heard, without the encoder's time: its frames, and those the classifier reaches
-        from them, are NaN."""
+        speech: where a speech detector hears speech, per frame. A long take is then heard only around
+        its speech (speech_spans: the spans joined end to end and heard as one take, which the encoder's
+        windows fill); frames outside them are NaN, without the encoder's or the classifier's time."""
+        if speech is None or len(samples) <= WINDOW_SAMPLES:
+            return self._heard(samples)
+        count = frame_count(len(samples))
+        out = np.full((count, len(CLASSES)), np.nan, np.float32)
+        spans = speech_spans(speech, len(samples))
+        if not spans:
+            return out
+        heard = self._heard(np.concatenate([samples[begin:stop] for begin, stop in spans]))
+        joined = 0  # where the span begins in the joined samples (on the encoder's grid, as it does here)
+        for begin, stop in spans:
+            first = max(0, -(-(begin - WINDOW // 2) // HOP))  # our frames centred within the span
+            last = min(count, -(-(stop - WINDOW // 2) // HOP))
+            shift = (begin - joined) // HOP  # our frame i is the joined take's frame i - shift
+            first, last = max(first, shift), min(last, len(heard) + shift)
+            out[first:last] = heard[first - shift : last - shift]
+            joined += stop - begin
+        return out
+
+    def _heard(self, samples: np.ndarray) -> np.ndarray:
+        """log_posteriors of the whole of `samples`, its encoder windows' frames joined (windows)."""
         count = frame_count(len(samples))
         pieces = []  # each window's encoder frames (float16: a 30-minute take's are 70 MB)
         window = WINDOW_SAMPLES if len(samples) <= WINDOW_SAMPLES else LONG_TAKE_WINDOW
         for begin, stop in windows(samples):
             chunk = samples[begin:stop]
             heard = max(1, -(-len(chunk) // ENCODER_HOP))
-            around = slice(max(0, begin // HOP - 1), stop // HOP + 2)  # the frames any of its samples are in
-            if window == LONG_TAKE_WINDOW and speech is not None and not speech[around].any():
-                pieces.append(np.full((heard, self.encoder["norm.beta"].size), np.nan, np.float16))
-            else:
-                pieces.append(self.encode(log_mel(chunk, window))[:heard].astype(np.float16))
+            pieces.append(self.encode(log_mel(chunk, window))[:heard].astype(np.float16))
         encoded = np.concatenate(pieces)
         nearest = encoder_frames_of(np.arange(count) * HOP + WINDOW / 2, len(encoded))
         out = np.empty((count, len(CLASSES)), np.float32)
@@ -227,6 +246,22 @@ def windows(samples: np.ndarray) -> list[tuple[int, int]]:
         found.append((begin, stop))
         begin = stop
     found.append((begin, len(samples)))
+    return found
+
+
+def speech_spans(speech: np.ndarray, sample_count: int) -> list[tuple[int, int]]:
+    """(begin, stop) samples around a long take's speech (speech: per frame of ours), SPEECH_MARGIN either
+    side of each run of it, joined where they meet, each on the encoder's grid (the last may end with the
+    take): what log_posteriors hears of the take."""
+    runs = np.flatnonzero(np.diff(np.concatenate([[0], np.asarray(speech, np.int8), [0]])))
+    found: list[tuple[int, int]] = []
+    for first, stop in zip(runs[::2], runs[1::2], strict=True):
+        begin = max(0, first * HOP - SPEECH_MARGIN) // ENCODER_HOP * ENCODER_HOP
+        end = min(sample_count, -(-((stop - 1) * HOP + WINDOW + SPEECH_MARGIN) // ENCODER_HOP) * ENCODER_HOP)
+        if found and begin <= found[-1][1]:
+            found[-1] = (found[-1][0], max(found[-1][1], end))
+        elif begin < end:
+            found.append((begin, end))
     return found
 
 
