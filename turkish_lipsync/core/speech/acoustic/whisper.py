@@ -127,10 +127,10 @@ class WhisperHearing:
         heard = self._heard(np.concatenate([samples[begin:stop] for begin, stop in spans]))
         joined = 0  # where the span begins in the joined samples (on the encoder's grid, as it does here)
         for begin, stop in spans:
-            first = max(0, -(-(begin - WINDOW // 2) // HOP))  # our frames centred within the span
-            last = min(count, -(-(stop - WINDOW // 2) // HOP))
             shift = (begin - joined) // HOP  # our frame i is the joined take's frame i - shift
-            first, last = max(first, shift), min(last, len(heard) + shift)
+            # our frames centred within the span (that the joined take has)
+            first = max(shift, -(-(begin - WINDOW // 2) // HOP))
+            last = min(count, len(heard) + shift, -(-(stop - WINDOW // 2) // HOP))
             out[first:last] = heard[first - shift : last - shift]
             joined += stop - begin
         return out

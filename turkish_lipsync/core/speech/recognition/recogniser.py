@@ -67,7 +67,7 @@ def recognise(
     samples: np.ndarray, settings: RecogniserSettings = DEFAULT_RECOGNISER, speech: np.ndarray | None = None
 ) -> Recognition:
     """The letters heard in 16 kHz float samples (Whisper's hearing only where the network needs it, and
-    not in a long break: speech, the speech detector's frames, where given)."""
+    in a long take only around its speech: speech, the speech detector's frames, where given)."""
     network_heard = _network_hearing(samples)
     whisper_heard = None
     if whisper_needed(network_heard, settings):
@@ -134,7 +134,7 @@ def _averaged(
     network_heard: np.ndarray, whisper_heard: np.ndarray | None, weight: float
 ) -> tuple[np.ndarray, np.ndarray]:
     """The two hearings' log posteriors as one (the scaled likelihoods averaged, over Whisper's priors)
-    and the priors the decoder divides them by. Where Whisper did not hear (NaN: a long break), the
+    and the priors the decoder divides them by. Where Whisper did not hear (NaN: away from speech), the
     network's alone."""
     network_priors = load_network().priors
     if whisper_heard is None:
