@@ -43,6 +43,12 @@ own rate.
   each line heard alone. Ideally the long take is heard as its lines are;
 - breaks-lines (only when named): the same takes, the script the lines' spellings without punctuation,
   one line each (its line breaks the only marks of where a line ends);
+- music (only when named): the sentences (every --sentences-th) aligned as they come, and with
+  MUSIC_SECONDS of an instrumental with no voice (lab/kit/takes.py's instrumental) before them (a video's
+  intro) and after them (its outro): in how many lines the first word starts MUSIC_MOVED or more before
+  its onset as they come (in the intro), or the last ends that much later (in the outro), how many lines'
+  word onsets (or last word's end) move by more than MUSIC_MOVED at all, and how many are warned or
+  refused. The speech is the same: ideally none moves;
 - mbrola-words (only when named, MBROLA installed: lab/kit/diphone_voices.py): two Turkish speakers''
   diphones saying every distinct word of examples/corpus_tr.txt's held-out sentences alone, with their
   text (refused / warned / clean, the onset's error) and without ("no speech found").
@@ -284,6 +290,52 @@ def measure_padded(part: str, folder: Path, every: int, scratch: Path) -> None:
         print(f"  not clean as they come: {not_clean['as they come']}, padded: {not_clean['padded']}")
 
 
+MUSIC_SECONDS = 4.0
+MUSIC_MOVED = 0.1
+
+
+def measure_music(part: str, folder: Path, every: int, scratch: Path) -> None:
+    music = takes.instrumental(MUSIC_SECONDS, RATE)
+    lines = people.sentence_lines(part, folder)[::every]
+    moved, largest, results, into = Counter(), {"intro": [], "outro": []}, Counter(), Counter()
+    for recording in lines:
+        samples = people.read(recording, RATE)
+        if samples.size == 0:
+            continue
+        samples = 0.5 * samples / np.abs(samples).max()  # the music's peak 0.3 beside the voice's 0.5
+        plain, _ = aligned(recording.turkish, write_wav(scratch / "plain.wav", samples, RATE))
+        if plain is None:
+            continue
+        for name, take, lead in (("intro", (music, samples), MUSIC_SECONDS), ("outro", (samples, music), 0)):
+            timeline, result = aligned(
+                recording.turkish, write_wav(scratch / "music.wav", np.concatenate(take), RATE)
+            )
+            results[name, result] += 1
+            if timeline is None:
+                largest[name].append(np.inf)
+            else:
+                starts = [word.start - lead for word in timeline.words] + [timeline.words[-1].end - lead]
+                truth = [word.start for word in plain.words] + [plain.words[-1].end]
+                difference = np.array(starts) - truth
+                largest[name].append(float(np.abs(difference).max()))
+                # the first word started in the intro, or the last word ended in the outro
+                into[name] += bool(
+                    difference[0] < -MUSIC_MOVED if name == "intro" else difference[-1] > MUSIC_MOVED
+                )
+            into[name] += timeline is None
+            moved[name] += largest[name][-1] > MUSIC_MOVED
+    count = len(largest["intro"])
+    print(f"music, {part} part ({count} lines, {MUSIC_SECONDS:.0f} s of an instrumental before or after)")
+    for name in ("intro", "outro"):
+        found = np.array(largest[name])
+        print(
+            f"  {name}: the speech drawn into the music (or refused) in {into[name]} of {count}; "
+            f"a word moved over {1000 * MUSIC_MOVED:.0f} ms in {moved[name]}; "
+            f"largest move median {1000 * np.median(found):.0f} ms; warned {results[name, 'warned']}, "
+            f"refused {results[name, 'refused']}"
+        )
+
+
 BREAK_SECONDS = 20.0
 BREAK_ROOM_DB = 55.0
 
@@ -421,6 +473,8 @@ def main(argv: list[str] | None = None) -> int:
                 measure_breaks(arguments.part, arguments.folder, every, Path(scratch), a_line_each)
             elif name == "long":
                 measure_long(Path(scratch))
+            elif name == "music":
+                measure_music(arguments.part, arguments.folder, arguments.sentences, Path(scratch))
             elif name == "mbrola-words":
                 measure_diphone_words(Path(scratch))
             sys.stdout.flush()

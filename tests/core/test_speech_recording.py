@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 import soundfile
 
+from lab.kit.takes import instrumental
 from turkish_lipsync.core.base.errors import AudioError, TextError
 from turkish_lipsync.core.speech import align_recording, espeak, get_engine, read_audio, synthesize_timeline
 from turkish_lipsync.core.speech import recording as recording_module
@@ -239,6 +240,24 @@ def test_leading_noise_is_not_taken_for_speech(tmp_path):
     samples, rate = read_audio(path)
     analysis = resample(samples, rate, 16000)
     assert not speech_frames(analysis, frame_count(analysis.size))[:190].any()
+
+
+def test_music_before_or_after_the_line_holds_none_of_its_words(tmp_path):
+    """A video's sound: an instrumental intro or outro around the line. The speech mask takes the music
+    for speech and the words were drawn into it (the first word 4 s early, or the last stretched to the
+    music's end); where the letters put in it fit it as another text's would and the detector trained on
+    people hears no voice in it, it is heard as silence."""
+    voice, truth = other_voice(OTHER_TEXT, "tr+m5", -20, 0)
+    voice = 0.5 * voice / np.abs(voice).max()
+    music = instrumental(4.0)
+    onsets = np.array([word.start for word in truth.words])
+    for name, take, lead in (("intro", (music, voice), 4.0), ("outro", (voice, music), 0.0)):
+        path = write_pcm_wav(tmp_path / f"{name}.wav", np.concatenate(take), 44100)
+        speech = synthesize_timeline(build_utterance(OTHER_TEXT), recording=path)
+        words = speech.timeline.words
+        error = np.array([word.start for word in words]) - lead - onsets
+        assert np.abs(error).max() < 0.1, (name, np.round(1000 * error))
+        assert words[-1].end - lead < truth.words[-1].end + 0.3, name
 
 
 def test_a_gate_opening_on_the_room_is_not_the_word(tmp_path):

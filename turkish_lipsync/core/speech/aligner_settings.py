@@ -38,6 +38,16 @@ class AlignerSettings:
     leading_quiet_db: float = 25.0
     """... and lying this far under the speaker (a gate or an edit opening on the room, a breath, handling
     noise)."""
+    not_voice_frames: int = 150
+    """A stretch in which Silero's detector, trained on people, hears no voice, holding this many frames
+    that the WebRTC-based mask takes for speech (music, a tone, a machine before, between or after the
+    lines; or a howl or a song) ..."""
+    voice_reach_frames: int = 20
+    """... and lying farther than this from any voice it hears, ..."""
+    not_voice_edge_frames: int = 3_000
+    """... within this of the take's start or end (an intro's or an outro's music, a jingle), is heard as
+    silence where the letters put in it fit it as another text's do (worse than `unmatched` on average):
+    a howl or a song keeps them."""
 
     # -- the synthetic rendition
     chunk_letters: int = 3_000

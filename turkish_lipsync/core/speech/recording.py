@@ -130,6 +130,7 @@ class _Take:
     sound: np.ndarray  # the stretch's features
     stretch_frames: int
     around: tuple[int, int]  # frames before and after the stretch
+    silenced: np.ndarray | None = None  # frames heard as silence whatever the network hears (_without)
 
 
 @dataclass(frozen=True, eq=False)
@@ -232,6 +233,17 @@ def align_recording(
     aligned again with a pause before each item, and the alignment with fewer warnings kept."""
     utterance = read_aloud(utterance)
     fitted, take, kept = _heard(utterance, recording, engine, settings)
+    not_voice = _not_voice(take, fitted, settings)
+    if not_voice is not None:
+        # Letters put in long sound with no voice in it (music, a tone), which they fit as another text's
+        # would: aligned again with that sound heard as silence (a howl or a song the detector does not
+        # know is a voice fits its letters, and keeps them).
+        try:
+            again = _heard(utterance, _without(take, not_voice), engine, settings)
+        except AudioError:
+            again = None
+        if again is not None and (isinstance(kept, AudioError) or not isinstance(again[2], AudioError)):
+            fitted, take, kept = again
     if isinstance(kept, AudioError) or kept.warnings:
         # A list typed with no commas, read item by item: aligned again as read, a pause before each item
         # (the take as the first alignment read and measured it).
@@ -453,6 +465,9 @@ def _hear_take(take: _Take, settings: AlignerSettings, network: PhoneNetwork) ->
     log_posteriors = _silence_around(
         heard_log_posteriors(take.sound, take.stretch_frames, network), *take.around
     )
+    if take.silenced is not None:
+        log_posteriors[take.silenced] = _SURELY_NOT
+        log_posteriors[take.silenced, CLASS_INDEX[SILENCE]] = 0.0
     speech = _from_first_sound(take.speech, log_posteriors, take.under_speech, settings)
     features = heard_features(_speech_not_silence(log_posteriors, speech, settings), settings)
     return _HeardRecording(take, speech, log_posteriors, features)
@@ -523,9 +538,12 @@ def heard_log_posteriors(sound: np.ndarray, frames: int, network: PhoneNetwork) 
     return _silence_around(heard[:frames], 0, max(0, frames - len(heard)))
 
 
+_SURELY_NOT = -69.0  # the log posterior of a class surely not heard (a frame heard as silence alone)
+
+
 def _silence_around(log_posteriors: np.ndarray, before: int, after: int) -> np.ndarray:
     """The log posteriors with `before` and `after` frames in which only silence is heard around them."""
-    heard = np.pad(log_posteriors, ((before, after), (0, 0)), constant_values=-69.0)
+    heard = np.pad(log_posteriors, ((before, after), (0, 0)), constant_values=_SURELY_NOT)
     heard[:before, CLASS_INDEX[SILENCE]] = 0.0
     heard[len(heard) - after :, CLASS_INDEX[SILENCE]] = 0.0
     return heard
@@ -702,6 +720,39 @@ def _checked_speech(
     if not detection.found:
         raise AudioError(f"recording {name} is silent (no speech found); record the text again")
     return detection.speech
+
+
+def _not_voice(take: _Take, fitted: RecordingFit, settings: AlignerSettings) -> np.ndarray | None:
+    """The stretches of sound with no voice in it, within not_voice_edge_frames of the take's start or end
+    (a video's intro or outro, a jingle), where the alignment put letters that fit them as another
+    text's would (worse than `unmatched` on average), or None. No voice: farther than voice_reach_frames
+    from any that Silero's detector, trained on people, hears, over at least not_voice_frames of the
+    WebRTC-based mask's speech (music, a tone, a machine); a howl or a song the detector does not know
+    for a voice fits its letters, and is kept."""
+    letters, mismatch = fitted.fit.frame_words >= 0, fitted.fit.mismatch
+    frames, edge = take.speech.size, settings.not_voice_edge_frames
+    found = np.zeros(frames, bool)
+    for first, stop in [(0, frames)] if frames <= 2 * edge else [(0, edge), (frames - edge, frames)]:
+        per_frame = take.output_rate * HOP / ANALYSIS_RATE  # output samples per frame
+        output = take.output[round(first * per_frame) : round(stop * per_frame)]
+        voice = detect_speech(
+            resample(output, take.output_rate, ANALYSIS_RATE, 1 / 32768), stop - first
+        ).speech
+        if not voice.any():
+            continue
+        reach = settings.voice_reach_frames
+        for start, end in runs(np.convolve(voice, np.ones(2 * reach + 1), "same") == 0):
+            if np.count_nonzero(take.speech[first + start : first + end]) >= settings.not_voice_frames:
+                found[first + start : first + end] = True
+    inside = letters & found[: letters.size]
+    if not inside.any() or np.mean(mismatch[: found.size][inside]) < settings.unmatched:
+        return None
+    return found
+
+
+def _without(take: _Take, not_voice: np.ndarray) -> _Take:
+    """The take with its stretches of no voice heard as silence: no speech, nothing heard."""
+    return replace(take, speech=take.speech & ~not_voice, silenced=not_voice)
 
 
 def _check_lengths(
