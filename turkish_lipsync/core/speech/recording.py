@@ -230,7 +230,9 @@ def align_recording(
     first where they tie. The take is refused only where both hearings refuse it. The text is aligned as a
     person reads it aloud (text.utterance.read_aloud: a line break a pause, as a comma); a take warned or
     refused that reads its text as a list where the text runs on (judgement.pauses_read_as_list) is
-    aligned again with a pause before each item, and the alignment with fewer warnings kept."""
+    aligned again with a pause before each item, and the alignment with fewer warnings kept. Before that, a
+    take whose letters were drawn into music with no voice at its start or end (_not_voice) is aligned
+    again with the music heard as silence, and that alignment kept unless it alone is refused."""
     utterance = read_aloud(utterance)
     fitted, take, kept = _heard(utterance, recording, engine, settings)
     not_voice = _not_voice(take, fitted, settings)
@@ -744,8 +746,9 @@ def _not_voice(take: _Take, fitted: RecordingFit, settings: AlignerSettings) -> 
         for start, end in runs(np.convolve(voice, np.ones(2 * reach + 1), "same") == 0):
             if np.count_nonzero(take.speech[first + start : first + end]) >= settings.not_voice_frames:
                 found[first + start : first + end] = True
-    inside = letters & found[: letters.size]
-    if not inside.any() or np.mean(mismatch[: found.size][inside]) < settings.unmatched:
+    count = min(letters.size, frames)
+    inside = letters[:count] & found[:count]
+    if not inside.any() or np.mean(mismatch[:count][inside]) < settings.unmatched:
         return None
     return found
 
