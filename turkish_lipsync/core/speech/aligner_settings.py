@@ -43,7 +43,9 @@ class AlignerSettings:
     that the WebRTC-based mask takes for speech (music, a tone, a machine before, between or after the
     lines; or a howl or a song) ..."""
     voice_reach_frames: int = 20
-    """... and lying farther than this from any voice it hears, ..."""
+    """... and lying farther than this from any voice it hears for ..."""
+    shortest_voice_frames: int = 30
+    """... this long at least (a shorter run is a drum or a held note it takes for a voice), ..."""
     not_voice_edge_frames: int = 3_000
     """... within this of the take's start or end (an intro's or an outro's music, a jingle), is heard as
     silence where the letters put in it fit it as another text's do (worse than `unmatched` on average):

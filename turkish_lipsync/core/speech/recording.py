@@ -737,9 +737,10 @@ def _not_voice(take: _Take, fitted: RecordingFit, settings: AlignerSettings) -> 
     for first, stop in [(0, frames)] if frames <= 2 * edge else [(0, edge), (frames - edge, frames)]:
         per_frame = take.output_rate * HOP / ANALYSIS_RATE  # output samples per frame
         output = take.output[round(first * per_frame) : round(stop * per_frame)]
-        voice = detect_speech(
-            resample(output, take.output_rate, ANALYSIS_RATE, 1 / 32768), stop - first
-        ).speech
+        voice = long_runs(
+            detect_speech(resample(output, take.output_rate, ANALYSIS_RATE, 1 / 32768), stop - first).speech,
+            settings.shortest_voice_frames,
+        )
         if not voice.any():
             continue
         reach = settings.voice_reach_frames
