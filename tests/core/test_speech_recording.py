@@ -260,6 +260,23 @@ def test_music_before_or_after_the_line_holds_none_of_its_words(tmp_path):
         assert words[-1].end - lead < truth.words[-1].end + 0.3, name
 
 
+def test_music_between_the_lines_of_a_long_take_holds_none_of_their_words(tmp_path):
+    """Music 40 s and more from either end of a take (a break between two scenes): looked for where the
+    letters drawn into it fit it far worse than a voice's do."""
+    voice, truth = other_voice(" ".join([OTHER_TEXT] * 10), "tr+m5", -20, 0)
+    voice = 0.5 * voice / np.abs(voice).max()
+    cut = int((truth.words[len(truth.words) // 2].start - 0.05) * 44100)
+    music = instrumental(4.0)
+    onsets = np.array([word.start for word in truth.words])
+    onsets[len(onsets) // 2 :] += music.size / 44100
+    take = np.concatenate((voice[:cut], music, voice[cut:]))
+    assert cut / 44100 > 40 and (take.size - cut - music.size) / 44100 > 40
+    path = write_pcm_wav(tmp_path / "between.wav", take, 44100)
+    words = synthesize_timeline(build_utterance(" ".join([OTHER_TEXT] * 10)), recording=path).timeline.words
+    error = np.array([word.start for word in words]) - onsets
+    assert np.abs(error).max() < 0.1, np.round(1000 * error)
+
+
 def test_a_gate_opening_on_the_room_is_not_the_word(tmp_path):
     """Words edited apart with digital silence, each clip opening on 0.15-0.3 s of its room (low rumble
     35 dB under the voice) before the word: the detector takes the step out of silence for speech, and the

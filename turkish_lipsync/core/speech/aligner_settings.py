@@ -47,9 +47,13 @@ class AlignerSettings:
     shortest_voice_frames: int = 30
     """... this long at least (a shorter run is a drum or a held note it takes for a voice), ..."""
     not_voice_edge_frames: int = 3_000
-    """... within this of the take's start or end (an intro's or an outro's music, a jingle), is heard as
-    silence where the letters put in it fit it as another text's do (worse than `unmatched` on average):
-    a howl or a song keeps them."""
+    """... within this of the take's start or end (an intro's or an outro's music, a jingle) ..."""
+    suspect_mismatch: float = 8.0
+    """... or of letters fitting worse than this ..."""
+    suspect_frames: int = 8
+    """... for this many frames within not_voice_frames (music between two lines), is heard as silence
+    where the letters put in it fit it as another text's do (worse than `unmatched` on average): a howl
+    or a song keeps them."""
 
     # -- the synthetic rendition
     chunk_letters: int = 3_000

@@ -725,17 +725,26 @@ def _checked_speech(
 
 
 def _not_voice(take: _Take, fitted: RecordingFit, settings: AlignerSettings) -> np.ndarray | None:
-    """The stretches of sound with no voice in it, within not_voice_edge_frames of the take's start or end
-    (a video's intro or outro, a jingle), where the alignment put letters that fit them as another
-    text's would (worse than `unmatched` on average), or None. No voice: farther than voice_reach_frames
-    from any that Silero's detector, trained on people, hears, over at least not_voice_frames of the
-    WebRTC-based mask's speech (music, a tone, a machine); a howl or a song the detector does not know
-    for a voice fits its letters, and is kept."""
-    letters, mismatch = fitted.fit.frame_words >= 0, fitted.fit.mismatch
+    """The stretches of sound with no voice in it where the alignment put letters that fit them as another
+    text's would (worse than `unmatched` on average), or None. They are looked for within
+    not_voice_edge_frames of the take's start and end (a video's intro or outro, a jingle) and of any
+    not_voice_frames holding suspect_frames of letters that fit worse than suspect_mismatch (music
+    between two lines of a long take).
+    No voice: farther than voice_reach_frames from any that Silero's detector, trained on people, hears for
+    shortest_voice_frames, over at least not_voice_frames of the WebRTC-based mask's speech (music, a tone,
+    a machine); a howl or a song the detector does not know for a voice fits its letters, and is kept."""
     frames, edge = take.speech.size, settings.not_voice_edge_frames
+    count = min(fitted.fit.frame_words.size, frames)
+    letters, mismatch = fitted.fit.frame_words[:count] >= 0, fitted.fit.mismatch[:count]
+    looked = np.zeros(frames, bool)
+    looked[:edge] = looked[max(0, frames - edge) :] = True
+    window = settings.not_voice_frames
+    badly = np.convolve(letters & (mismatch >= settings.suspect_mismatch), np.ones(window), "valid")
+    for start in np.flatnonzero(badly >= settings.suspect_frames):
+        looked[max(0, start - edge) : start + window + edge] = True
     found = np.zeros(frames, bool)
-    for first, stop in [(0, frames)] if frames <= 2 * edge else [(0, edge), (frames - edge, frames)]:
-        per_frame = take.output_rate * HOP / ANALYSIS_RATE  # output samples per frame
+    per_frame = take.output_rate * HOP / ANALYSIS_RATE  # output samples per frame
+    for first, stop in runs(looked):
         output = take.output[round(first * per_frame) : round(stop * per_frame)]
         voice = long_runs(
             detect_speech(resample(output, take.output_rate, ANALYSIS_RATE, 1 / 32768), stop - first).speech,
@@ -747,9 +756,8 @@ def _not_voice(take: _Take, fitted: RecordingFit, settings: AlignerSettings) -> 
         for start, end in runs(np.convolve(voice, np.ones(2 * reach + 1), "same") == 0):
             if np.count_nonzero(take.speech[first + start : first + end]) >= settings.not_voice_frames:
                 found[first + start : first + end] = True
-    count = min(letters.size, frames)
-    inside = letters[:count] & found[:count]
-    if not inside.any() or np.mean(mismatch[:count][inside]) < settings.unmatched:
+    inside = letters & found[:count]
+    if not inside.any() or np.mean(mismatch[inside]) < settings.unmatched:
         return None
     return found
 
