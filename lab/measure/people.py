@@ -48,9 +48,9 @@ own rate.
   intro) and after them (its outro): in how many lines the first word starts MUSIC_MOVED or more before
   its onset as they come (in the intro), or the last ends that much later (in the outro), how many lines'
   word onsets (or last word's end) move by more than MUSIC_MOVED at all, and how many are warned or
-  refused; and takes of MUSIC_GROUP consecutive Czech lines with the music, or as much silence, between
-  their halves (40 s and more from either end): each take's largest move between the two. The speech is
-  the same: ideally none moves;
+  refused. The speech is the same: ideally none moves;
+- music-between (only when named): takes of MUSIC_GROUP consecutive Czech lines with the music between
+  their halves (40 s and more from either end): the words whose onset is put in it. Ideally none;
 - mbrola-words (only when named, MBROLA installed: lab/kit/diphone_voices.py): two Turkish speakers''
   diphones saying every distinct word of examples/corpus_tr.txt's held-out sentences alone, with their
   text (refused / warned / clean, the onset's error) and without ("no speech found").
@@ -326,7 +326,6 @@ def measure_music(part: str, folder: Path, every: int, scratch: Path) -> None:
                 )
             into[name] += timeline is None
             moved[name] += largest[name][-1] > MUSIC_MOVED
-    between = music_between(part, folder, music, scratch)
     count = len(largest["intro"])
     print(f"music, {part} part ({count} lines, {MUSIC_SECONDS:.0f} s of an instrumental before or after)")
     for name in ("intro", "outro"):
@@ -337,23 +336,19 @@ def measure_music(part: str, folder: Path, every: int, scratch: Path) -> None:
             f"largest move median {1000 * np.median(found):.0f} ms; warned {results[name, 'warned']}, "
             f"refused {results[name, 'refused']}"
         )
-    print(
-        f"  between: {len(between)} takes of {MUSIC_GROUP} Czech lines, the music between their halves: "
-        f"largest move against silence there {', '.join(f'{1000 * move:.0f}' for move in between)} ms"
-    )
 
 
 MUSIC_GROUP = 28  # lines a take: about 100 s, the music 40 s and more from either end
 MUSIC_GROUP_EVERY = 200
 
 
-def music_between(part: str, folder: Path, music: np.ndarray, scratch: Path) -> list[float]:
-    """Takes of MUSIC_GROUP consecutive Czech lines (0.5 s apart; one every MUSIC_GROUP_EVERY lines)
-    with the music, and with as much silence, between their halves: each take's largest move of a word's
-    onset or end between the two (inf where either is refused)."""
+def measure_music_between(part: str, folder: Path, scratch: Path) -> None:
+    """Takes of MUSIC_GROUP consecutive Czech lines (0.5 s apart; one every MUSIC_GROUP_EVERY lines) with
+    the music between their halves: the words put in it (an onset more than MUSIC_MOVED inside it)."""
+    music = takes.instrumental(MUSIC_SECONDS, RATE)
     lines = [r for r in people.sentence_lines(part, folder) if r.source.startswith("fillets-cs")]
     gap = np.zeros(RATE // 2)
-    moves = []
+    found = []
     for first in range(0, len(lines) - MUSIC_GROUP + 1, MUSIC_GROUP_EVERY):
         chosen = lines[first : first + MUSIC_GROUP]
         pieces = []
@@ -361,16 +356,16 @@ def music_between(part: str, folder: Path, music: np.ndarray, scratch: Path) -> 
             clip = people.read(recording, RATE)
             pieces += [0.5 * clip / np.abs(clip).max(), gap] if clip.size else []
         half = len(pieces) // 4 * 2  # the first half's lines and their gaps
-        found = []
-        for middle in (np.zeros(music.size), music):
-            take = np.concatenate((*pieces[:half], middle, *pieces[half:]))
-            timeline, _ = aligned(
-                " ".join(r.turkish for r in chosen), write_wav(scratch / "between.wav", take, RATE)
-            )
-            found.append(None if timeline is None else np.array([[w.start, w.end] for w in timeline.words]))
-        refused = found[0] is None or found[1] is None
-        moves.append(np.inf if refused else float(np.abs(found[1] - found[0]).max()))
-    return moves
+        start = sum(piece.size for piece in pieces[:half]) / RATE
+        take = np.concatenate((*pieces[:half], music, *pieces[half:]))
+        timeline, result = aligned(
+            " ".join(r.turkish for r in chosen), write_wav(scratch / "between.wav", take, RATE)
+        )
+        inside = (start + MUSIC_MOVED, start + MUSIC_SECONDS - MUSIC_MOVED)
+        words = None if timeline is None else sum(inside[0] < w.start < inside[1] for w in timeline.words)
+        found.append(f"{words if words is not None else 'refused'} ({result})")
+    print(f"music between, {part} part ({len(found)} takes of {MUSIC_GROUP} Czech lines, the music halfway)")
+    print(f"  words put in the music: {', '.join(found)}")
 
 
 BREAK_SECONDS = 20.0
@@ -512,6 +507,8 @@ def main(argv: list[str] | None = None) -> int:
                 measure_long(Path(scratch))
             elif name == "music":
                 measure_music(arguments.part, arguments.folder, arguments.sentences, Path(scratch))
+            elif name == "music-between":
+                measure_music_between(arguments.part, arguments.folder, Path(scratch))
             elif name == "mbrola-words":
                 measure_diphone_words(Path(scratch))
             sys.stdout.flush()
