@@ -242,10 +242,11 @@ def align_recording(
         # know is a voice fits its letters, and keeps them).
         try:
             again = _heard(utterance, _without(take, not_voice), engine, settings)
-        except AudioError:
-            again = None
-        if again is not None and (isinstance(kept, AudioError) or not isinstance(again[2], AudioError)):
-            fitted, take, kept = again
+        except AudioError:  # a take that cannot be fitted without the music keeps the first alignment
+            pass
+        else:
+            if isinstance(kept, AudioError) or isinstance(again[2], RecordingAlignment):
+                fitted, take, kept = again
     if isinstance(kept, AudioError) or kept.warnings:
         # A list typed with no commas, read item by item: aligned again as read, a pause before each item
         # (the take as the first alignment read and measured it).
@@ -740,8 +741,8 @@ def _not_voice(take: _Take, fitted: RecordingFit, settings: AlignerSettings) -> 
     looked[:edge] = looked[max(0, frames - edge) :] = True
     window = settings.not_voice_frames
     badly = np.convolve(letters & (mismatch >= settings.suspect_mismatch), np.ones(window), "valid")
-    for start in np.flatnonzero(badly >= settings.suspect_frames):
-        looked[max(0, start - edge) : start + window + edge] = True
+    for start, stop in runs(badly >= settings.suspect_frames):  # windows starting start..stop - 1
+        looked[max(0, start - edge) : stop - 1 + window + edge] = True
     found = np.zeros(frames, bool)
     per_frame = take.output_rate * HOP / ANALYSIS_RATE  # output samples per frame
     for first, stop in runs(looked):
@@ -752,8 +753,7 @@ def _not_voice(take: _Take, fitted: RecordingFit, settings: AlignerSettings) -> 
         )
         if not voice.any():
             continue
-        reach = settings.voice_reach_frames
-        for start, end in runs(np.convolve(voice, np.ones(2 * reach + 1), "same") == 0):
+        for start, end in runs(_inner(~voice, settings.voice_reach_frames)):  # no voice within reach
             if np.count_nonzero(take.speech[first + start : first + end]) >= settings.not_voice_frames:
                 found[first + start : first + end] = True
     inside = letters & found[:count]

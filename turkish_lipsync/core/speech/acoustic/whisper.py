@@ -22,6 +22,7 @@ import numpy as np
 
 from ...base.errors import DataError
 from ..features import ANALYSIS_RATE, HOP, WINDOW, frame_count
+from ..voice_activity import runs
 from .labels import CLASSES
 from .network import convolve, matrix_of_taps, stored_weights
 
@@ -253,9 +254,8 @@ def speech_spans(speech: np.ndarray, sample_count: int) -> list[tuple[int, int]]
     """(begin, stop) samples around a long take's speech (speech: per frame of ours), SPEECH_MARGIN either
     side of each run of it, joined where they meet, each on the encoder's grid (the last may end with the
     take): what log_posteriors hears of the take."""
-    runs = np.flatnonzero(np.diff(np.concatenate([[0], np.asarray(speech, np.int8), [0]])))
     found: list[tuple[int, int]] = []
-    for first, stop in zip(runs[::2], runs[1::2], strict=True):
+    for first, stop in runs(np.asarray(speech, bool)):
         begin = max(0, first * HOP - SPEECH_MARGIN) // ENCODER_HOP * ENCODER_HOP
         end = min(sample_count, -(-((stop - 1) * HOP + WINDOW + SPEECH_MARGIN) // ENCODER_HOP) * ENCODER_HOP)
         if found and begin <= found[-1][1]:
