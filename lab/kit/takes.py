@@ -8,7 +8,8 @@ condition turns one take into another and moves the truth with it:
   whose high frequencies die sooner, at a given RT60 and direct-to-reverberant ratio;
 - what a person does: tempo that changes inside the sentence (pieces spoken 0.75x to 1.35x, Praat's
   overlap-add resynthesis along a duration tier), hesitations where the text has no comma (0.35-0.8 s
-  of the room's silence between two words), another vocal tract (pitch and formants shifted by up to
+  of the room's silence between two words; or 0.5-1.2 s holding the speaker's own "ııı" or "eee",
+  context["hesitations"]), another vocal tract (pitch and formants shifted by up to
   3 semitones, Praat's "Change gender"), a talker in the background (another voice reading another
   sentence, in its own room) some dB down.
 
@@ -238,8 +239,15 @@ def change_tempo(take: Take, rng: np.random.Generator, slowest: float = 0.75, fa
     return take.moved(out, grid, mapped)
 
 
-def hesitate(take: Take, rng: np.random.Generator, shortest: float = 0.35, longest: float = 0.8) -> Take:
-    """One or two silent hesitations before words the text gives no pause (fades of 10 ms around them)."""
+def hesitate(
+    take: Take,
+    rng: np.random.Generator,
+    shortest: float = 0.35,
+    longest: float = 0.8,
+    sound: np.ndarray | None = None,
+) -> Take:
+    """One or two hesitations before words the text gives no pause (fades of 10 ms around them): silent,
+    or holding `sound` (a hesitation's "ııı", RATE) with at least 50 ms of silence either side."""
     candidates = np.flatnonzero(~take.commas[1:]) + 1
     if candidates.size == 0:
         return take
@@ -254,7 +262,7 @@ def hesitate(take: Take, rng: np.random.Generator, shortest: float = 0.35, longe
         if begin:
             piece[:fade] *= np.linspace(0, 1, fade)
         pause = int(rng.uniform(shortest, longest) * RATE)
-        pieces += [piece, np.zeros(pause)]
+        pieces += [piece, np.zeros(pause) if sound is None else _holding(sound, pause)]
         source += [cut / RATE - 1e-6, cut / RATE]  # the word that starts at the cut starts after the pause
         target += [(cut + shift) / RATE - 1e-6, (cut + shift + pause) / RATE]
         begin, shift = cut, shift + pause
@@ -265,6 +273,18 @@ def hesitate(take: Take, rng: np.random.Generator, shortest: float = 0.35, longe
     return take.moved(
         np.concatenate(pieces), np.array([*source, end]), np.array([*target, end + shift / RATE])
     )
+
+
+def _holding(sound: np.ndarray, length: int) -> np.ndarray:
+    """`length` samples of silence with as much of `sound` as fits 50 ms inside it, faded over 30 ms."""
+    margin, fade = int(0.05 * RATE), int(0.03 * RATE)
+    heard = sound[: max(0, length - 2 * margin)].copy()
+    if heard.size > 2 * fade:
+        heard[:fade] *= np.linspace(0, 1, fade)
+        heard[-fade:] *= np.linspace(1, 0, fade)
+    pause = np.zeros(length)
+    pause[margin : margin + heard.size] = heard
+    return pause
 
 
 def background_talker(take: Take, talker: np.ndarray, below_db: float, rng: np.random.Generator) -> Take:
@@ -289,6 +309,11 @@ def _person(take: Take, rng: np.random.Generator, context: dict) -> Take:
     return add_noise(_talker(take, rng, context), 25, "pink", rng)
 
 
+def _aloud(take: Take, rng: np.random.Generator, context: dict) -> Take:
+    sounds = context["hesitations"]
+    return hesitate(take, rng, 0.5, 1.2, sounds[int(rng.integers(len(sounds)))])
+
+
 def _clean(lead: float, snr: float = 60):
     return lambda take, rng, context: add_noise(padded(take, lead), snr, "white", rng)
 
@@ -309,6 +334,7 @@ CONDITIONS = {
     ),
     "tempo 0.75-1.35x": lambda t, rng, c: _clean(0.3)(change_tempo(t, rng), rng, c),
     "hesitations 0.35-0.8 s": lambda t, rng, c: _clean(0.3)(hesitate(t, rng), rng, c),
+    "hesitations aloud (ııı, eee)": lambda t, rng, c: _clean(0.3)(_aloud(t, rng, c), rng, c),
     "vocal tract +-3 semitones": lambda t, rng, c: _clean(0.3)(shift_vocal_tract(t, rng), rng, c),
     "live room RT60 0.3 s, DRR 0 dB": lambda t, rng, c: add_noise(
         reverberate(padded(t, 0.3), room_response(0.3, 0.0, rng)), 60, "white", rng

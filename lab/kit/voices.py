@@ -117,6 +117,11 @@ def speak_take(text: str, voice: Voice) -> Take:
     )
 
 
+def hesitations(voice: Voice) -> tuple[np.ndarray, ...]:
+    """The voice's "ııı" and "eee" (0.6-0.7 s each): the sounds of a hesitation said aloud."""
+    return tuple(speak_take(sound, voice).samples for sound in ("ıııııı", "eeeeee"))
+
+
 RECORDED_RATE = RATE
 
 

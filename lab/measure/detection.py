@@ -312,7 +312,7 @@ def agreement() -> None:
     from lab.kit.corpus import held_out_sentences
     from lab.kit.takes import CONDITIONS as TAKE_CONDITIONS
     from lab.kit.takes import RATE
-    from lab.kit.voices import HELD_OUT_VOICES, TALKER
+    from lab.kit.voices import HELD_OUT_VOICES, TALKER, hesitations
     from lab.kit.voices import VOICES as TAKE_VOICES
     from lab.kit.voices import speak_take as speak
     from turkish_lipsync.core.speech.features import frame_count
@@ -320,7 +320,9 @@ def agreement() -> None:
 
     texts = held_out_sentences()[:10]
     context = {"talker": speak(" ".join(held_out_sentences()[10:13]), TALKER).samples}
-    spoken = [speak(text, TAKE_VOICES[voice]) for text in texts for voice in HELD_OUT_VOICES[:2]]
+    voices = HELD_OUT_VOICES[:2]
+    spoken = [(speak(text, TAKE_VOICES[voice]), voice) for text in texts for voice in voices]
+    sounds = {voice: hesitations(TAKE_VOICES[voice]) for voice in voices}
     print(f"{f'eSpeak NG takes ({len(spoken)} a condition)':<34}{'agree':>7}{'Silero only':>13}"
           f"{'WebRTC only':>13}{'onsets: Silero':>16}{'WebRTC':>8}{'no speech: Silero':>19}")  # fmt: skip
     for condition, make in TAKE_CONDITIONS.items():
@@ -328,7 +330,8 @@ def agreement() -> None:
         frames_counted = np.zeros(3)
         onsets = np.zeros(3)
         silent = 0
-        for take in spoken:
+        for take, voice in spoken:
+            context["hesitations"] = sounds[voice]
             made = make(take, rng, context)
             samples = resample(made.samples.astype(np.float32), RATE, ANALYSIS_RATE)
             frames = frame_count(samples.size)

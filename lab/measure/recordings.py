@@ -7,8 +7,9 @@
 Stand-ins for other speakers are eSpeak NG's Turkish voice with other variants (timbre), pitches and
 rates; each is spoken, then turned into a take (lab/kit/takes.py): room noise at an SNR, noise or a
 breath and a click before the first word, leading silence, MP3/AAC coding, a synthetic room, and what
-a person does: tempo changing inside the sentence, hesitations where no comma is, another vocal tract,
-a talker in the background; each alone and all together ("a person"). The take is written as a
+a person does: tempo changing inside the sentence, hesitations where no comma is (silent, or said aloud:
+the voice's own "ııı" or "eee"), another vocal tract, a talker in the background; each alone and all
+together ("a person", its hesitations silent). The take is written as a
 44.1 kHz WAV and aligned to the text like a user's recording. The truth is the variant's own phone
 events, moved with the take. The sentences come from examples/corpus_tr.txt: the tuning set is lines
 1-30, the held-out set lines 31-50; the voices tuned on are DEFAULT_VOICES, the others are held out.
@@ -59,7 +60,7 @@ from lab import REPOSITORY
 from lab.kit import takes
 from lab.kit.corpus import held_out_sentences, tuning_sentences
 from lab.kit.takes import CONDITIONS, PERSON_CONDITIONS, RATE, write_wav
-from lab.kit.voices import DEFAULT_VOICES, HELD_OUT_VOICES, TALKER, VOICES, speak_take
+from lab.kit.voices import DEFAULT_VOICES, HELD_OUT_VOICES, TALKER, VOICES, hesitations, speak_take
 from turkish_lipsync.core.base.errors import AudioError, LipSyncError
 from turkish_lipsync.core.speech import synthesize_timeline
 from turkish_lipsync.core.text.utterance import build_utterance
@@ -144,12 +145,14 @@ def measure(texts, voices, conditions, folder: Path, mismatch: bool, aeneas: boo
     spoken = {(text, name): speak_take(text, VOICES[name]) for text in texts for name in voices}
     other_set = sentences("tuning" if texts[0] in sentences("held-out") else "held-out")
     context = {"talker": speak_take(" ".join(other_set[:3]), TALKER).samples}
+    sounds = {name: hesitations(VOICES[name]) for name in voices}
     for condition in conditions:
         word_errors, letter_errors, aeneas_errors = [], [], []
         misplaced = refused = warned = other_refused = other_warned = left_named = extra_named = 0
         ours_seconds = aeneas_seconds = 0.0
         rng = np.random.default_rng(11)
         for (text, voice), clean in spoken.items():
+            context["hesitations"] = sounds[voice]
             if edits:
                 left, extra = edited_takes(text, voice, condition, rng, context, folder)
                 left_named, extra_named = left_named + left, extra_named + extra

@@ -46,8 +46,11 @@ from turkish_lipsync.core.speech.recording import (
     fit_recording,
     judged_fit,
     kept_hearing,
+    without_hesitations,
 )
 from turkish_lipsync.core.text.utterance import build_utterance
+
+FIRST_ALIGNER = without_hesitations(DEFAULT_ALIGNER)  # as align_recording's first alignments
 
 LIST_SEEDS = (8, 9, 10, 11, 12)  # measure_people draws the report part's lists with seed 8
 LINES_EVERY = {"fillets-cs": 3, "fillets-nl": 6}  # about 160 lines of each language
@@ -59,12 +62,12 @@ def judged(text: str, path: Path) -> tuple[Utterance, RecordingFit, RecordingFit
     utterance = build_utterance(text)
     try:
         first, listening = fit_recording(
-            utterance, path, get_engine("espeak"), network=load_network(WEIGHTS_FILE)
+            utterance, path, get_engine("espeak"), FIRST_ALIGNER, load_network(WEIGHTS_FILE)
         )
     except LipSyncError:
         return None
     try:
-        second = fit_again(utterance, listening, DEFAULT_ALIGNER, load_network(PEOPLE_WEIGHTS_FILE))
+        second = fit_again(utterance, listening, FIRST_ALIGNER, load_network(PEOPLE_WEIGHTS_FILE))
     except LipSyncError:
         second = None
     return utterance, first, second

@@ -59,6 +59,50 @@ def test_each_letter_is_found_where_it_is_heard_and_pauses_are_skipped_or_taken(
     assert found.starts.tolist() == [2, 5, 7]
 
 
+def hesitating(held: str, frames: int) -> np.ndarray:
+    """ "ba du" heard with `frames` of a held sound between the words: mostly `held`, a little u."""
+    silence, a, b, d, u = (CLASS_INDEX[name] for name in "_abdu")
+    heard = np.full((33 + frames, len(CLASSES)), 1e-4)
+    for start, stop, name in ((0, 3, silence), (3, 6, b), (6, 10, a), (10, 13, silence)):
+        heard[start:stop, name] = 1.0
+    heard[13 : 13 + frames, CLASS_INDEX[held]], heard[13 : 13 + frames, u] = 0.7, 0.3
+    for start, stop, name in ((0, 3, silence), (3, 6, d), (6, 10, u), (10, 20, silence)):
+        heard[13 + frames + start : 13 + frames + stop, name] = 1.0
+    return np.log(heard / heard.sum(axis=1, keepdims=True))
+
+
+@pytest.mark.parametrize(
+    ("held", "frames", "hesitation"),
+    [("ı", 30, True), ("ı", 10, False), ("a", 30, False), ("u", 30, False)],
+)
+def test_a_hesitation_said_aloud_between_two_words_draws_neither_into_it(held, frames, hesitation):
+    """An "ııı" held for 300 ms between "ba" and "du" is a pause: "du" starts after it, not in it. Held
+    for 100 ms it is no hesitation; an "a", the sound "ba" ends on, is never one (a drawn-out vowel, a
+    room's tail), nor a "u", the next word's first vowel."""
+    units = np.array([CLASS_INDEX[name] for name in "badu"])
+    starts, shortest = np.array([True, False, True, False]), np.ones(len(CLASSES), np.int64)
+    model = letter_model(units, starts, shortest, marked=np.zeros(4, bool))  # "ba du": no comma
+    priors = np.full(len(CLASSES), 1 / len(CLASSES))
+    sounds = np.array([CLASS_INDEX[name] for name in "aeıioöuümn"])
+    log_posteriors = hesitating(held, frames)
+    plain = force_align(log_posteriors, priors, model)
+    found = force_align(log_posteriors, priors, model, None, None, None, sounds, 0.3, 15)
+    d = 13 + frames + 3
+    if held != "a":
+        assert plain.starts[2] < d - 2  # without hesitations, the d is drawn into the held sound
+    if hesitation:
+        assert found.starts.tolist() == [3, 6, d, d + 3]
+        assert found.frame_hesitations[13 : 13 + frames].all() and found.frame_hesitations.sum() == frames
+        # "ba, du": a list's items, or words the text parts with a comma, hold no hesitation.
+        listed = letter_model(units, starts, shortest, marked=starts)
+        assert not force_align(
+            log_posteriors, priors, listed, None, None, None, sounds, 0.3, 15
+        ).frame_hesitations.any()
+    else:
+        assert not found.frame_hesitations.any()
+        assert found.starts.tolist() == plain.starts.tolist()
+
+
 @pytest.mark.parametrize("text", ["A. O e", "A\nO e"])
 def test_a_break_lies_where_the_text_pauses_not_inside_its_sentence(text):
     """Two sentences 1.5 s apart ("a. o e", or "a" and "o e" on two lines): the o may be heard in the a's

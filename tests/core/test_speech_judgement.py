@@ -42,6 +42,7 @@ def take_of(word_mismatch: list[float], order_ratio: float, text: str, gap_frame
         mismatch=mismatch,
         heard_letters=spoken,
         frame_words=frame_words,
+        hesitations=np.zeros(frames, bool),
         synthetic_speech=spoken,
         recorded_speech=spoken,
         recorded_under_speech=np.where(spoken, 0.0, 40.0),

@@ -95,6 +95,21 @@ def test_a_hesitation_where_the_text_has_no_comma_keeps_the_next_word_after_it(t
     assert speech.warnings == ()
 
 
+@pytest.mark.parametrize("sound", ["ıııııı", "eeeeee"])
+def test_a_hesitation_said_aloud_draws_no_word_into_it(tmp_path, sound):
+    """A person's "ııı" or "eee" between two words is a pause, not a stretch of the words around it: the
+    word after it used to start in it or before it, up to a second early, and the take was warned."""
+    clean = take_of(OTHER_TEXT)
+    said, _ = other_voice(sound, "tr+m3", -15, -10)
+    take = takes.hesitate(clean, np.random.default_rng(5), 0.7, 1.0, said.astype(np.float64))
+    held = np.flatnonzero(np.diff(take.words) - np.diff(clean.words) > 0.5) + 1
+    assert held.size >= 1
+    speech, error = aligned(quiet_room(take), tmp_path)
+    assert error[held].max() < 0.050  # the word after the hesitation starts when it is said
+    assert np.median(error) < 0.020 and error.max() < 0.100
+    assert speech.warnings == ()
+
+
 def test_a_live_room_is_aligned_without_a_warning(tmp_path):
     speech, error = aligned(
         takes.add_noise(in_a_live_room(take_of(OTHER_TEXT)), 50, "white", np.random.default_rng(4)), tmp_path

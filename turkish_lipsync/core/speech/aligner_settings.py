@@ -110,6 +110,14 @@ class AlignerSettings:
     """... where each frame of a pause between two words the text puts no pause between (no comma, no
     stop, no line break) costs this much more: the break lies where the text pauses, and the first words
     after it are not drawn before it into the dying sound of the line before."""
+    hesitation_sounds: str = "aeıioöuümn"
+    """A take still warned is aligned again with each pause between two words the text does not part (no
+    comma, no stop) free to hold a hesitation said aloud, one of these letters ("ııı", "eee", "mmm"; not
+    the sound the word before ends on, nor the next word's first vowel; "" for none) ..."""
+    hesitation_frames: int = 15
+    """... for at least this many frames (a word of such letters is no hesitation) ..."""
+    hesitation_cost: float = 0.3
+    """... at this cost a frame: the words around it are not drawn into it, and it is not judged."""
 
     # -- the judgement: a confidence per phrase, another text refused, warnings
     matched: float = 0.5

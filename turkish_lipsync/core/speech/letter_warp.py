@@ -25,6 +25,7 @@ from .acoustic.labels import CLASS_INDEX, SILENCE, near_sounds
 from .acoustic.network import PhoneNetwork
 from .features import ANALYSIS_RATE, HOP, WINDOW
 from .timewarp import JUMP, TimeWarp
+from .voice_activity import long_runs
 
 # A take of up to UNBANDED_CELLS frames x states (20 MB of back-pointers: a minute of speech) is aligned
 # as a whole. In a longer one a recorded frame may hold the letters within a second of the synthetic
@@ -42,7 +43,8 @@ class LetterFit:
     warp: TimeWarp
     frame_words: np.ndarray  # index into Utterance.words, -1 where the path pauses
     mismatch: np.ndarray  # best class's scaled log likelihood less the text's letter's (>= 0)
-    heard_letters: np.ndarray  # the network's best class is a letter, not silence
+    heard_letters: np.ndarray  # the network's best class is a letter, not silence, nor a hesitation's
+    hesitations: np.ndarray  # a pause holding a hesitation's sound ("ııı"), which no letter is drawn into
 
 
 def letter_warp(
@@ -57,6 +59,9 @@ def letter_warp(
     path_y: np.ndarray,
     lead: int,
     recording_duration: float,
+    hesitation_classes: np.ndarray | None = None,
+    hesitation_cost: float = 0.0,
+    hesitation_frames: int = 1,
 ) -> LetterFit | None:
     """The letters' warp and fit; None where the text has no letter that is a sound, or no path fits.
 
@@ -64,7 +69,8 @@ def letter_warp(
     log_posteriors: what the network hears in each recorded frame; silence_bias: what the speech
     detector adds to silence's score in each, break_cost: what a pause the text does not mark costs in
     each (acoustic/forced.py). path_x, path_y: the DTW path (synthetic frames padded by `lead`, recorded
-    frames).
+    frames). hesitation_classes, hesitation_cost, hesitation_frames: what a pause may hold
+    (acoustic/forced.py); a hesitation the path holds for hesitation_frames or more is not judged.
     """
     units = text_units(utterance)
     if units.classes.size == 0:
@@ -79,7 +85,17 @@ def letter_warp(
         bands = [_band(model, starts, path_x, path_y, lead, len(log_posteriors), reach) for reach in REACHES]
     for band in bands:
         try:
-            found = force_align(log_posteriors, network.priors, model, band, silence_bias, break_cost)
+            found = force_align(
+                log_posteriors,
+                network.priors,
+                model,
+                band,
+                silence_bias,
+                break_cost,
+                hesitation_classes,
+                hesitation_cost,
+                hesitation_frames,
+            )
             break
         except ValueError:
             continue
@@ -98,11 +114,14 @@ def letter_warp(
     word_of_letter = np.array([utterance.letters[letter].word_index for letter in units.letters])
     frame_words = np.where(found.frame_letters >= 0, word_of_letter[found.frame_letters], -1)
     silence = CLASS_INDEX[SILENCE]
-    heard_letters = scaled.argmax(axis=1) != silence
+    # A hesitation's sound is no letter of the text's, nor one the text lacks: it is not judged. A short
+    # one may be another text's vowel the alignment left to a pause, and is.
+    hesitations = long_runs(found.frame_hesitations, hesitation_frames)
+    heard_letters = (scaled.argmax(axis=1) != silence) & ~hesitations
     # The text's letter counts as heard where one of its near sounds is (shapekeys/near_sounds.toml).
     path_classes = np.where(found.frame_letters >= 0, units.classes[found.frame_letters], silence)
     text_score = np.where(near_sounds()[path_classes], scaled, -np.inf).max(axis=1)
-    return LetterFit(warp, frame_words, scaled.max(axis=1) - text_score, heard_letters)
+    return LetterFit(warp, frame_words, scaled.max(axis=1) - text_score, heard_letters, hesitations)
 
 
 def _share_like_runs(

@@ -232,8 +232,12 @@ def align_recording(
     refused that reads its text as a list where the text runs on (judgement.pauses_read_as_list) is
     aligned again with a pause before each item, and the alignment with fewer warnings kept. Before that, a
     take whose letters were drawn into music with no voice at its start or end (_not_voice) is aligned
-    again with the music heard as silence, and that alignment kept unless it alone is refused."""
+    again with the music heard as silence, and that alignment kept unless it alone is refused. A take
+    still warned that does not read its text as a list is aligned again with its pauses free to hold a
+    hesitation said aloud ("ııı": AlignerSettings.hesitation_sounds), and the alignment with fewer
+    warnings kept."""
     utterance = read_aloud(utterance)
+    hesitating, settings = settings, without_hesitations(settings)
     fitted, take, kept = _heard(utterance, recording, engine, settings)
     not_voice = _not_voice(take, fitted, settings)
     if not_voice is not None:
@@ -257,9 +261,24 @@ def align_recording(
             except AudioError as refusal:
                 again = refusal
             kept = _fewer_warnings(kept, again)
+        elif hesitating.hesitation_sounds and isinstance(kept, RecordingAlignment):
+            # Words drawn into a hesitation said aloud fit it loosely and leave the text's sounds
+            # elsewhere unheard: the take aligned again with pauses that may hold one. Not every take,
+            # nor a list: an item, or a word said slowly, may be held as long, and its vowel heard as
+            # another.
+            try:
+                again = _heard(utterance, take, engine, hesitating)[2]
+            except AudioError as refusal:
+                again = refusal
+            kept = _fewer_warnings(kept, again)
     if isinstance(kept, AudioError):
         raise kept
     return kept
+
+
+def without_hesitations(settings: AlignerSettings) -> AlignerSettings:
+    """The settings of a take's first alignments (align_recording): no pause holds a hesitation."""
+    return replace(settings, hesitation_sounds="")
 
 
 def _heard(
@@ -407,6 +426,7 @@ def _fitted(
         letters.mismatch,
         letters.heard_letters,
         letters.frame_words,
+        letters.hesitations,
         found.synthetic_speech,
         heard.speech & ~found.pause,  # what a pause holds (a background voice, a room's tail) is not judged
         take.under_speech,
@@ -439,6 +459,9 @@ def _place_letters(
         found.path_y,
         found.lead,
         heard.take.output.size / heard.take.output_rate,
+        np.array([CLASS_INDEX[sound] for sound in settings.hesitation_sounds], np.int64),
+        settings.hesitation_cost,
+        settings.hesitation_frames,
     )
 
 

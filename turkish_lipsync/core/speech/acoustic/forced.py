@@ -2,8 +2,10 @@
 
 A left-to-right hidden Markov model of the text: each letter a chain of states as long as its shortest
 duration (its last state loops), and before every word and at both ends a silence that may be skipped, so
-a speaker may pause between any two words or run them together. The emissions are the network's scaled
-likelihoods (posteriors over priors), as the recogniser's decoder uses them; Viterbi finds the best path.
+a speaker may pause between any two words or run them together; a pause may hold a hesitation's sound
+("ııı", "eee", "mmm": a vowel or a nasal held, at a cost per frame), which then draws no word into it.
+The emissions are the network's scaled likelihoods (posteriors over priors), as the recogniser's decoder
+uses them; Viterbi finds the best path.
 Every frame looks at a band of states only (`band`): a long take is aligned in memory that grows with its
 length, not with the product of its frames and letters.
 """
@@ -15,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...base.model import Utterance
-from .labels import CLASS_INDEX, SILENCE
+from .labels import CLASS_INDEX, SILENCE, VOWEL_LETTERS
 
 PRIOR_WEIGHT = 0.8  # posteriors / priors ** PRIOR_WEIGHT (the decoder's)
 ENTER_COST = 0.5  # natural-log units per letter entered: a slight push toward fewer, longer stays
@@ -115,6 +117,7 @@ class ForcedAlignment:
     stops: np.ndarray
     frame_letters: np.ndarray
     frame_scores: np.ndarray  # per frame: the network's scaled log likelihood of the path's class there
+    frame_hesitations: np.ndarray  # per frame: a pause holding a hesitation's sound rather than silence
 
 
 def force_align(
@@ -124,6 +127,9 @@ def force_align(
     band: tuple[np.ndarray, np.ndarray] | None = None,
     silence_bias: np.ndarray | None = None,
     break_cost: np.ndarray | None = None,
+    hesitation_classes: np.ndarray | None = None,
+    hesitation_cost: float = 0.0,
+    hesitation_frames: int = 1,
 ) -> ForcedAlignment:
     """The best path of the frames through the model (every letter at least its shortest duration).
 
@@ -135,6 +141,9 @@ def force_align(
     break_cost: per frame, what a pause the text does not mark (LetterModel.unmarked) costs there more than
     one it marks: a long break in a session's recording lies where the text puts a pause, and the first
     words of the line after it are not drawn before it into the last one's dying sound.
+    hesitation_classes: the classes a pause may hold (scored as the likeliest of them): a person's "ııı"
+    before a word, one sound held for hesitation_frames or more (a word's run of such sounds is none),
+    at hesitation_cost a frame.
     """
     frames = len(log_posteriors)
     states = len(model.classes)
@@ -150,10 +159,26 @@ def force_align(
     scores = np.maximum(log_posteriors, np.log(POSTERIOR_FLOOR)) - PRIOR_WEIGHT * np.log(priors)[None, :]
     if silence_bias is not None:
         scores[:, CLASS_INDEX[SILENCE]] += silence_bias[:frames]
-    # An unmarked pause emits a class of its own: silence's score less the break's cost.
-    unmarked = scores[:, CLASS_INDEX[SILENCE]] - (0.0 if break_cost is None else break_cost[:frames])
+    # A pause emits a class of its own: silence, or in a pause the text does not mark (where a person
+    # hesitates, not between a list's items) a hesitation's sound if it scores higher; an unmarked pause
+    # its score less the break's cost. The sound the word before ends on and the next word's first vowel
+    # are those words' when held (a drawn-out vowel, a room's tail): never a hesitation there.
+    silent = scores[:, CLASS_INDEX[SILENCE]]
+    sounds = np.zeros(0, np.int64) if hesitation_classes is None else np.asarray(hesitation_classes)
+    held = _held(scores[:, sounds], hesitation_frames) - hesitation_cost
+    theirs = _neighbouring_sounds(model)[:, :, None] == sounds[None, None, :]
+    kinds, kind_of_state = np.unique(theirs.any(axis=1), axis=0, return_inverse=True)
+    kind_of_state = kind_of_state.reshape(-1)
+    hesitating = np.full((frames, len(kinds)), -np.inf)
+    for column, excluded in enumerate(kinds):
+        if not excluded.all():
+            hesitating[:, column] = held[:, ~excluded].max(axis=1)
+    unmarked = np.maximum(silent[:, None], hesitating)
+    unmarked -= 0.0 if break_cost is None else break_cost[:frames, None]
+    classes = scores.shape[1]
     scores = np.column_stack((scores, unmarked))
-    emitted = np.where(model.unmarked, scores.shape[1] - 1, model.classes)
+    pause_column = np.where(model.unmarked, classes + kind_of_state, CLASS_INDEX[SILENCE])
+    emitted = np.where(model.letter_of_state < 0, pause_column, model.classes)
     last_scores, moves = _viterbi(scores, emitted, model, low, high)
     last = states - 1
     end = last if last_scores[last + 2] >= last_scores[last + 1] else last - 1
@@ -168,7 +193,39 @@ def force_align(
     frame_letters = model.letter_of_state[path]
     starts, stops = _letter_spans(frame_letters, len(model.first_states))
     frame_scores = heard[np.arange(frames), model.classes[path]]
-    return ForcedAlignment(starts, stops, frame_letters, frame_scores)
+    hesitated = model.unmarked[path] & (hesitating[np.arange(frames), kind_of_state[path]] > silent)
+    frame_hesitations = (frame_letters < 0) & hesitated
+    return ForcedAlignment(starts, stops, frame_letters, frame_scores, frame_hesitations)
+
+
+def _neighbouring_sounds(model: LetterModel) -> np.ndarray:
+    """states x 2: for a pause, the class of the letter before it and of the next word's first vowel (-1
+    where there is none); -1, -1 for a letter's state."""
+    found = np.full((len(model.classes), 2), -1, np.int64)
+    vowels = np.isin(model.classes, [CLASS_INDEX[letter] for letter in VOWEL_LETTERS])
+    for state in np.flatnonzero(model.letter_of_state < 0).tolist():
+        if state and model.letter_of_state[state - 1] >= 0:
+            found[state, 0] = model.classes[state - 1]
+        following = state + 1
+        while following < len(model.classes) and model.letter_of_state[following] >= 0:
+            if vowels[following]:
+                found[state, 1] = model.classes[following]
+                break
+            following += 1
+    return found
+
+
+def _held(scores: np.ndarray, frames: int) -> np.ndarray:
+    """Each column's scores where they are reached for at least `frames` frames in a row (a grey-scale
+    opening: the least over every window of that length, then the most over the windows holding each
+    frame); a sound heard more briefly keeps only what its longer neighbours reach."""
+    if frames <= 1:
+        return scores
+    if len(scores) < frames:
+        return np.full_like(scores, -np.inf)
+    least = np.lib.stride_tricks.sliding_window_view(scores, frames, axis=0).min(axis=-1)
+    padded = np.pad(least, ((frames - 1, frames - 1), (0, 0)), constant_values=-np.inf)
+    return np.lib.stride_tricks.sliding_window_view(padded, frames, axis=0).max(axis=-1)
 
 
 def _transitions(model: LetterModel) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
