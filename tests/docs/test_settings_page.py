@@ -13,16 +13,17 @@ from turkish_lipsync.core.speech.speech_detector import DetectorSettings
 PAGE = Path(__file__).resolve().parents[2] / "docs" / "developer" / "aligner-settings.md"
 
 
-def table_rows(text: str) -> dict[str, float]:
+def table_rows(text: str) -> dict[str, float | str]:
     """Each setting of a table row (the backquoted names of its first cell, in order) -> the value in
-    the same place of its value cell."""
+    the same place of its value cell (a number, or a backquoted text)."""
     rows = {}
     for line in text.splitlines():
         cells = [cell.strip() for cell in line.strip().strip("|").split("|")]
         if line.startswith("|") and len(cells) >= 3:
             names = re.findall(r"`(\w+)`", cells[0])
             values = [
-                float(n.replace(",", "").replace("−", "-")) for n in re.findall(r"−?\d[\d,]*\.?\d*", cells[1])
+                quoted if number == "" else float(number.replace(",", "").replace("−", "-"))
+                for quoted, number in re.findall(r"`([^`]*)`|(−?\d[\d,]*\.?\d*)", cells[1])
             ]
             rows.update(zip(names, values, strict=False))
     return rows

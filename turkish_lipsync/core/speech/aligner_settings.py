@@ -114,10 +114,14 @@ class AlignerSettings:
     """A take still warned is aligned again with each pause between two words the text does not part (no
     comma, no stop) free to hold a hesitation said aloud, one of these letters ("ııı", "eee", "mmm"; not
     the sound the word before ends on, nor the next word's first vowel; "" for none) ..."""
-    hesitation_frames: int = 15
+    hesitation_frames: int = 30
     """... for at least this many frames (a word of such letters is no hesitation) ..."""
     hesitation_cost: float = 0.3
-    """... at this cost a frame: the words around it are not drawn into it, and it is not judged."""
+    """... at this cost a frame: the words around it are not drawn into it, and it is not judged. That
+    alignment is kept where it has fewer warnings and holds at least one hesitation ..."""
+    hesitation_words: int = 3
+    """... and at most one for every this many words of the text (another text's sounds the alignment
+    leaves to its pauses are many)."""
 
     # -- the judgement: a confidence per phrase, another text refused, warnings
     matched: float = 0.5

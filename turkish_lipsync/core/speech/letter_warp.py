@@ -25,7 +25,6 @@ from .acoustic.labels import CLASS_INDEX, SILENCE, near_sounds
 from .acoustic.network import PhoneNetwork
 from .features import ANALYSIS_RATE, HOP, WINDOW
 from .timewarp import JUMP, TimeWarp
-from .voice_activity import long_runs
 
 # A take of up to UNBANDED_CELLS frames x states (20 MB of back-pointers: a minute of speech) is aligned
 # as a whole. In a longer one a recorded frame may hold the letters within a second of the synthetic
@@ -70,7 +69,7 @@ def letter_warp(
     detector adds to silence's score in each, break_cost: what a pause the text does not mark costs in
     each (acoustic/forced.py). path_x, path_y: the DTW path (synthetic frames padded by `lead`, recorded
     frames). hesitation_classes, hesitation_cost, hesitation_frames: what a pause may hold
-    (acoustic/forced.py); a hesitation the path holds for hesitation_frames or more is not judged.
+    (acoustic/forced.py); a hesitation is not judged.
     """
     units = text_units(utterance)
     if units.classes.size == 0:
@@ -114,9 +113,8 @@ def letter_warp(
     word_of_letter = np.array([utterance.letters[letter].word_index for letter in units.letters])
     frame_words = np.where(found.frame_letters >= 0, word_of_letter[found.frame_letters], -1)
     silence = CLASS_INDEX[SILENCE]
-    # A hesitation's sound is no letter of the text's, nor one the text lacks: it is not judged. A short
-    # one may be another text's vowel the alignment left to a pause, and is.
-    hesitations = long_runs(found.frame_hesitations, hesitation_frames)
+    # A hesitation's sound is no letter of the text's, nor one the text lacks: it is not judged.
+    hesitations = found.frame_hesitations
     heard_letters = (scaled.argmax(axis=1) != silence) & ~hesitations
     # The text's letter counts as heard where one of its near sounds is (shapekeys/near_sounds.toml).
     path_classes = np.where(found.frame_letters >= 0, units.classes[found.frame_letters], silence)

@@ -267,13 +267,26 @@ def align_recording(
             # nor a list: an item, or a word said slowly, may be held as long, and its vowel heard as
             # another.
             try:
-                again = _heard(utterance, take, engine, hesitating)[2]
+                hesitated, _, again = _heard(utterance, take, engine, hesitating)
             except AudioError as refusal:
                 again = refusal
+            else:
+                if not _held_hesitations(hesitated.fit.hesitations, len(utterance.words), hesitating):
+                    again = AudioError("no hesitation held")  # a looser fit of the text, not kept
             kept = _fewer_warnings(kept, again)
     if isinstance(kept, AudioError):
         raise kept
     return kept
+
+
+def _held_hesitations(hesitations: np.ndarray, words: int, settings: AlignerSettings) -> bool:
+    """Whether an alignment's pauses hold hesitations as a person's are: at least one, each held for
+    hesitation_frames or more, and at most one for every hesitation_words words of the text (another
+    text's sounds left to its pauses are many and short)."""
+    held = runs(hesitations)
+    lengths = held[:, 1] - held[:, 0]
+    most = -(-words // settings.hesitation_words)
+    return 0 < len(held) <= most and bool(np.all(lengths >= settings.hesitation_frames))
 
 
 def without_hesitations(settings: AlignerSettings) -> AlignerSettings:
