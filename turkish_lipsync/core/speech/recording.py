@@ -271,8 +271,10 @@ def align_recording(
             except AudioError as refusal:
                 again = refusal
             else:
+                # The hesitations as the shipped network's hearing holds them (the alignment kept may
+                # be the second hearing's): none, or not as a person's, is a looser fit, not kept.
                 if not _held_hesitations(hesitated.fit.hesitations, len(utterance.words), hesitating):
-                    again = AudioError("no hesitation held")  # a looser fit of the text, not kept
+                    again = AudioError("no hesitation held")
             kept = _fewer_warnings(kept, again)
     if isinstance(kept, AudioError):
         raise kept
