@@ -161,18 +161,11 @@ def force_align(
         scores[:, CLASS_INDEX[SILENCE]] += silence_bias[:frames]
     # A pause emits a class of its own: silence, or in a pause the text does not mark (where a person
     # hesitates, not between a list's items) a hesitation's sound if it scores higher; an unmarked pause
-    # its score less the break's cost. The sound the word before ends on and the next word's first vowel
-    # are those words' when held (a drawn-out vowel, a room's tail): never a hesitation there.
+    # its score less the break's cost.
     silent = scores[:, CLASS_INDEX[SILENCE]]
-    sounds = np.zeros(0, np.int64) if hesitation_classes is None else np.asarray(hesitation_classes)
-    held = _held(scores[:, sounds], hesitation_frames) - hesitation_cost
-    theirs = _neighbouring_sounds(model)[:, :, None] == sounds[None, None, :]
-    kinds, kind_of_state = np.unique(theirs.any(axis=1), axis=0, return_inverse=True)
-    kind_of_state = kind_of_state.reshape(-1)
-    hesitating = np.full((frames, len(kinds)), -np.inf)
-    for column, excluded in enumerate(kinds):
-        if not excluded.all():
-            hesitating[:, column] = held[:, ~excluded].max(axis=1)
+    hesitating, kind_of_state = _hesitating(
+        scores, model, hesitation_classes, hesitation_cost, hesitation_frames
+    )
     unmarked = np.maximum(silent[:, None], hesitating)
     unmarked -= 0.0 if break_cost is None else break_cost[:frames, None]
     classes = scores.shape[1]
@@ -193,9 +186,28 @@ def force_align(
     frame_letters = model.letter_of_state[path]
     starts, stops = _letter_spans(frame_letters, len(model.first_states))
     frame_scores = heard[np.arange(frames), model.classes[path]]
-    hesitated = model.unmarked[path] & (hesitating[np.arange(frames), kind_of_state[path]] > silent)
-    frame_hesitations = (frame_letters < 0) & hesitated
+    frame_hesitations = model.unmarked[path] & (hesitating[np.arange(frames), kind_of_state[path]] > silent)
     return ForcedAlignment(starts, stops, frame_letters, frame_scores, frame_hesitations)
+
+
+def _hesitating(
+    scores: np.ndarray, model: LetterModel, classes: np.ndarray | None, cost: float, frames: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Per frame, a hesitation's score for each kind of pause, and each state's kind: the best of the
+    classes held for `frames` or more, less `cost`, leaving out the sound the word before the pause ends
+    on and the next word's first vowel (those words' own when held: a drawn-out vowel, a room's tail).
+    One kind that holds none where no classes are given."""
+    if classes is None or len(classes) == 0:
+        return np.full((len(scores), 1), -np.inf), np.zeros(len(model.classes), np.int64)
+    sounds = np.asarray(classes)
+    held = _held(scores[:, sounds], frames) - cost
+    theirs = _neighbouring_sounds(model)[:, :, None] == sounds[None, None, :]
+    kinds, kind_of_state = np.unique(theirs.any(axis=1), axis=0, return_inverse=True)
+    hesitating = np.full((len(scores), len(kinds)), -np.inf)
+    for column, excluded in enumerate(kinds):
+        if not excluded.all():
+            hesitating[:, column] = held[:, ~excluded].max(axis=1)
+    return hesitating, kind_of_state.reshape(-1)
 
 
 def _neighbouring_sounds(model: LetterModel) -> np.ndarray:
