@@ -273,7 +273,7 @@ def align_recording(
             else:
                 # The hesitations as the shipped network's hearing holds them (the alignment kept may
                 # be the second hearing's): none, or not as a person's, is a looser fit, not kept.
-                if not _held_hesitations(hesitated.fit.hesitations, len(utterance.words), hesitating):
+                if not _held_hesitations(hesitated.fit, len(utterance.words), hesitating):
                     again = AudioError("no hesitation held")
             kept = _fewer_warnings(kept, again)
     if isinstance(kept, AudioError):
@@ -281,14 +281,17 @@ def align_recording(
     return kept
 
 
-def _held_hesitations(hesitations: np.ndarray, words: int, settings: AlignerSettings) -> bool:
-    """Whether an alignment's pauses hold hesitations as a person's are: at least one, each held for
-    hesitation_frames or more, and at most one for every hesitation_words words of the text (another
-    text's sounds left to its pauses are many and short)."""
-    held = runs(hesitations)
-    lengths = held[:, 1] - held[:, 0]
+def _held_hesitations(fit: Fit, words: int, settings: AlignerSettings) -> bool:
+    """Whether an alignment's pauses hold hesitations as a person's are: at least one pause holding one,
+    each such pause with hesitation_frames or more of it (a breath or a few quiet frames may split one
+    "ııı"), and at most one such pause for every hesitation_words words of the text (another text's
+    sounds left to its pauses are many and short)."""
+    held = np.array([
+        np.count_nonzero(fit.hesitations[start:stop]) for start, stop in runs(fit.frame_words < 0)
+    ])
+    held = held[held > 0]
     most = -(-words // settings.hesitation_words)
-    return 0 < len(held) <= most and bool(np.all(lengths >= settings.hesitation_frames))
+    return 0 < len(held) <= most and bool(np.all(held >= settings.hesitation_frames))
 
 
 def without_hesitations(settings: AlignerSettings) -> AlignerSettings:
