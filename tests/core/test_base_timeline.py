@@ -2,11 +2,12 @@
 
 import pytest
 
-from turkish_lipsync.core.base.model import EmotionSpan, Phone, Timeline, WordSpan
+from turkish_lipsync.core.base.model import EmotionSpan, Hesitation, Phone, Timeline, WordSpan
 
 
 def line(start: float, text: str = "ab", timing: str = "phone") -> Timeline:
-    """A two-letter word from `start`, 0.1 s a letter, with an emotion, an emphasis and engine onsets."""
+    """A two-letter word from `start`, 0.1 s a letter, with an emotion, an emphasis, engine onsets and an
+    "ııı" said after it."""
     phones = tuple(
         Phone(start + 0.1 * n, start + 0.1 * (n + 1), n, letter, text, 0, "a")
         for n, letter in enumerate(text)
@@ -19,6 +20,7 @@ def line(start: float, text: str = "ab", timing: str = "phone") -> Timeline:
         duration=start + 0.5,
         timing=timing,
         engine_onsets=(start, start + 0.1),
+        hesitations=(Hesitation(start + 0.25, start + 0.45, "ı", "I"),),
     )
 
 
@@ -27,6 +29,7 @@ def every_time(timeline: Timeline) -> list[float]:
     times += [t for w in timeline.words for t in (w.start, w.end)]
     times += [t for e in timeline.emotions for t in (e.start, e.end)]
     times += [t for span in timeline.emphases for t in span]
+    times += [t for h in timeline.hesitations for t in (h.start, h.end)]
     return times + list(timeline.engine_onsets)
 
 
@@ -66,6 +69,7 @@ def test_joined_numbers_words_and_letters_on_and_keeps_the_first_timing():
     assert [w.index for w in joined.words] == [0, 1]
     assert len(joined.emotions) == 2 and len(joined.emphases) == 2
     assert joined.engine_onsets == (0.0, 0.1, 1.0, 1.1)
+    assert [h.start for h in joined.hesitations] == [0.25, 1.25]
     assert joined.duration == 3.0 and joined.timing == "recording"
     assert Timeline.joined([first], 1.0, timing="scene").timing == "scene"
     assert Timeline.joined([], 1.0).phones == ()

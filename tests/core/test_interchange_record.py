@@ -6,7 +6,7 @@ import json
 import numpy as np
 import pytest
 
-from turkish_lipsync.core.base.model import HeadAndEyes
+from turkish_lipsync.core.base.model import HeadAndEyes, Hesitation
 from turkish_lipsync.core.interchange.animation_record import (
     AnimationRecord,
     RecordError,
@@ -22,6 +22,7 @@ from turkish_lipsync.core.text.utterance import build_utterance
 @pytest.fixture(scope="module")
 def record():
     timeline = table_timeline(build_utterance("<SENT><HAPPY>Merhaba</HAPPY>, benim adım Erdem.</SENT>"))
+    timeline = dataclasses.replace(timeline, hesitations=(Hesitation(0.8, 1.3, "e", "e"),))  # an "eee"
     tracks = living_tracks(weight_tracks(timeline, 60.0), timeline, LivingOptions(seed=3))
     return AnimationRecord(
         text="Merhaba, benim adım Erdem.",
@@ -49,12 +50,14 @@ def test_the_record_reads_back_as_written(record):
 def test_a_version_1_record_is_still_read(record):
     stored = json.loads(record_to_json(record))
     stored["version"] = 1
+    del stored["timeline"]["hesitations"]  # written before hesitations were kept
     stored["head_and_eyes"] = {
         part: np.round(getattr(record.head_and_eyes, part), 5).tolist()
         for part in ("head", "left_eye", "right_eye")
     }
     back = record_from_json(json.dumps(stored), "the test")
     assert np.allclose(back.head_and_eyes.head, record.head_and_eyes.head, atol=1e-5)
+    assert back.timeline.hesitations == () and back.timeline.phones == record.timeline.phones
 
 
 @pytest.mark.parametrize(

@@ -1,8 +1,10 @@
+import dataclasses
+
 import numpy as np
 import pytest
 
 from turkish_lipsync.core.base.errors import LipSyncError
-from turkish_lipsync.core.base.model import emotion_key_name, viseme_key_name
+from turkish_lipsync.core.base.model import Hesitation, emotion_key_name, viseme_key_name
 from turkish_lipsync.core.motion import weight_tracks
 from turkish_lipsync.core.motion.frames import sparse_track
 from turkish_lipsync.core.motion.thesis import thesis_weight_tracks
@@ -62,6 +64,18 @@ def test_emotions_cross_fade_between_words_eq_5_4():
     sad = weights[:, names.index(emotion_key_name("sad"))]
     np.testing.assert_allclose(happy, [0.6, 0.3, 0.0])
     np.testing.assert_allclose(sad, [0.0, 0.3, 0.6])
+
+
+def test_a_hesitation_said_aloud_is_keyed_as_a_letter_in_the_emotion_before_it():
+    timeline = table_timeline(build_utterance("<HAPPY>iyi</HAPPY>, <SAD>kötü</SAD>"))
+    pause = (timeline.phones[2].end, timeline.phones[3].start)
+    assert pause[1] - pause[0] > 0.1
+    eee = Hesitation(pause[0] + 0.02, pause[1] - 0.02, "e", "e")
+    tracks = thesis_weight_tracks(dataclasses.replace(timeline, hesitations=(eee,)), 25.0)
+    names, weights = tracks.sample(np.array([eee.start * 25]))
+    row = dict(zip(names, weights[0], strict=True))
+    assert row[viseme_key_name("e")] == pytest.approx(0.8)
+    assert row[emotion_key_name("happy")] == pytest.approx(0.6)
 
 
 def test_starts_and_ends_on_the_neutral_face():

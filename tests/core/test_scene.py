@@ -3,18 +3,23 @@ mouth only in its own lines, and the layers of listening and addressing."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
 from lab.kit.voices import cast_reading
 from turkish_lipsync.core.base.errors import LipSyncError, MarkupError
-from turkish_lipsync.core.base.model import viseme_key_name
+from turkish_lipsync.core.base.model import Hesitation, Timeline, viseme_key_name
 from turkish_lipsync.core.motion.living.prosody import measure_prosody
 from turkish_lipsync.core.pipeline import LipSyncOptions
 from turkish_lipsync.core.scene import RoleChoice, cast_for, converse
 from turkish_lipsync.core.scene.sources.spoken import line_starts
+from turkish_lipsync.core.scene.speech import split_timeline
 from turkish_lipsync.core.scene.tables import conversation_table
+from turkish_lipsync.core.speech.timing import table_timeline
 from turkish_lipsync.core.text.script import read_script
+from turkish_lipsync.core.text.utterance import build_utterance
 
 SCRIPT = """AYŞE (to ALİ): Merhaba Ali, nasılsın? Bugün seni çok yorgun gördüm.
 ALİ: İyiyim, sağ ol. Dün gece geç yattım, o yüzden biraz yorgunum.
@@ -181,3 +186,20 @@ def test_an_overlapping_line_that_moves_with_its_stretch_took_the_other_voice_fo
     assert _moves_with(latching, 37.428, 37.465)
     assert not _moves_with(said, 37.428, 37.465)
     assert not _moves_with(latching, 0.0, 0.037)  # a stretch from the take's start cannot begin earlier
+
+
+def test_a_hesitation_said_aloud_goes_to_the_line_it_is_said_within() -> None:
+    """One take of the scene, split into its lines: an "ııı" inside Ali's line is his; one in the gap
+    between two lines is no one's (the take does not say whose)."""
+    first, second = build_utterance("Merhaba Ali."), build_utterance("İyiyim, sağ ol.")
+    ayse = table_timeline(first)
+    ali = table_timeline(second).shifted(
+        ayse.duration + 1.0, ayse.duration + 1.0 + table_timeline(second).duration
+    )
+    ali_pause = (ali.phones[5].end, ali.phones[6].start)  # the comma after "İyiyim"
+    inside = Hesitation(ali_pause[0] + 0.01, ali_pause[1] - 0.01, "ı", "I")
+    between = Hesitation(ayse.duration + 0.2, ayse.duration + 0.8, "e", "e")
+    whole = dataclasses.replace(Timeline.joined([ayse, ali], ali.duration), hesitations=(between, inside))
+    lines = split_timeline(whole, [first, second], whole.duration)
+    assert lines[0].hesitations == () and lines[1].hesitations == (inside,)
+    assert [p.start for p in lines[1].phones] == [p.start for p in ali.phones]

@@ -28,6 +28,7 @@ from turkish_lipsync.core.speech.acoustic.labels import CLASS_INDEX, CLASSES
 from turkish_lipsync.core.speech.acoustic.network import PEOPLE_WEIGHTS_FILE, WEIGHTS_FILE, load_network
 from turkish_lipsync.core.speech.audio import resample
 from turkish_lipsync.core.speech.features import ANALYSIS_RATE, HOP, WINDOW, frame_count
+from turkish_lipsync.core.speech.letter_warp import spoken_hesitations
 from turkish_lipsync.core.text.utterance import build_utterance, read_aloud
 
 
@@ -92,15 +93,32 @@ def test_a_hesitation_said_aloud_between_two_words_draws_neither_into_it(held, f
         assert plain.starts[2] < d - 2  # without hesitations, the d is drawn into the held sound
     if hesitation:
         assert found.starts.tolist() == [3, 6, d, d + 3]
-        assert found.frame_hesitations[13 : 13 + frames].all() and found.frame_hesitations.sum() == frames
+        held_sound = found.frame_hesitations == CLASS_INDEX[held]  # which sound: the mouth shapes it
+        assert held_sound[13 : 13 + frames].all() and np.count_nonzero(found.frame_hesitations >= 0) == frames
         # "ba, du": a list's items, or words the text parts with a comma, hold no hesitation.
         listed = letter_model(units, starts, shortest, marked=starts)
-        assert not force_align(
-            log_posteriors, priors, listed, None, None, None, sounds, 0.3, 15
-        ).frame_hesitations.any()
+        assert (
+            force_align(
+                log_posteriors, priors, listed, None, None, None, sounds, 0.3, 15
+            ).frame_hesitations.max()
+            == -1
+        )
     else:
-        assert not found.frame_hesitations.any()
+        assert found.frame_hesitations.max() == -1
         assert found.starts.tolist() == plain.starts.tolist()
+
+
+def test_a_hesitation_is_one_span_through_a_few_quiet_frames_not_through_a_word():
+    """Frames of a fit: "ııı" 40 frames, 5 quiet, 30 more "ııı" (one hesitation), a word, "mmm" 35 (another,
+    shaped as closed lips), 20 quiet frames, "mmm" 30 (a third: 0.2 s of quiet parts them)."""
+    ı, m = CLASS_INDEX["ı"], CLASS_INDEX["m"]
+    pieces = [(ı, -1, 40), (-1, -1, 5), (ı, -1, 30), (-1, 0, 25), (m, -1, 35), (-1, -1, 20), (m, -1, 30)]
+    sounds = np.concatenate([np.full(n, sound) for sound, _, n in pieces])
+    words = np.concatenate([np.full(n, word) for _, word, n in pieces])
+    found = spoken_hesitations(sounds, words)
+    assert [(h.sound, h.viseme) for h in found] == [("ı", "I"), ("m", "me"), ("m", "me")]
+    assert [round(h.end - h.start, 3) for h in found] == [0.75, 0.35, 0.3]
+    assert found[1].start == pytest.approx(found[0].end + 0.25)
 
 
 @pytest.mark.parametrize("text", ["A. O e", "A\nO e"])

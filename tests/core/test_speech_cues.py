@@ -1,9 +1,11 @@
 """Rhubarb mouth cues: written as TSV, JSON and XML, parsed back, and checked against the timeline."""
 
+import dataclasses
 import json
 
 import pytest
 
+from turkish_lipsync.core.base.model import Hesitation
 from turkish_lipsync.core.base.visemes import VISEME_NAMES
 from turkish_lipsync.core.speech import synthesize_timeline
 from turkish_lipsync.core.speech.cues import CueFileError, cue_formats, mouth_cues, read_cue_file
@@ -40,6 +42,15 @@ def test_cues_cover_the_whole_timeline_and_rest_in_the_silences(timeline):
     assert benim.start - merhaba.end > 0.05
     assert any(c.shape == "X" and c.start <= merhaba.end + 1e-6 and c.end >= benim.start - 1e-6 for c in cues)
     assert next(c for c in cues if c.start <= benim.start + 1e-6 < c.end).shape == "A"
+
+
+def test_a_hesitation_said_aloud_is_a_shape_in_its_pause(timeline):
+    """An "ooo" said in the pause after "Merhaba" is cued as an o, not as a rest."""
+    merhaba, benim = timeline.words[0], timeline.words[1]
+    hesitation = Hesitation(merhaba.end + 0.01, benim.start - 0.01, "o", "o")
+    cues = mouth_cues(dataclasses.replace(timeline, hesitations=(hesitation,)))
+    middle = (hesitation.start + hesitation.end) / 2
+    assert next(c for c in cues if c.start <= middle < c.end).shape == shape_for_viseme("o") != "X"
 
 
 @pytest.mark.parametrize("export_format", ["rhubarb-tsv", "rhubarb-json", "rhubarb-xml"])

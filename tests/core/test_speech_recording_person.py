@@ -12,6 +12,7 @@ import pytest
 from lab.kit import takes
 from tests.core.test_speech_recording import OTHER_TEXT, other_voice, write_pcm_wav
 from turkish_lipsync.core.base.errors import AudioError
+from turkish_lipsync.core.motion.natural import viseme_weights
 from turkish_lipsync.core.speech import synthesize_timeline
 from turkish_lipsync.core.speech.audio import resample
 from turkish_lipsync.core.speech.recording import fading
@@ -98,16 +99,33 @@ def test_a_hesitation_where_the_text_has_no_comma_keeps_the_next_word_after_it(t
 @pytest.mark.parametrize("sound", ["ıııııı", "eeeeee"])
 def test_a_hesitation_said_aloud_draws_no_word_into_it(tmp_path, sound):
     """A person's "ııı" or "eee" between two words is a pause, not a stretch of the words around it: the
-    word after it used to start in it or before it, up to a second early, and the take was warned."""
+    word after it used to start in it or before it, up to a second early, and the take was warned. The
+    mouth says it: the timeline holds it, and the face shapes its vowel through it (it rested)."""
     clean = take_of(OTHER_TEXT)
     said, _ = other_voice(sound, "tr+m3", -15, -10)
     take = takes.hesitate(clean, np.random.default_rng(5), 0.7, 1.0, said.astype(np.float64))
     held = np.flatnonzero(np.diff(take.words) - np.diff(clean.words) > 0.5) + 1
     assert held.size >= 1
-    speech, error = aligned(quiet_room(take), tmp_path)
+    taken = quiet_room(take)
+    speech, error = aligned(taken, tmp_path)
     assert error[held].max() < 0.050  # the word after the hesitation starts when it is said
     assert np.median(error) < 0.020 and error.max() < 0.100
     assert speech.warnings == ()
+    timeline = speech.timeline
+    assert {h.sound for h in timeline.hesitations} == {sound[0]}
+    # One in each pause that holds one, over most of its held sound (0.1 s of it silent margins).
+    for word in held:
+        within = [h for h in timeline.hesitations if taken.words[word] - 1.1 < h.start < taken.words[word]]
+        assert (
+            sum(h.end - h.start for h in within)
+            > np.diff(take.words)[word - 1] - np.diff(clean.words)[word - 1] - 0.3
+        )
+    assert len(timeline.hesitations) <= 2 * held.size
+    fps = 25
+    visemes, weights, _ = viseme_weights(timeline, fps, int(timeline.duration * fps) + 1)
+    for hesitation in timeline.hesitations:
+        middle = round((hesitation.start + hesitation.end) / 2 * fps)
+        assert visemes[weights[middle].argmax()] == hesitation.viseme
 
 
 def test_a_live_room_is_aligned_without_a_warning(tmp_path):

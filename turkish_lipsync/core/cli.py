@@ -403,6 +403,10 @@ def timeline_as_dict(timeline: Timeline, fps: float) -> dict:
             {"start": round(e.start, 4), "end": round(e.end, 4), "emotion": e.emotion, "weight": e.weight}
             for e in timeline.emotions
         ],
+        "hesitations": [
+            {"start": round(h.start, 4), "end": round(h.end, 4), "sound": h.sound, "viseme": h.viseme}
+            for h in timeline.hesitations
+        ],
     }
 
 
@@ -441,4 +445,6 @@ def timeline_as_tsv(timeline: Timeline, fps: float) -> str:
         lines.append(f"word\t{w.start:.3f}\t{w.end:.3f}\t\t\t{w.text}\t")
     for e in timeline.emotions:
         lines.append(f"emotion\t{e.start:.3f}\t{e.end:.3f}\t\t\t{e.emotion} {e.weight:g}\t")
+    for h in timeline.hesitations:
+        lines.append(f"hesitation\t{h.start:.3f}\t{h.end:.3f}\t{h.sound}\t\t\t{h.viseme}")
     return "\n".join(lines)

@@ -174,6 +174,17 @@ class EmotionSpan:
 
 
 @dataclass(frozen=True)
+class Hesitation:
+    """A hesitation said aloud in a pause of a recording ("ııı", "eee", "mmm"): no letter of the text, but
+    a sound the mouth shapes, as the viseme of its letter said alone."""
+
+    start: float
+    end: float
+    sound: str  # the letter it is heard as
+    viseme: str
+
+
+@dataclass(frozen=True)
 class Timeline:
     phones: tuple[Phone, ...]
     words: tuple[WordSpan, ...]
@@ -183,10 +194,11 @@ class Timeline:
     timing: str  # "phone", "word", "table" or "recording"
     # Onsets of the phones the engine reported, where an engine ran (for quality checks).
     engine_onsets: tuple[float, ...] = ()
+    hesitations: tuple[Hesitation, ...] = ()  # said aloud in a recording's pauses, in order
 
     def retimed(self, moved: Callable[[float], float], duration: float | None = None) -> Timeline:
-        """The timeline with every time it holds (phones, words, emotions, emphases, the engine's onsets)
-        mapped by `moved`, and the duration given (its own if None)."""
+        """The timeline with every time it holds (phones, words, emotions, emphases, the engine's onsets,
+        hesitations) mapped by `moved`, and the duration given (its own if None)."""
         return replace(
             self,
             phones=tuple(replace(p, start=moved(p.start), end=moved(p.end)) for p in self.phones),
@@ -195,6 +207,7 @@ class Timeline:
             emphases=tuple((moved(a), moved(b)) for a, b in self.emphases),
             duration=self.duration if duration is None else duration,
             engine_onsets=tuple(moved(onset) for onset in self.engine_onsets),
+            hesitations=tuple(replace(h, start=moved(h.start), end=moved(h.end)) for h in self.hesitations),
         )
 
     def shifted(self, offset: float, duration: float) -> Timeline:
@@ -213,7 +226,7 @@ class Timeline:
     def joined(timelines: Sequence[Timeline], duration: float, timing: str = "") -> Timeline:
         """Timelines already on one time axis as one: their words and letters numbered on from one to the
         next, the engine's onsets in order; `timing` (the first's if empty) names the result's."""
-        phones, words, emotions, emphases, onsets = [], [], [], [], []
+        phones, words, emotions, emphases, onsets, hesitations = [], [], [], [], [], []
         word_base = letter_base = 0
         for timeline in timelines:
             phones += [
@@ -224,6 +237,7 @@ class Timeline:
             emotions += timeline.emotions
             emphases += timeline.emphases
             onsets += timeline.engine_onsets
+            hesitations += timeline.hesitations
             word_base += len(timeline.words)
             letter_base += len(timeline.phones)
         return Timeline(
@@ -234,6 +248,7 @@ class Timeline:
             duration,
             timing or (timelines[0].timing if timelines else "phone"),
             tuple(sorted(onsets)),
+            tuple(sorted(hesitations, key=lambda hesitation: hesitation.start)),
         )
 
 

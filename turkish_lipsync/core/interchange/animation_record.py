@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..base.errors import LipSyncError
-from ..base.model import EmotionSpan, HeadAndEyes, Phone, Timeline, WordSpan
+from ..base.model import EmotionSpan, HeadAndEyes, Hesitation, Phone, Timeline, WordSpan
 
 RECORD_VERSION = 2  # 2: the rotations as packed float32 (version 1 wrote them as lists of numbers)
 _HEAD_AND_EYES = ("head", "left_eye", "right_eye")
@@ -52,6 +52,7 @@ def timeline_to_dict(timeline: Timeline) -> dict:
         "duration": timeline.duration,
         "timing": timeline.timing,
         "engine_onsets": list(timeline.engine_onsets),
+        "hesitations": [[h.start, h.end, h.sound, h.viseme] for h in timeline.hesitations],
     }
 
 
@@ -64,6 +65,7 @@ def timeline_from_dict(data: dict) -> Timeline:
         duration=float(data["duration"]),
         timing=str(data["timing"]),
         engine_onsets=tuple(data.get("engine_onsets", ())),
+        hesitations=tuple(Hesitation(*entry) for entry in data.get("hesitations", ())),
     )
 
 

@@ -178,21 +178,25 @@ class _Segment:
     start: float
     end: float
     viseme: str
-    phone_index: int  # -1 for a rest
+    phone_index: int  # -1 for a rest; a hesitation said aloud numbered on after the phones
 
 
 def _segments(timeline: Timeline, params: MotionParameters) -> list[_Segment]:
-    """The phones, with rests before, after, and in every silence long enough to relax the face."""
-    phones = sorted(timeline.phones, key=lambda p: p.start)
-    end_of_time = max(timeline.duration, phones[-1].end if phones else 0.0)
-    if not phones:
+    """The phones and the hesitations said aloud, with rests before, after, and in every silence long
+    enough to relax the face."""
+    sounds = [(p.start, p.end, p.viseme, p.letter_index) for p in timeline.phones]
+    after = len(timeline.phones)
+    sounds += [(h.start, h.end, h.viseme, after + k) for k, h in enumerate(timeline.hesitations)]
+    sounds.sort(key=lambda sound: sound[0])
+    end_of_time = max(timeline.duration, sounds[-1][1] if sounds else 0.0)
+    if not sounds:
         return [_Segment(-1.0, end_of_time + 1.0, NEUTRAL, -1)]
-    segments = [_Segment(-1.0, phones[0].start, NEUTRAL, -1)]
-    for previous, phone in zip([None, *phones[:-1]], phones, strict=True):
-        if previous is not None and phone.start - previous.end >= params.min_rest_gap:
-            segments.append(_Segment(previous.end, phone.start, NEUTRAL, -1))
-        segments.append(_Segment(phone.start, max(phone.end, phone.start), phone.viseme, phone.letter_index))
-    segments.append(_Segment(phones[-1].end, end_of_time + 1.0, NEUTRAL, -1))
+    segments = [_Segment(-1.0, sounds[0][0], NEUTRAL, -1)]
+    for previous, (start, end, viseme, index) in zip([None, *sounds[:-1]], sounds, strict=True):
+        if previous is not None and start - previous[1] >= params.min_rest_gap:
+            segments.append(_Segment(previous[1], start, NEUTRAL, -1))
+        segments.append(_Segment(start, max(end, start), viseme, index))
+    segments.append(_Segment(sounds[-1][1], end_of_time + 1.0, NEUTRAL, -1))
     return segments
 
 

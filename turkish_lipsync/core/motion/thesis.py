@@ -13,19 +13,31 @@ from .frames import frame_count_for, sparse_track
 
 
 def thesis_weight_tracks(timeline: Timeline, fps: float, emotion_strength: float = 1.0) -> WeightTracks:
-    """The thesis's weighted morphing (eq. 5.3, 5.4), one key per letter onset.
+    """The thesis's weighted morphing (eq. 5.3, 5.4), one key per letter onset (and per hesitation said
+    aloud in a recording's pauses).
 
     Lips morph linearly from letter to letter at weight (1 - w); the empowered emotion of each letter's word
     is keyed at w (the emotion key, which holds E - N, at rho * w), so consecutive words in different emotions
     cross-fade over the letters between them. w is the thesis's constant (shapekeys/motion.toml [thesis])
     times the JSML weight and the emotion strength. The face starts and ends on the neutral model.
     """
-    phones = timeline.phones
     emotion_weight, empowering = _thesis_constants()
     word_weight = _word_emotion_weights(timeline, emotion_strength * emotion_weight)
-    times = [0.0] + [p.start for p in phones] + [max(timeline.duration, phones[-1].end if phones else 0.0)]
-    visemes = [NEUTRAL] + [p.viseme for p in phones] + [NEUTRAL]
-    emotions = [None] + [word_weight.get(p.word_index) for p in phones] + [None]
+    # A hesitation said aloud is keyed as a letter is, in the emotion of the letter before it.
+    sounds = sorted(
+        [(p.start, p.viseme, p.word_index) for p in timeline.phones]
+        + [(h.start, h.viseme, None) for h in timeline.hesitations],
+        key=lambda sound: sound[0],
+    )
+    word = None
+    emotions_said = []
+    for _, _, index in sounds:
+        word = word if index is None else index
+        emotions_said.append(word_weight.get(word))
+    last = max([timeline.duration] + [p.end for p in timeline.phones] + [h.end for h in timeline.hesitations])
+    times = [0.0] + [sound[0] for sound in sounds] + [last]
+    visemes = [NEUTRAL] + [sound[1] for sound in sounds] + [NEUTRAL]
+    emotions = [None] + emotions_said + [None]
 
     names = sorted({viseme_key_name(v) for v in visemes})
     names += sorted({emotion_key_name(e[0]) for e in emotions if e})

@@ -225,22 +225,23 @@ def scene_utterance(
 
 
 def split_timeline(timeline: Timeline, utterances: list[Utterance], duration: float) -> list[Timeline]:
-    """The timeline of several lines spoken as one utterance, as one timeline per line (same times)."""
+    """The timeline of several lines spoken as one utterance, as one timeline per line (same times); a
+    hesitation said aloud goes to the line it is said within (one between two lines to neither: whose it
+    is, the take does not say)."""
     phones = sorted(timeline.phones, key=lambda phone: phone.letter_index)
     starts = np.array([phone.start for phone in phones])
     ends = np.array([phone.end for phone in phones])
     result, first = [], 0
     for utterance in utterances:
         count = len(utterance.letters)
-        result.append(
-            build_timeline(
-                utterance,
-                starts[first : first + count],
-                ends[first : first + count],
-                duration,
-                timeline.timing,
-            )
+        line = build_timeline(
+            utterance, starts[first : first + count], ends[first : first + count], duration, timeline.timing
         )
+        if count:
+            begun, ended = starts[first : first + count].min(), ends[first : first + count].max()
+            within = tuple(h for h in timeline.hesitations if begun <= h.start and h.end <= ended)
+            line = replace(line, hesitations=within)
+        result.append(line)
         first += count
     return result
 

@@ -45,7 +45,7 @@ class Fit:
     mismatch: np.ndarray  # per recorded frame: the best class's scaled log likelihood less the text's
     heard_letters: np.ndarray  # per recorded frame: the network hears a letter there, not silence
     frame_words: np.ndarray  # per recorded frame: the word the forced alignment puts there (-1: a pause)
-    hesitations: np.ndarray  # per recorded frame: a pause holding a hesitation's sound ("ııı")
+    hesitations: np.ndarray  # per recorded frame: the class of a hesitation's sound a pause holds (-1: none)
     synthetic_speech: np.ndarray
     recorded_speech: np.ndarray  # the recorded frames judged: speech that no pause holds
     recorded_under_speech: np.ndarray  # dB under the recording's loud frames, per frame
@@ -318,7 +318,7 @@ def _stalls(fit: Fit, settings: AlignerSettings) -> list[tuple[int, int, float]]
     last, a breath or a noise is as likely as a word, so those are left alone; so is a hesitation's sound.
     """
     loud = fit.recorded_speech & (fit.recorded_under_speech <= settings.loud_under_speech_db)
-    unplaced = loud & (fit.frame_words < 0) & ~fit.hesitations
+    unplaced = loud & (fit.frame_words < 0) & (fit.hesitations < 0)
     placed = np.flatnonzero(fit.frame_words >= 0)
     found = []
     for start, stop in runs(unplaced):

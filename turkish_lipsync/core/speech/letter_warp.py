@@ -19,12 +19,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..base.model import Utterance
+from ..base.model import Hesitation, Utterance
+from ..text.visemes import viseme_for_letter
 from .acoustic.forced import PRIOR_WEIGHT, LetterModel, force_align, letter_model, text_units
-from .acoustic.labels import CLASS_INDEX, SILENCE, near_sounds
+from .acoustic.labels import CLASS_INDEX, CLASSES, SILENCE, near_sounds
 from .acoustic.network import PhoneNetwork
 from .features import ANALYSIS_RATE, HOP, WINDOW
 from .timewarp import JUMP, TimeWarp
+from .voice_activity import runs
 
 # A take of up to UNBANDED_CELLS frames x states (20 MB of back-pointers: a minute of speech) is aligned
 # as a whole. In a longer one a recorded frame may hold the letters within a second of the synthetic
@@ -33,6 +35,7 @@ from .timewarp import JUMP, TimeWarp
 UNBANDED_CELLS = 20_000_000
 REACHES = (100, 300)
 SHORTEST_SCALE = 0.5  # a person's letters may be half as long as the shortest of eSpeak's
+HESITATION_BREAK = 0.1  # seconds of quiet inside one hesitation said aloud (spoken_hesitations)
 
 
 @dataclass(frozen=True, eq=False)
@@ -43,7 +46,8 @@ class LetterFit:
     frame_words: np.ndarray  # index into Utterance.words, -1 where the path pauses
     mismatch: np.ndarray  # best class's scaled log likelihood less the text's letter's (>= 0)
     heard_letters: np.ndarray  # the network's best class is a letter, not silence, nor a hesitation's
-    hesitations: np.ndarray  # a pause holding a hesitation's sound ("ııı"), which no letter is drawn into
+    # the class of a hesitation's sound ("ııı") a pause holds, which no letter is drawn into (-1: none)
+    hesitations: np.ndarray
 
 
 def letter_warp(
@@ -100,9 +104,8 @@ def letter_warp(
             continue
     else:
         return None
-    offset = (WINDOW - HOP) / 2 / ANALYSIS_RATE  # frame j's letter starts between frames j-1 and j
-    recorded_starts = found.starts * HOP / ANALYSIS_RATE + offset
-    recorded_ends = found.stops * HOP / ANALYSIS_RATE + offset
+    recorded_starts = frame_edge_seconds(found.starts)
+    recorded_ends = frame_edge_seconds(found.stops)
     _share_like_runs(units.classes, starts, ends, recorded_starts, recorded_ends)
     synthetic = np.ravel(np.column_stack((starts, ends - JUMP)))
     recorded = np.ravel(np.column_stack((recorded_starts, recorded_ends)))
@@ -115,11 +118,47 @@ def letter_warp(
     silence = CLASS_INDEX[SILENCE]
     # A hesitation's sound is no letter of the text's, nor one the text lacks: it is not judged.
     hesitations = found.frame_hesitations
-    heard_letters = (scaled.argmax(axis=1) != silence) & ~hesitations
+    heard_letters = (scaled.argmax(axis=1) != silence) & (hesitations < 0)
     # The text's letter counts as heard where one of its near sounds is (shapekeys/near_sounds.toml).
     path_classes = np.where(found.frame_letters >= 0, units.classes[found.frame_letters], silence)
     text_score = np.where(near_sounds()[path_classes], scaled, -np.inf).max(axis=1)
     return LetterFit(warp, frame_words, scaled.max(axis=1) - text_score, heard_letters, hesitations)
+
+
+def frame_edge_seconds(frames: np.ndarray) -> np.ndarray:
+    """The recorded time (seconds) a span of frames starting at frame j starts at: between frames j-1
+    and j."""
+    return np.asarray(frames) * HOP / ANALYSIS_RATE + (WINDOW - HOP) / 2 / ANALYSIS_RATE
+
+
+def spoken_hesitations(frame_hesitations: np.ndarray, frame_words: np.ndarray) -> tuple[Hesitation, ...]:
+    """The hesitations said aloud in a fit's pauses (LetterFit.hesitations, .frame_words), one for each
+    sound held, in recorded time, each shaped as its letter said alone; a few quiet frames in a pause
+    (up to HESITATION_BREAK seconds) do not part one sound held on both sides of them."""
+    sounds = frame_hesitations.copy()
+    longest = round(HESITATION_BREAK * ANALYSIS_RATE / HOP)
+    for start, stop in runs(sounds < 0):
+        if (
+            0 < start
+            and stop < sounds.size
+            and stop - start <= longest
+            and sounds[start - 1] == sounds[stop]
+            and np.all(frame_words[start:stop] < 0)
+        ):
+            sounds[start:stop] = sounds[stop]
+    edges = np.flatnonzero(np.diff(sounds)) + 1
+    starts = np.concatenate(([0], edges))
+    stops = np.concatenate((edges, [sounds.size]))
+    held = sounds[starts] >= 0
+    return tuple(
+        Hesitation(float(start), float(end), CLASSES[sound], viseme_for_letter(CLASSES[sound], None))
+        for start, end, sound in zip(
+            frame_edge_seconds(starts[held]),
+            frame_edge_seconds(stops[held]),
+            sounds[starts[held]],
+            strict=True,
+        )
+    )
 
 
 def _share_like_runs(

@@ -35,7 +35,7 @@ from threading import Event
 import numpy as np
 
 from ..base.errors import AudioError
-from ..base.model import Utterance
+from ..base.model import Hesitation, Utterance
 from ..text.utterance import read_aloud
 from .acoustic.features import frames_of, recogniser_features, sounding_frames, speech_stretch
 from .acoustic.labels import CLASS_INDEX, SILENCE
@@ -47,7 +47,7 @@ from .base import PhoneEvent, SpeechEngine, Synthesis, WordEvent
 from .dtw import Pauses, coarse_dtw_path, dtw_path
 from .features import ANALYSIS_RATE, HOP, frame_count
 from .judgement import Fit, PhraseMatch, judge, pauses_read_as_list
-from .letter_warp import LetterFit, letter_warp
+from .letter_warp import LetterFit, letter_warp, spoken_hesitations
 from .speech_detector import detect_speech
 from .timewarp import TimeWarp, warp_synthesis
 from .voice_activity import (
@@ -62,12 +62,14 @@ from .voice_activity import (
 
 @dataclass(frozen=True, eq=False)
 class RecordingAlignment:
-    """The warp to recorded time, the recording with the warped events, and how well it fits the text."""
+    """The warp to recorded time, the recording with the warped events, how well it fits the text, and the
+    hesitations said aloud in its pauses."""
 
     warp: TimeWarp
     synthesis: Synthesis
     phrases: tuple[PhraseMatch, ...]
     warnings: tuple[str, ...]
+    hesitations: tuple[Hesitation, ...]
 
 
 @dataclass(frozen=True, eq=False)
@@ -286,9 +288,9 @@ def _held_hesitations(fit: Fit, words: int, settings: AlignerSettings) -> bool:
     each such pause with hesitation_frames or more of it (a breath or a few quiet frames may split one
     "ııı"), and at most one such pause for every hesitation_words words of the text (another text's
     sounds left to its pauses are many and short)."""
-    held = np.array([
-        np.count_nonzero(fit.hesitations[start:stop]) for start, stop in runs(fit.frame_words < 0)
-    ])
+    held = np.array(
+        [np.count_nonzero(fit.hesitations[start:stop] >= 0) for start, stop in runs(fit.frame_words < 0)]
+    )
     held = held[held > 0]
     most = -(-words // settings.hesitation_words)
     return 0 < len(held) <= most and bool(np.all(held >= settings.hesitation_frames))
@@ -330,7 +332,8 @@ def judged_fit(
         )
     except AudioError as refusal:
         return refusal
-    return RecordingAlignment(fitted.warp, fitted.synthesis, phrases, warnings)
+    hesitations = spoken_hesitations(fitted.fit.hesitations, fitted.fit.frame_words)
+    return RecordingAlignment(fitted.warp, fitted.synthesis, phrases, warnings, hesitations)
 
 
 def kept_hearing(

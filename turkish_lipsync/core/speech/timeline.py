@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from ..base.errors import LipSyncError, TextError
@@ -72,16 +72,17 @@ def synthesize_timeline(
             "timing, which needs no audio"
         )
     speech_engine = get_engine(engine)
-    label, warnings = timing, ()
+    label, warnings, hesitations = timing, (), ()
     if recording is None:
         synthesis = speech_engine.synthesize(utterance)
     else:  # synthesised in chunks: a take of any length, its script past MAX_SPOKEN_LETTERS included
         alignment = align_recording(utterance, recording, speech_engine, aligner)
         synthesis, warnings, label = alignment.synthesis, alignment.warnings, "recording"
+        hesitations = alignment.hesitations
     if timing == "word":
         starts, ends = word_letter_spans(utterance, synthesis)
     else:
         starts, ends, synthesis = phone_letter_spans(utterance, with_closures(synthesis), speech_engine)
     onsets = tuple(event.start for event in synthesis.phone_events)
     timeline = build_timeline(utterance, starts, ends, synthesis.duration, label, onsets)
-    return Speech(timeline, synthesis, warnings)
+    return Speech(replace(timeline, hesitations=hesitations), synthesis, warnings)

@@ -117,7 +117,8 @@ class ForcedAlignment:
     stops: np.ndarray
     frame_letters: np.ndarray
     frame_scores: np.ndarray  # per frame: the network's scaled log likelihood of the path's class there
-    frame_hesitations: np.ndarray  # per frame: a pause holding a hesitation's sound rather than silence
+    # per frame: the class of the hesitation's sound a pause holds there rather than silence (-1: none)
+    frame_hesitations: np.ndarray
 
 
 def force_align(
@@ -163,7 +164,7 @@ def force_align(
     # hesitates, not between a list's items) a hesitation's sound if it scores higher; an unmarked pause
     # its score less the break's cost.
     silent = scores[:, CLASS_INDEX[SILENCE]]
-    hesitating, kind_of_state = _hesitating(
+    hesitating, sound_of_kind, kind_of_state = _hesitating(
         scores, model, hesitation_classes, hesitation_cost, hesitation_frames
     )
     unmarked = np.maximum(silent[:, None], hesitating)
@@ -186,28 +187,34 @@ def force_align(
     frame_letters = model.letter_of_state[path]
     starts, stops = _letter_spans(frame_letters, len(model.first_states))
     frame_scores = heard[np.arange(frames), model.classes[path]]
-    frame_hesitations = model.unmarked[path] & (hesitating[np.arange(frames), kind_of_state[path]] > silent)
+    every, kinds = np.arange(frames), kind_of_state[path]
+    held = model.unmarked[path] & (hesitating[every, kinds] > silent)
+    frame_hesitations = np.where(held, sound_of_kind[every, kinds], -1)
     return ForcedAlignment(starts, stops, frame_letters, frame_scores, frame_hesitations)
 
 
 def _hesitating(
     scores: np.ndarray, model: LetterModel, classes: np.ndarray | None, cost: float, frames: int
-) -> tuple[np.ndarray, np.ndarray]:
-    """Per frame, a hesitation's score for each kind of pause, and each state's kind: the best of the
-    classes held for `frames` or more, less `cost`, leaving out the sound the word before the pause ends
-    on and the next word's first vowel (those words' own when held: a drawn-out vowel, a room's tail).
-    One kind that holds none where no classes are given."""
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per frame, a hesitation's score for each kind of pause and the class that scores it, and each
+    state's kind: the best of the classes held for `frames` or more, less `cost`, leaving out the sound
+    the word before the pause ends on and the next word's first vowel (those words' own when held: a
+    drawn-out vowel, a room's tail). One kind that holds none where no classes are given."""
     if classes is None or len(classes) == 0:
-        return np.full((len(scores), 1), -np.inf), np.zeros(len(model.classes), np.int64)
+        none = np.full((len(scores), 1), -np.inf)
+        return none, np.full(none.shape, -1), np.zeros(len(model.classes), np.int64)
     sounds = np.asarray(classes)
     held = _held(scores[:, sounds], frames) - cost
     theirs = _neighbouring_sounds(model)[:, :, None] == sounds[None, None, :]
     kinds, kind_of_state = np.unique(theirs.any(axis=1), axis=0, return_inverse=True)
     hesitating = np.full((len(scores), len(kinds)), -np.inf)
+    sound = np.full(hesitating.shape, -1)
     for column, excluded in enumerate(kinds):
         if not excluded.all():
-            hesitating[:, column] = held[:, ~excluded].max(axis=1)
-    return hesitating, kind_of_state.reshape(-1)
+            best = held[:, ~excluded].argmax(axis=1)
+            hesitating[:, column] = held[:, ~excluded][np.arange(len(scores)), best]
+            sound[:, column] = sounds[~excluded][best]
+    return hesitating, sound, kind_of_state.reshape(-1)
 
 
 def _neighbouring_sounds(model: LetterModel) -> np.ndarray:

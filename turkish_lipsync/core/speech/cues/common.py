@@ -97,17 +97,18 @@ register = CUE_FORMATS.register
 
 
 def mouth_cues(timeline: Timeline) -> tuple[MouthCue, ...]:
-    """The timeline's phones as Rhubarb shapes: rest (X) in the silences, equal neighbours merged."""
+    """The timeline's phones and hesitations said aloud as Rhubarb shapes: rest (X) in the silences, equal
+    neighbours merged."""
     raw: list[MouthCue] = []
     time = 0.0
-    phones = sorted(timeline.phones, key=lambda phone: phone.start)
-    for index, phone in enumerate(phones):
-        end = phone.end if index + 1 == len(phones) else min(phone.end, phones[index + 1].start)
-        start = max(phone.start, time)
+    sounds = sorted((*timeline.phones, *timeline.hesitations), key=lambda sound: sound.start)
+    for index, sound in enumerate(sounds):
+        end = sound.end if index + 1 == len(sounds) else min(sound.end, sounds[index + 1].start)
+        start = max(sound.start, time)
         if start - time > SHORTEST:
             raw.append(MouthCue(time, start, REST))
         if end - start > SHORTEST:
-            raw.append(MouthCue(start, end, shape_for_viseme(phone.viseme)))
+            raw.append(MouthCue(start, end, shape_for_viseme(sound.viseme)))
             time = end
         else:
             time = max(time, start)
