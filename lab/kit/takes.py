@@ -245,13 +245,18 @@ def hesitate(
     shortest: float = 0.35,
     longest: float = 0.8,
     sound: np.ndarray | None = None,
+    before: tuple[int, ...] = (),
 ) -> Take:
-    """One or two hesitations before words the text gives no pause (fades of 10 ms around them): silent,
-    or holding `sound` (a hesitation's "ııı", RATE) with at least 50 ms of silence either side."""
-    candidates = np.flatnonzero(~take.commas[1:]) + 1
-    if candidates.size == 0:
-        return take
-    chosen = np.sort(rng.choice(candidates, size=min(candidates.size, rng.integers(1, 3)), replace=False))
+    """One or two hesitations before words the text gives no pause (fades of 10 ms around them), or
+    before the words `before` (indexes): silent, or holding `sound` (a hesitation's "ııı", RATE) with at
+    least 50 ms of silence either side."""
+    if before:
+        chosen = np.array(sorted(before), np.int64)
+    else:
+        candidates = np.flatnonzero(~take.commas[1:]) + 1
+        if candidates.size == 0:
+            return take
+        chosen = np.sort(rng.choice(candidates, size=min(candidates.size, rng.integers(1, 3)), replace=False))
     samples = take.samples
     fade = int(0.01 * RATE)
     pieces, source, target, begin, shift = [], [0.0], [0.0], 0, 0

@@ -42,12 +42,13 @@ def take_of(word_mismatch: list[float], order_ratio: float, text: str, gap_frame
         mismatch=mismatch,
         heard_letters=spoken,
         frame_words=frame_words,
-        hesitations=np.zeros(frames, bool),
+        hesitations=np.full(frames, -1),  # no hesitation said aloud
         synthetic_speech=spoken,
         recorded_speech=spoken,
         recorded_under_speech=np.where(spoken, 0.0, 40.0),
         lead=0,
         order_ratio=order_ratio,
+        vowel_in_a_consonant=5,
     )
     warp = TimeWarp(
         synthetic=np.array([0.0, frames / 100]),

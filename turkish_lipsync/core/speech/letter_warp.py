@@ -21,8 +21,16 @@ import numpy as np
 
 from ..base.model import Hesitation, Utterance
 from ..text.visemes import viseme_for_letter
-from .acoustic.forced import PRIOR_WEIGHT, LetterModel, force_align, letter_model, text_units
-from .acoustic.labels import CLASS_INDEX, CLASSES, SILENCE, near_sounds
+from .acoustic.forced import (
+    PRIOR_WEIGHT,
+    ForcedAlignment,
+    LetterModel,
+    TextUnits,
+    force_align,
+    letter_model,
+    text_units,
+)
+from .acoustic.labels import CLASS_INDEX, CLASSES, SILENCE, VOWEL_LETTERS, near_sounds
 from .acoustic.network import PhoneNetwork
 from .features import ANALYSIS_RATE, HOP, WINDOW
 from .timewarp import JUMP, TimeWarp
@@ -48,6 +56,7 @@ class LetterFit:
     heard_letters: np.ndarray  # the network's best class is a letter, not silence, nor a hesitation's
     # the class of a hesitation's sound ("ııı") a pause holds, which no letter is drawn into (-1: none)
     hesitations: np.ndarray
+    vowel_in_a_consonant: int  # frames: a vowel heard inside a consonant (_vowel_in_a_consonant)
 
 
 def letter_warp(
@@ -122,7 +131,28 @@ def letter_warp(
     # The text's letter counts as heard where one of its near sounds is (shapekeys/near_sounds.toml).
     path_classes = np.where(found.frame_letters >= 0, units.classes[found.frame_letters], silence)
     text_score = np.where(near_sounds()[path_classes], scaled, -np.inf).max(axis=1)
-    return LetterFit(warp, frame_words, scaled.max(axis=1) - text_score, heard_letters, hesitations)
+    return LetterFit(
+        warp,
+        frame_words,
+        scaled.max(axis=1) - text_score,
+        heard_letters,
+        hesitations,
+        _vowel_in_a_consonant(units, found, scaled.argmax(axis=1)),
+    )
+
+
+def _vowel_in_a_consonant(units: TextUnits, found: ForcedAlignment, best: np.ndarray) -> int:
+    """The most frames in which the network hears a vowel as its best class where the path holds one
+    consonant beside a pause the text does not mark (a word's first or last letter): a hesitation said
+    aloud in that pause, drawn into the consonant."""
+    joins = units.word_starts & ~units.marked
+    joins[0] = False
+    beside = joins | np.append(joins[1:], False)
+    consonants = ~np.isin(units.classes, [CLASS_INDEX[letter] for letter in VOWEL_LETTERS])
+    vowel_heard = np.isin(best, [CLASS_INDEX[letter] for letter in VOWEL_LETTERS])
+    held = np.concatenate(([0], np.cumsum(vowel_heard)))
+    letters = np.flatnonzero(consonants & beside & (found.starts >= 0))
+    return int((held[found.stops[letters]] - held[found.starts[letters]]).max(initial=0))
 
 
 def frame_edge_seconds(frames: np.ndarray) -> np.ndarray:

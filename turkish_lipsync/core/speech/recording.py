@@ -237,7 +237,8 @@ def align_recording(
     again with the music heard as silence, and that alignment kept unless it alone is refused. A take
     still warned that does not read its text as a list is aligned again with its pauses free to hold a
     hesitation said aloud ("ııı": AlignerSettings.hesitation_sounds), and the alignment with fewer
-    warnings kept."""
+    warnings kept; so is a take that fits with no warning but holds a hesitation's length of vowel in a
+    consonant beside an unmarked pause, and that alignment kept where it fits as well without one."""
     utterance = read_aloud(utterance)
     hesitating, settings = settings, without_hesitations(settings)
     fitted, take, kept = _heard(utterance, recording, engine, settings)
@@ -268,19 +269,39 @@ def align_recording(
             # elsewhere unheard: the take aligned again with pauses that may hold one. Not every take,
             # nor a list: an item, or a word said slowly, may be held as long, and its vowel heard as
             # another.
-            try:
-                hesitated, _, again = _heard(utterance, take, engine, hesitating)
-            except AudioError as refusal:
-                again = refusal
-            else:
-                # The hesitations as the shipped network's hearing holds them (the alignment kept may
-                # be the second hearing's): none, or not as a person's, is a looser fit, not kept.
-                if not _held_hesitations(hesitated.fit, len(utterance.words), hesitating):
-                    again = AudioError("no hesitation held")
-            kept = _fewer_warnings(kept, again)
+            kept = _fewer_warnings(kept, _hesitated(utterance, take, engine, hesitating)[1])
+    elif hesitating.hesitation_sounds and fitted.fit.vowel_in_a_consonant >= hesitating.hesitation_frames:
+        # A vowel held as long as a hesitation where the path holds a consonant beside a pause the text
+        # does not mark, though the fit draws no warning: a hesitation said aloud drawn into it ("eee"
+        # into the b of "balkonda"). Aligned again with pauses that may hold one, and kept where that
+        # fits as well and draws none into a consonant.
+        hesitated, again = _hesitated(utterance, take, engine, hesitating)
+        if (
+            isinstance(again, RecordingAlignment)
+            and not again.warnings
+            and hesitated.fit.vowel_in_a_consonant < hesitating.hesitation_frames
+        ):
+            kept = again
     if isinstance(kept, AudioError):
         raise kept
     return kept
+
+
+def _hesitated(
+    utterance: Utterance, take: _Take, engine: SpeechEngine, settings: AlignerSettings
+) -> tuple[RecordingFit | None, RecordingAlignment | AudioError]:
+    """The take aligned again with pauses free to hold a hesitation said aloud: the shipped network's fit
+    and the alignment kept after the second hearing, or a refusal (as one where the hesitations are not
+    held as a person's: none, or many short ones, a looser fit of another text's sounds)."""
+    try:
+        hesitated, _, again = _heard(utterance, take, engine, settings)
+    except AudioError as refusal:
+        return None, refusal
+    # The hesitations as the shipped network's hearing holds them (the alignment kept may be the second
+    # hearing's).
+    if not _held_hesitations(hesitated.fit, len(utterance.words), settings):
+        return hesitated, AudioError("no hesitation held")
+    return hesitated, again
 
 
 def _held_hesitations(fit: Fit, words: int, settings: AlignerSettings) -> bool:
@@ -453,6 +474,7 @@ def _fitted(
         take.under_speech,
         found.lead,
         found.order_ratio,
+        letters.vowel_in_a_consonant,
     )
     return RecordingFit(
         rendered.reference.phone_events, letters.warp, synthesis, fit, take.name, take.clipped
