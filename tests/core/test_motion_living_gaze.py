@@ -10,7 +10,9 @@ from turkish_lipsync.core.base.model import look_key_name
 from turkish_lipsync.core.base.rotations import direction, eye_matrices, head_matrices
 from turkish_lipsync.core.faces.eyes import ARKIT_LOOK_UNITS, sphere_fit, turn_degrees
 from turkish_lipsync.core.motion.living import GazeSetup, LivingOptions, living_tracks
+from turkish_lipsync.core.motion.living.gaze import plan_gaze
 from turkish_lipsync.core.motion.living.parameters import living_parameters
+from turkish_lipsync.core.motion.living.phrases import SpeechStructure
 from turkish_lipsync.core.motion.living.prosody import measure_prosody
 from turkish_lipsync.core.pipeline import LipSyncOptions, lip_sync
 
@@ -143,3 +145,30 @@ def test_a_living_table_without_an_entry_is_refused_naming_the_file(monkeypatch)
             parameters.living_parameters()
     finally:
         parameters.living_parameters.cache_clear()
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_the_eyes_look_away_up_and_aside_through_a_hesitation_said_aloud(seed):
+    """A speaker searching for the next word ("ııı") looks away from the listener, up and to a side, and
+    back as the word comes; nothing else moves the eyes meanwhile."""
+    settings = living_parameters()["gaze"]
+    phrases = ((0.3, 4.0), (4.6, 9.0))
+    structure = SpeechStructure(10.0, ((0.0, 0.3), (4.0, 4.6), (9.0, 10.0)), phrases, (), None, ((2.0, 2.9),))
+    times = np.arange(0, 10.0, 1 / 50)
+    plan = plan_gaze(structure, times, np.random.default_rng(seed), settings, 1.0)
+    held = (times > 2.0 + settings["thinking_lead"] + 0.1) & (times < 2.9)
+    yaw, pitch = plan.offsets[held].T
+    assert np.allclose(np.abs(yaw), settings["thinking_yaw"]) and np.allclose(
+        pitch, settings["thinking_pitch"]
+    )
+    back = next(saccade for saccade in plan.saccades if saccade.start >= 2.9)
+    assert back.start == pytest.approx(2.9) and back.to_contact
+    # Without the hesitation the same seed's eyes do something else there.
+    plain = plan_gaze(
+        SpeechStructure(10.0, structure.pauses, phrases, (), None),
+        times,
+        np.random.default_rng(seed),
+        settings,
+        1.0,
+    )
+    assert not np.allclose(plain.offsets[held], plan.offsets[held])

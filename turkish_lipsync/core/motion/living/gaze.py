@@ -144,7 +144,30 @@ def talking_fixations(
         position = np.zeros(2)
         shifts.append((time, position))
         time += gamma(rng, settings["contact_mean"], settings["contact_shape"])
-    return shifts
+    return _thinking(shifts, structure.hesitations, start, duration, rng, settings, amount)
+
+
+def _thinking(
+    shifts: list[tuple[float, np.ndarray]],
+    hesitations: tuple[tuple[float, float], ...],
+    start: float,
+    duration: float,
+    rng,
+    settings: dict,
+    amount: float,
+) -> list[tuple[float, np.ndarray]]:
+    """The shifts with a look away, up and to a side, through each hesitation said aloud (the speaker
+    searching for the next word), and back to the listener as the word comes; the shifts it covers left
+    out."""
+    for begin, end in hesitations:
+        leave = begin + settings["thinking_lead"]
+        if not start <= leave < end <= duration:
+            continue
+        side = 1.0 if rng.random() < 0.5 else -1.0
+        place = amount * np.array([side * settings["thinking_yaw"], settings["thinking_pitch"]])
+        shifts = [shift for shift in shifts if not leave - 0.15 < shift[0] < end + 0.15]
+        shifts += [(leave, place), (end, np.zeros(2))]
+    return sorted(shifts, key=lambda shift: shift[0])
 
 
 def gamma(rng, mean: float, shape: float) -> float:

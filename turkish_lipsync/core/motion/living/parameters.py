@@ -19,7 +19,8 @@ SHARES |= {"head_yaw_share", "head_pitch_share"}
 REQUIRED = {
     "gaze": "contact_mean contact_shape away_fixation_mean away_fixation_shape away_fixations_mean "
     "amplitude_scale amplitude_min amplitude_max cardinal_share horizontal_limit up_limit down_limit "
-    "duration_base duration_slope phrase_pull phrase_pull_share listening_pause",
+    "duration_base duration_slope phrase_pull phrase_pull_share listening_pause thinking_yaw thinking_pitch "
+    "thinking_lead",
     "blinks": "mean_interval min_interval max_interval min_gap first_after min_duration max_duration "
     "close_share hold_share blink_suppress_closure pause_pull pause_lead gaze_shift_blink gaze_shift_always "
     "gaze_shift_share",

@@ -38,6 +38,7 @@ class SpeechStructure:
     phrases: tuple[tuple[float, float], ...]  # (start, end) seconds of speech between pauses
     accents: tuple[Accent, ...]
     prosody: Prosody | None
+    hesitations: tuple[tuple[float, float], ...] = ()  # (start, end) seconds of hesitations said aloud
 
     def in_pause(self, times: np.ndarray, margin: float = 0.0) -> np.ndarray:
         return self.pause_length_at(times, margin) > 0
@@ -67,7 +68,8 @@ def speech_structure(timeline: Timeline, prosody: Prosody | None) -> SpeechStruc
         accents = _pitch_accents(syllables, phrases, prosody)
     else:
         accents = _stress_accents(syllables, last_syllables, timeline)
-    return SpeechStructure(duration, tuple(pauses), tuple(phrases), tuple(accents), prosody)
+    hesitations = tuple((h.start, h.end) for h in timeline.hesitations)
+    return SpeechStructure(duration, tuple(pauses), tuple(phrases), tuple(accents), prosody, hesitations)
 
 
 def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
