@@ -49,6 +49,7 @@ def take_of(word_mismatch: list[float], order_ratio: float, text: str, gap_frame
         lead=0,
         order_ratio=order_ratio,
         vowel_in_a_consonant=5,
+        vowel_in_a_consonant_word=-1,
     )
     warp = TimeWarp(
         synthetic=np.array([0.0, frames / 100]),

@@ -23,6 +23,7 @@ from turkish_lipsync.core.speech import timeline as timeline_module
 from turkish_lipsync.core.speech.acoustic.network import PEOPLE_WEIGHTS_FILE, load_network
 from turkish_lipsync.core.speech.aligner_settings import AlignerSettings
 from turkish_lipsync.core.speech.audio import resample
+from turkish_lipsync.core.speech.base import Synthesis, WordEvent
 from turkish_lipsync.core.speech.dtw import dtw_path
 from turkish_lipsync.core.speech.features import frame_count
 from turkish_lipsync.core.speech.recognition import speech_from_audio
@@ -549,3 +550,19 @@ def test_a_one_word_text_is_never_refused_however_long_it_is_said(tmp_path):
     path = noisy_take(tmp_path / "take.wav", voice, snr=40)
     speech = synthesize_timeline(build_utterance("Şemsiye"), recording=path)
     assert any("fits this text only loosely" in warning for warning in speech.warnings)
+
+
+def test_an_alignment_for_a_hesitation_in_a_take_that_fits_may_move_only_the_words_beside_it():
+    """The second alignment of a take that fits, made for a vowel heard in word 3's consonant, is kept only
+    where it moves no word but 2, 3 and 4 by more than 0.1 s (music elsewhere taken for a hesitation moved
+    a word 4 s)."""
+
+    def aligned(starts):
+        events = tuple(WordEvent(start, index) for index, start in enumerate(starts))
+        synthesis = Synthesis(np.zeros(10, np.int16), 22050, (), events, "recording")
+        return recording_module.RecordingAlignment(None, synthesis, (), (), ())
+
+    first = aligned([0.0, 0.5, 1.0, 1.5, 2.0, 2.5])
+    assert recording_module._moved_beside(first, aligned([0.0, 0.5, 1.0, 2.3, 2.05, 2.5]), 3)
+    assert not recording_module._moved_beside(first, aligned([0.0, 0.5, 1.0, 2.3, 2.0, 6.5]), 3)
+    assert not recording_module._moved_beside(first, aligned([0.0, 0.2, 1.0, 1.5, 2.0, 2.5]), 3)

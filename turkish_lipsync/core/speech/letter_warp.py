@@ -56,7 +56,8 @@ class LetterFit:
     heard_letters: np.ndarray  # the network's best class is a letter, not silence, nor a hesitation's
     # the class of a hesitation's sound ("ııı") a pause holds, which no letter is drawn into (-1: none)
     hesitations: np.ndarray
-    vowel_in_a_consonant: int  # frames: a vowel heard inside a consonant (_vowel_in_a_consonant)
+    vowel_in_a_consonant: int  # frames: a vowel heard inside a consonant (_vowel_in_a_consonant) ...
+    vowel_in_a_consonant_word: int  # ... of this word (-1: none)
 
 
 def letter_warp(
@@ -137,14 +138,16 @@ def letter_warp(
         scaled.max(axis=1) - text_score,
         heard_letters,
         hesitations,
-        _vowel_in_a_consonant(units, found, scaled.argmax(axis=1)),
+        *_vowel_in_a_consonant(units, found, scaled.argmax(axis=1), word_of_letter),
     )
 
 
-def _vowel_in_a_consonant(units: TextUnits, found: ForcedAlignment, best: np.ndarray) -> int:
+def _vowel_in_a_consonant(
+    units: TextUnits, found: ForcedAlignment, best: np.ndarray, word_of_letter: np.ndarray
+) -> tuple[int, int]:
     """The most frames in which the network hears a vowel as its best class where the path holds one
-    consonant beside a pause the text does not mark (a word's first or last letter): a hesitation said
-    aloud in that pause, drawn into the consonant."""
+    consonant beside a pause the text does not mark (a word's first or last letter), and that consonant's
+    word (-1: none): a hesitation said aloud in that pause, drawn into the consonant."""
     joins = units.word_starts & ~units.marked
     joins[0] = False
     beside = joins | np.append(joins[1:], False)
@@ -152,7 +155,10 @@ def _vowel_in_a_consonant(units: TextUnits, found: ForcedAlignment, best: np.nda
     vowel_heard = np.isin(best, [CLASS_INDEX[letter] for letter in VOWEL_LETTERS])
     held = np.concatenate(([0], np.cumsum(vowel_heard)))
     letters = np.flatnonzero(consonants & beside & (found.starts >= 0))
-    return int((held[found.stops[letters]] - held[found.starts[letters]]).max(initial=0))
+    if letters.size == 0:
+        return 0, -1
+    frames = held[found.stops[letters]] - held[found.starts[letters]]
+    return int(frames.max()), int(word_of_letter[letters[frames.argmax()]])
 
 
 def frame_edge_seconds(frames: np.ndarray) -> np.ndarray:

@@ -274,17 +274,33 @@ def align_recording(
         # A vowel held as long as a hesitation where the path holds a consonant beside a pause the text
         # does not mark, though the fit draws no warning: a hesitation said aloud drawn into it ("eee"
         # into the b of "balkonda"). Aligned again with pauses that may hold one, and kept where that
-        # fits as well and draws none into a consonant.
+        # fits as well, draws none into a consonant and moves no word but that consonant's and its
+        # neighbours (a long take's music or noise taken for a hesitation elsewhere moves others).
         hesitated, again = _hesitated(utterance, take, engine, hesitating)
         if (
             isinstance(again, RecordingAlignment)
             and not again.warnings
             and hesitated.fit.vowel_in_a_consonant < hesitating.hesitation_frames
+            and _moved_beside(kept, again, fitted.fit.vowel_in_a_consonant_word)
         ):
             kept = again
     if isinstance(kept, AudioError):
         raise kept
     return kept
+
+
+MOVED_SECONDS = 0.1  # a word's onset moved by more than this between two alignments has moved
+
+
+def _moved_beside(first: RecordingAlignment, again: RecordingAlignment, word: int) -> bool:
+    """Whether every word the second alignment moves from where the first put it is `word` or next to
+    it."""
+    before = {event.word_index: event.start for event in first.synthesis.word_events}
+    for event in again.synthesis.word_events:
+        moved = abs(event.start - before.get(event.word_index, event.start)) > MOVED_SECONDS
+        if moved and abs(event.word_index - word) > 1:
+            return False
+    return True
 
 
 def _hesitated(
@@ -475,6 +491,7 @@ def _fitted(
         found.lead,
         found.order_ratio,
         letters.vowel_in_a_consonant,
+        letters.vowel_in_a_consonant_word,
     )
     return RecordingFit(
         rendered.reference.phone_events, letters.warp, synthesis, fit, take.name, take.clipped
