@@ -10,6 +10,7 @@ import sys
 import tracemalloc
 import wave
 from dataclasses import replace
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -566,3 +567,22 @@ def test_an_alignment_for_a_hesitation_in_a_take_that_fits_may_move_only_the_wor
     assert recording_module._moved_beside(first, aligned([0.0, 0.5, 1.0, 2.3, 2.05, 2.5]), 3)
     assert not recording_module._moved_beside(first, aligned([0.0, 0.5, 1.0, 2.3, 2.0, 6.5]), 3)
     assert not recording_module._moved_beside(first, aligned([0.0, 0.2, 1.0, 1.5, 2.0, 2.5]), 3)
+
+
+@pytest.mark.parametrize(
+    ("pieces", "held"),
+    [
+        ([(0, 50), (-1, 30), (0, 50)], False),  # a word, 0.3 s of pause with no hesitation, a word
+        ([(0, 50), (5, 70), (-1, 7), (5, 72), (1, 50)], True),  # one "eee" a few quiet frames split
+        ([(0, 50), (5, 20), (1, 50)], False),  # 0.2 s: a word's own sound, not a hesitation
+        ([(0, 50), (5, 400), (1, 50)], False),  # 4 s: music between two lines, not a hesitation
+    ],
+)
+def test_a_hesitation_is_held_for_a_person_s_length_in_one_pause(pieces, held):
+    """A fit's frames as runs of (the word placed there, 0 or 1, or in a pause the class of the sound it
+    holds, -1 for none; frames): a pause holds a hesitation where 0.3 to 2 s of its frames hold one,
+    however quiet frames split them."""
+    words = np.concatenate([np.full(n, word if word in (0, 1) else -1) for word, n in pieces])
+    sounds = np.concatenate([np.full(n, sound if sound not in (0, 1) else -1) for sound, n in pieces])
+    fit = SimpleNamespace(hesitations=sounds, frame_words=words)
+    assert recording_module._held_hesitations(fit, 2, AlignerSettings()) is held

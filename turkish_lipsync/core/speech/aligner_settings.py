@@ -116,6 +116,8 @@ class AlignerSettings:
     the sound the word before ends on, nor the next word's first vowel; "" for none) ..."""
     hesitation_frames: int = 30
     """... for at least this many frames (a word of such letters is no hesitation) ..."""
+    hesitation_longest_frames: int = 200
+    """... and at most this many in one pause (music or a long noise between two lines is none) ..."""
     hesitation_cost: float = 0.3
     """... at this cost a frame: the words around it are not drawn into it, and it is not judged. That
     alignment is kept where it has fewer warnings and holds at least one hesitation ..."""

@@ -269,7 +269,13 @@ def align_recording(
             # elsewhere unheard: the take aligned again with pauses that may hold one. Not every take,
             # nor a list: an item, or a word said slowly, may be held as long, and its vowel heard as
             # another.
-            kept = _fewer_warnings(kept, _hesitated(utterance, take, engine, hesitating)[1])
+            again = _hesitated(utterance, take, engine, hesitating)[1]
+            # A word moves by no more than a hesitation lasts (music between two lines taken for one, a
+            # word drawn far into it, is a looser fit than the warning).
+            longest = hesitating.hesitation_longest_frames * HOP / ANALYSIS_RATE
+            if isinstance(again, RecordingAlignment) and max(_moves(kept, again).values()) > longest:
+                again = AudioError("a word moved further than a hesitation lasts")
+            kept = _fewer_warnings(kept, again)
     elif hesitating.hesitation_sounds and fitted.fit.vowel_in_a_consonant >= hesitating.hesitation_frames:
         # A vowel held as long as a hesitation where the path holds a consonant beside a pause the text
         # does not mark, though the fit draws no warning: a hesitation said aloud drawn into it ("eee"
@@ -292,15 +298,21 @@ def align_recording(
 MOVED_SECONDS = 0.1  # a word's onset moved by more than this between two alignments has moved
 
 
+def _moves(first: RecordingAlignment, again: RecordingAlignment) -> dict[int, float]:
+    """Per word, how far (seconds) the second alignment moves its start from where the first put it."""
+    before = {event.word_index: event.start for event in first.synthesis.word_events}
+    return {
+        event.word_index: abs(event.start - before.get(event.word_index, event.start))
+        for event in again.synthesis.word_events
+    } or {-1: 0.0}
+
+
 def _moved_beside(first: RecordingAlignment, again: RecordingAlignment, word: int) -> bool:
     """Whether every word the second alignment moves from where the first put it is `word` or next to
     it."""
-    before = {event.word_index: event.start for event in first.synthesis.word_events}
-    for event in again.synthesis.word_events:
-        moved = abs(event.start - before.get(event.word_index, event.start)) > MOVED_SECONDS
-        if moved and abs(event.word_index - word) > 1:
-            return False
-    return True
+    return all(
+        moved <= MOVED_SECONDS or abs(index - word) <= 1 for index, moved in _moves(first, again).items()
+    )
 
 
 def _hesitated(
@@ -322,15 +334,20 @@ def _hesitated(
 
 def _held_hesitations(fit: Fit, words: int, settings: AlignerSettings) -> bool:
     """Whether an alignment's pauses hold hesitations as a person's are: at least one pause holding one,
-    each such pause with hesitation_frames or more of it (a breath or a few quiet frames may split one
-    "ııı"), and at most one such pause for every hesitation_words words of the text (another text's
-    sounds left to its pauses are many and short)."""
+    each such pause with hesitation_frames to hesitation_longest_frames of it (a breath or a few quiet
+    frames may split one "ııı"; music between two lines is far longer), and at most one such pause for
+    every hesitation_words words of the text (another text's sounds left to its pauses are many and
+    short)."""
     held = np.array(
         [np.count_nonzero(fit.hesitations[start:stop] >= 0) for start, stop in runs(fit.frame_words < 0)]
     )
     held = held[held > 0]
     most = -(-words // settings.hesitation_words)
-    return 0 < len(held) <= most and bool(np.all(held >= settings.hesitation_frames))
+    return (
+        0 < len(held) <= most
+        and bool(np.all(held >= settings.hesitation_frames))
+        and bool(np.all(held <= settings.hesitation_longest_frames))
+    )
 
 
 def without_hesitations(settings: AlignerSettings) -> AlignerSettings:
