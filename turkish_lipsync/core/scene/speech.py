@@ -234,14 +234,12 @@ def split_timeline(timeline: Timeline, utterances: list[Utterance], duration: fl
     result, first = [], 0
     for utterance in utterances:
         count = len(utterance.letters)
-        line = build_timeline(
-            utterance, starts[first : first + count], ends[first : first + count], duration, timeline.timing
+        line_starts, line_ends = starts[first : first + count], ends[first : first + count]
+        begun, ended = line_starts.min(initial=np.inf), line_ends.max(initial=-np.inf)
+        within = tuple(h for h in timeline.hesitations if begun <= h.start and h.end <= ended)
+        result.append(
+            build_timeline(utterance, line_starts, line_ends, duration, timeline.timing, (), within)
         )
-        if count:
-            begun, ended = starts[first : first + count].min(), ends[first : first + count].max()
-            within = tuple(h for h in timeline.hesitations if begun <= h.start and h.end <= ended)
-            line = replace(line, hesitations=within)
-        result.append(line)
         first += count
     return result
 

@@ -151,8 +151,9 @@ def _vowel_in_a_consonant(
     joins = units.word_starts & ~units.marked
     joins[0] = False
     beside = joins | np.append(joins[1:], False)
-    consonants = ~np.isin(units.classes, [CLASS_INDEX[letter] for letter in VOWEL_LETTERS])
-    vowel_heard = np.isin(best, [CLASS_INDEX[letter] for letter in VOWEL_LETTERS])
+    vowels = [CLASS_INDEX[letter] for letter in VOWEL_LETTERS]
+    consonants = ~np.isin(units.classes, vowels)
+    vowel_heard = np.isin(best, vowels)
     held = np.concatenate(([0], np.cumsum(vowel_heard)))
     letters = np.flatnonzero(consonants & beside & (found.starts >= 0))
     if letters.size == 0:

@@ -273,7 +273,10 @@ def align_recording(
             # A word moves by no more than a hesitation lasts (music between two lines taken for one, a
             # word drawn far into it, is a looser fit than the warning).
             longest = hesitating.hesitation_longest_frames * HOP / ANALYSIS_RATE
-            if isinstance(again, RecordingAlignment) and max(_moves(kept, again).values()) > longest:
+            if (
+                isinstance(again, RecordingAlignment)
+                and max(_moves(kept, again).values(), default=0) > longest
+            ):
                 again = AudioError("a word moved further than a hesitation lasts")
             kept = _fewer_warnings(kept, again)
     elif hesitating.hesitation_sounds and fitted.fit.vowel_in_a_consonant >= hesitating.hesitation_frames:
@@ -304,7 +307,7 @@ def _moves(first: RecordingAlignment, again: RecordingAlignment) -> dict[int, fl
     return {
         event.word_index: abs(event.start - before.get(event.word_index, event.start))
         for event in again.synthesis.word_events
-    } or {-1: 0.0}
+    }
 
 
 def _moved_beside(first: RecordingAlignment, again: RecordingAlignment, word: int) -> bool:

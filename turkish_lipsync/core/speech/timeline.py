@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 
 from ..base.errors import LipSyncError, TextError
@@ -84,5 +84,5 @@ def synthesize_timeline(
     else:
         starts, ends, synthesis = phone_letter_spans(utterance, with_closures(synthesis), speech_engine)
     onsets = tuple(event.start for event in synthesis.phone_events)
-    timeline = build_timeline(utterance, starts, ends, synthesis.duration, label, onsets)
-    return Speech(replace(timeline, hesitations=hesitations), synthesis, warnings)
+    timeline = build_timeline(utterance, starts, ends, synthesis.duration, label, onsets, hesitations)
+    return Speech(timeline, synthesis, warnings)

@@ -9,7 +9,7 @@ import numpy as np
 
 from ..base.data import DATA_DIR, load_table, require
 from ..base.errors import DataError
-from ..base.model import EmotionSpan, Phone, Timeline, Utterance, WordSpan
+from ..base.model import EmotionSpan, Hesitation, Phone, Timeline, Utterance, WordSpan
 from ..text.syllables import VOWELS
 
 SOFT_G = "ğ"
@@ -89,8 +89,10 @@ def build_timeline(
     duration: float,
     timing: str,
     engine_onsets: tuple[float, ...] = (),
+    hesitations: tuple[Hesitation, ...] = (),
 ) -> Timeline:
-    """Phones, words, emotion spans and emphases from each letter's start and end (seconds)."""
+    """Phones, words, emotion spans and emphases from each letter's start and end (seconds), with the
+    hesitations said aloud between them."""
     starts = np.asarray(starts, dtype=np.float64)
     ends = np.asarray(ends, dtype=np.float64)
     if starts.shape != (len(utterance.letters),) or ends.shape != starts.shape:
@@ -141,4 +143,5 @@ def build_timeline(
         duration=float(max(duration, ends.max(initial=0.0))),
         timing=timing,
         engine_onsets=tuple(engine_onsets),
+        hesitations=hesitations,
     )
