@@ -540,21 +540,15 @@ def test_the_panel_warns_of_a_word_the_recording_leaves_out_and_refuses_another_
 def test_an_eee_said_between_two_words_of_the_users_take_is_said_by_the_mouth(tmp_path):
     """A person's "eee" in a pause of their take: on the evaluated head the mouth holds an e through it
     (the e key dominant, as the timeline's hesitation asks), where it used to rest."""
-    from lab.kit import takes
-    from tests.core.test_speech_recording import OTHER_TEXT, other_voice, write_pcm_wav
-    from tests.core.test_speech_recording_person import quiet_room, take_of
+    from tests.core.test_speech_recording import OTHER_TEXT
+    from tests.core.test_speech_recording_person import quiet_room, said_aloud, take_of, written
 
-    said, _ = other_voice("eeeeee", "tr+m3", -15, -10)
-    take = quiet_room(
-        takes.hesitate(take_of(OTHER_TEXT), np.random.default_rng(5), 0.7, 1.0, said.astype(float))
-    )
+    take = quiet_room(said_aloud(take_of(OTHER_TEXT), "eeeeee"))
     head = _default_head_with_keys()
     _speak(OTHER_TEXT)
     settings = _settings()
     settings.audio_folder = str(tmp_path)
-    settings.recording = str(
-        write_pcm_wav(tmp_path / "take.wav", 0.8 * take.samples / np.abs(take.samples).max(), takes.RATE)
-    )
+    settings.recording = str(written(take, tmp_path / "take.wav"))
     assert bpy.ops.turkish_lipsync.generate() == {"FINISHED"}
     hesitations = pipeline.animation_record(head).timeline.hesitations
     assert hesitations and {h.sound for h in hesitations} == {"e"}

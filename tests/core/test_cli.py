@@ -3,11 +3,8 @@ import subprocess
 import sys
 from pathlib import Path
 
-import numpy as np
-
-from lab.kit import takes
-from tests.core.test_speech_recording import OTHER_TEXT, other_voice, write_pcm_wav
-from tests.core.test_speech_recording_person import quiet_room, take_of
+from tests.core.test_speech_recording import OTHER_TEXT
+from tests.core.test_speech_recording_person import quiet_room, said_aloud, take_of, written
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -94,10 +91,7 @@ def test_export_of_a_script_writes_a_voice_or_a_file_per_character(tmp_path):
 
 def test_a_hesitation_said_aloud_is_listed_with_the_recordings_timeline(tmp_path):
     """An "eee" a person says between two words of their take: the timeline lists it, with its shape."""
-    clean = take_of(OTHER_TEXT)
-    said, _ = other_voice("eeeeee", "tr+m3", -15, -10)
-    take = quiet_room(takes.hesitate(clean, np.random.default_rng(5), 0.7, 1.0, said.astype(np.float64)))
-    audio = write_pcm_wav(tmp_path / "take.wav", 0.8 * take.samples / np.abs(take.samples).max(), takes.RATE)
+    audio = written(quiet_room(said_aloud(take_of(OTHER_TEXT), "eeeeee")), tmp_path / "take.wav")
     data = json.loads(run("timeline", "--text", OTHER_TEXT, "--audio", str(audio), "--format", "json").stdout)
     assert data["hesitations"] and {h["sound"] for h in data["hesitations"]} == {"e"}
     assert all(h["viseme"] == "e" and h["end"] - h["start"] > 0.3 for h in data["hesitations"])

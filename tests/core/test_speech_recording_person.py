@@ -45,8 +45,20 @@ def changing_tempo() -> takes.Take:
     return take_of(text, rate=0)
 
 
+def written(take: takes.Take, path):
+    """The take as a 16-bit WAV at `path`, its peak at 0.8 of full scale."""
+    return write_pcm_wav(path, 0.8 * take.samples / np.abs(take.samples).max(), RATE)
+
+
+def said_aloud(clean: takes.Take, sound: str, shortest=0.7, longest=1.0, before=()) -> takes.Take:
+    """The take with one or two hesitations (or one before each word `before`) holding the voice's own
+    `sound` ("eeeeee"), 0.05 s of silence either side."""
+    said, _ = other_voice(sound, "tr+m3", -15, -10)
+    return takes.hesitate(clean, np.random.default_rng(5), shortest, longest, said.astype(np.float64), before)
+
+
 def aligned(take: takes.Take, tmp_path, text=OTHER_TEXT):
-    path = write_pcm_wav(tmp_path / "take.wav", 0.8 * take.samples / np.abs(take.samples).max(), RATE)
+    path = written(take, tmp_path / "take.wav")
     speech = synthesize_timeline(build_utterance(text), recording=path)
     return speech, np.abs(np.array([word.start for word in speech.timeline.words]) - take.words)
 
@@ -102,8 +114,7 @@ def test_a_hesitation_said_aloud_draws_no_word_into_it(tmp_path, sound):
     word after it used to start in it or before it, up to a second early, and the take was warned. The
     mouth says it: the timeline holds it, and the face shapes its vowel through it (it rested)."""
     clean = take_of(OTHER_TEXT)
-    said, _ = other_voice(sound, "tr+m3", -15, -10)
-    take = takes.hesitate(clean, np.random.default_rng(5), 0.7, 1.0, said.astype(np.float64))
+    take = said_aloud(clean, sound)
     held = np.flatnonzero(np.diff(take.words) - np.diff(clean.words) > 0.5) + 1
     assert held.size >= 1
     taken = quiet_room(take)
@@ -222,10 +233,7 @@ def test_an_eee_drawn_into_the_next_words_first_consonant_is_taken_out_of_it(tmp
     b of "balkonda" (the lips closed for 0.8 s, the word 0.75 s early); a vowel heard so long in a
     consonant has the take aligned again with pauses that may hold a hesitation, and the word starts
     when it is said."""
-    said, _ = other_voice("eeeeee", "tr+m3", -15, -10)
-    take = takes.hesitate(
-        take_of(text), np.random.default_rng(5), 0.8, 0.8, said.astype(float), before=(word,)
-    )
+    take = said_aloud(take_of(text), "eeeeee", 0.8, 0.8, before=(word,))
     speech, error = aligned(quiet_room(take), tmp_path, text)
     assert error[word] < 0.050 and error.max() < 0.100 and speech.warnings == ()
     assert [h.sound for h in speech.timeline.hesitations] == ["e"]
