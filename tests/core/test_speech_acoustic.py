@@ -60,26 +60,28 @@ def test_each_letter_is_found_where_it_is_heard_and_pauses_are_skipped_or_taken(
     assert found.starts.tolist() == [2, 5, 7]
 
 
-def hesitating(held: str, frames: int) -> np.ndarray:
-    """ "ba du" heard with `frames` of a held sound between the words: mostly `held`, a little u."""
-    silence, a, b, d, u = (CLASS_INDEX[name] for name in "_abdu")
+def hesitating(held: str, frames: int, second: str = "du") -> np.ndarray:
+    """ "ba" and a second word of two letters heard with `frames` of a held sound between the words:
+    mostly `held`, a little u."""
+    silence, a, b, u = (CLASS_INDEX[name] for name in "_abu")
+    first, then = (CLASS_INDEX[name] for name in second)
     heard = np.full((33 + frames, len(CLASSES)), 1e-4)
     for start, stop, name in ((0, 3, silence), (3, 6, b), (6, 10, a), (10, 13, silence)):
         heard[start:stop, name] = 1.0
     heard[13 : 13 + frames, CLASS_INDEX[held]], heard[13 : 13 + frames, u] = 0.7, 0.3
-    for start, stop, name in ((0, 3, silence), (3, 6, d), (6, 10, u), (10, 20, silence)):
+    for start, stop, name in ((0, 3, silence), (3, 6, first), (6, 10, then), (10, 20, silence)):
         heard[13 + frames + start : 13 + frames + stop, name] = 1.0
     return np.log(heard / heard.sum(axis=1, keepdims=True))
 
 
 @pytest.mark.parametrize(
     ("held", "frames", "hesitation"),
-    [("ı", 30, True), ("ı", 10, False), ("a", 30, False), ("u", 30, False)],
+    [("ı", 30, True), ("ı", 10, False), ("a", 30, False), ("u", 30, True)],
 )
 def test_a_hesitation_said_aloud_between_two_words_draws_neither_into_it(held, frames, hesitation):
     """An "ııı" held for 300 ms between "ba" and "du" is a pause: "du" starts after it, not in it. Held
     for 100 ms it is no hesitation; an "a", the sound "ba" ends on, is never one (a drawn-out vowel, a
-    room's tail), nor a "u", the next word's first vowel."""
+    room's tail). A "uuu" is one: the d parts it from the u of "du" ("eee gelmeden")."""
     units = np.array([CLASS_INDEX[name] for name in "badu"])
     starts, shortest = np.array([True, False, True, False]), np.ones(len(CLASSES), np.int64)
     model = letter_model(units, starts, shortest, marked=np.zeros(4, bool))  # "ba du": no comma
@@ -106,6 +108,19 @@ def test_a_hesitation_said_aloud_between_two_words_draws_neither_into_it(held, f
     else:
         assert found.frame_hesitations.max() == -1
         assert found.starts.tolist() == plain.starts.tolist()
+
+
+def test_the_vowel_a_word_begins_with_held_before_it_is_that_words():
+    """ "ba ud" with 300 ms of "uuu" before "ud": its own u drawn out, no hesitation (nothing parts
+    the two)."""
+    units = np.array([CLASS_INDEX[name] for name in "baud"])
+    starts, shortest = np.array([True, False, True, False]), np.ones(len(CLASSES), np.int64)
+    model = letter_model(units, starts, shortest, marked=np.zeros(4, bool))
+    priors = np.full(len(CLASSES), 1 / len(CLASSES))
+    sounds = np.array([CLASS_INDEX[name] for name in "aeıioöuümn"])
+    found = force_align(hesitating("u", 30, "ud"), priors, model, None, None, None, sounds, 0.3, 15)
+    assert found.frame_hesitations.max() == -1
+    assert found.starts[2] < 13 + 30 - 10  # the u of "ud" holds the drawn-out sound
 
 
 def test_a_hesitation_is_one_span_through_a_few_quiet_frames_not_through_a_word():

@@ -113,7 +113,7 @@ class AlignerSettings:
     hesitation_sounds: str = "aeıioöuümn"
     """A take still warned is aligned again with each pause between two words the text does not part (no
     comma, no stop) free to hold a hesitation said aloud, one of these letters ("ııı", "eee", "mmm"; not
-    the sound the word before ends on, nor the next word's first vowel; "" for none) ..."""
+    the sound the word before ends on, nor the vowel the next word begins with; "" for none) ..."""
     hesitation_frames: int = 30
     """... for at least this many frames (a word of such letters is no hesitation) ..."""
     hesitation_longest_frames: int = 200

@@ -51,8 +51,8 @@ class Fit:
     recorded_under_speech: np.ndarray  # dB under the recording's loud frames, per frame
     lead: int
     order_ratio: float  # the path's cost over the cost with the text's sounds in reverse order
-    vowel_in_a_consonant: int  # frames: a vowel heard inside a consonant (LetterFit) ...
-    vowel_in_a_consonant_word: int  # ... of this word (-1: none)
+    hesitation_drawn_in: int  # frames: a hesitation said aloud drawn into a word (LetterFit) ...
+    hesitation_drawn_in_word: int  # ... into this word (-1: none)
 
 
 def word_frames(utterance: Utterance, phone_events: tuple[PhoneEvent, ...], lead: int) -> np.ndarray:

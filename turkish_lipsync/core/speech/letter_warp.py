@@ -56,8 +56,9 @@ class LetterFit:
     heard_letters: np.ndarray  # the network's best class is a letter, not silence, nor a hesitation's
     # the class of a hesitation's sound ("ııı") a pause holds, which no letter is drawn into (-1: none)
     hesitations: np.ndarray
-    vowel_in_a_consonant: int  # frames: a vowel heard inside a consonant (_vowel_in_a_consonant) ...
-    vowel_in_a_consonant_word: int  # ... of this word (-1: none)
+    # frames: the longest hesitation said aloud the path seems to draw into a word (_hesitation_drawn_in) ...
+    hesitation_drawn_in: int
+    hesitation_drawn_in_word: int  # ... into this word (-1: none)
 
 
 def letter_warp(
@@ -138,28 +139,39 @@ def letter_warp(
         scaled.max(axis=1) - text_score,
         heard_letters,
         hesitations,
-        *_vowel_in_a_consonant(units, found, scaled.argmax(axis=1), word_of_letter),
+        *_hesitation_drawn_in(units, found, scaled.argmax(axis=1), word_of_letter),
     )
 
 
-def _vowel_in_a_consonant(
+def _hesitation_drawn_in(
     units: TextUnits, found: ForcedAlignment, best: np.ndarray, word_of_letter: np.ndarray
 ) -> tuple[int, int]:
-    """The most frames in which the network hears a vowel as its best class where the path holds one
-    consonant beside a pause the text does not mark (a word's first or last letter), and that consonant's
-    word (-1: none): a hesitation said aloud in that pause, drawn into the consonant."""
+    """The most frames of a hesitation said aloud in a pause the text does not mark that the path seems
+    to have drawn into a word beside it, and that word (-1: none): frames the network hears a vowel as
+    its best class inside a consonant at the word's edge ("eee" into the b of "balkonda"), or a vowel
+    inside the word held that long ("eee" into the e of "gelmeden": g a frame long, then the e through
+    the hesitation). A word's first or last letter held long is its own (a drawn-out vowel, a room's
+    tail), as forced alignment's hesitations leave it."""
     joins = units.word_starts & ~units.marked
     joins[0] = False
+    ends = np.append(units.word_starts[1:], True)
     beside = joins | np.append(joins[1:], False)
-    vowels = [CLASS_INDEX[letter] for letter in VOWEL_LETTERS]
-    consonants = ~np.isin(units.classes, vowels)
-    vowel_heard = np.isin(best, vowels)
-    held = np.concatenate(([0], np.cumsum(vowel_heard)))
-    letters = np.flatnonzero(consonants & beside & (found.starts >= 0))
-    if letters.size == 0:
+    vowel_classes = [CLASS_INDEX[letter] for letter in VOWEL_LETTERS]
+    vowels = np.isin(units.classes, vowel_classes)
+    placed = found.starts >= 0
+    held = np.concatenate(([0], np.cumsum(np.isin(best, vowel_classes))))
+    frames = np.zeros(len(units.classes), np.int64)
+    consonants = np.flatnonzero(~vowels & beside & placed)
+    frames[consonants] = held[found.stops[consonants]] - held[found.starts[consonants]]
+    # The words beside each such pause, and their vowels that neither begin nor end them.
+    words_beside = np.unique(word_of_letter[np.flatnonzero(beside)])
+    inner = np.flatnonzero(
+        vowels & ~units.word_starts & ~ends & placed & np.isin(word_of_letter, words_beside)
+    )
+    frames[inner] = found.stops[inner] - found.starts[inner]
+    if not frames.any():
         return 0, -1
-    frames = held[found.stops[letters]] - held[found.starts[letters]]
-    return int(frames.max()), int(word_of_letter[letters[frames.argmax()]])
+    return int(frames.max()), int(word_of_letter[frames.argmax()])
 
 
 def frame_edge_seconds(frames: np.ndarray) -> np.ndarray:

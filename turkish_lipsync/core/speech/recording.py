@@ -237,8 +237,9 @@ def align_recording(
     again with the music heard as silence, and that alignment kept unless it alone is refused. A take
     still warned that does not read its text as a list is aligned again with its pauses free to hold a
     hesitation said aloud ("ııı": AlignerSettings.hesitation_sounds), and the alignment with fewer
-    warnings kept; so is a take that fits with no warning but holds a hesitation's length of vowel in a
-    consonant beside an unmarked pause, and that alignment kept where it fits as well without one."""
+    warnings kept; so is a take that fits with no warning but seems to draw a hesitation's length of
+    vowel into a word beside an unmarked pause (letter_warp's `hesitation_drawn_in`), and that alignment
+    kept where it fits as well without one."""
     utterance = read_aloud(utterance)
     hesitating, settings = settings, without_hesitations(settings)
     fitted, take, kept = _heard(utterance, recording, engine, settings)
@@ -279,18 +280,19 @@ def align_recording(
             ):
                 again = AudioError("a word moved further than a hesitation lasts")
             kept = _fewer_warnings(kept, again)
-    elif hesitating.hesitation_sounds and fitted.fit.vowel_in_a_consonant >= hesitating.hesitation_frames:
-        # A vowel held as long as a hesitation where the path holds a consonant beside a pause the text
-        # does not mark, though the fit draws no warning: a hesitation said aloud drawn into it ("eee"
-        # into the b of "balkonda"). Aligned again with pauses that may hold one, and kept where that
-        # fits as well, draws none into a consonant and moves no word but that consonant's and its
-        # neighbours (a long take's music or noise taken for a hesitation elsewhere moves others).
+    elif hesitating.hesitation_sounds and fitted.fit.hesitation_drawn_in >= hesitating.hesitation_frames:
+        # A hesitation said aloud seemingly drawn into a word beside a pause the text does not mark,
+        # though the fit draws no warning: a vowel heard as long as one in a consonant at the word's edge
+        # ("eee" into the b of "balkonda"), or a vowel inside the word held that long (into the e of
+        # "gelmeden"). Aligned again with pauses that may hold one, and kept where that fits as well,
+        # draws none into a word and moves no word but that one and its neighbours (a long take's music
+        # or noise taken for a hesitation elsewhere moves others).
         hesitated, again = _hesitated(utterance, take, engine, hesitating)
         if (
             isinstance(again, RecordingAlignment)
             and not again.warnings
-            and hesitated.fit.vowel_in_a_consonant < hesitating.hesitation_frames
-            and _moved_beside(kept, again, fitted.fit.vowel_in_a_consonant_word)
+            and hesitated.fit.hesitation_drawn_in < hesitating.hesitation_frames
+            and _moved_beside(kept, again, fitted.fit.hesitation_drawn_in_word)
         ):
             kept = again
     if isinstance(kept, AudioError):
@@ -510,8 +512,8 @@ def _fitted(
         take.under_speech,
         found.lead,
         found.order_ratio,
-        letters.vowel_in_a_consonant,
-        letters.vowel_in_a_consonant_word,
+        letters.hesitation_drawn_in,
+        letters.hesitation_drawn_in_word,
     )
     return RecordingFit(
         rendered.reference.phone_events, letters.warp, synthesis, fit, take.name, take.clipped

@@ -198,8 +198,8 @@ def _hesitating(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Per frame, a hesitation's score for each kind of pause and the class that scores it, and each
     state's kind: the best of the classes held for `frames` or more, less `cost`, leaving out the sound
-    the word before the pause ends on and the next word's first vowel (those words' own when held: a
-    drawn-out vowel, a room's tail). One kind that holds none where no classes are given."""
+    the word before the pause ends on and the vowel the next word begins with (those words' own when
+    held: a drawn-out vowel, a room's tail). One kind that holds none where no classes are given."""
     if classes is None or len(classes) == 0:
         none = np.full((len(scores), 1), -np.inf)
         return none, np.full(none.shape, -1), np.zeros(len(model.classes), np.int64)
@@ -218,19 +218,18 @@ def _hesitating(
 
 
 def _neighbouring_sounds(model: LetterModel) -> np.ndarray:
-    """states x 2: for a pause, the class of the letter before it and of the next word's first vowel (-1
-    where there is none); -1, -1 for a letter's state."""
+    """states x 2: for a pause, the class of the letter before it and of the next word's first letter
+    where that is a vowel (-1 where there is none); -1, -1 for a letter's state. A word that begins with
+    a consonant keeps the pause free to hold its vowel's sound: the consonant parts the two ("eee
+    gelmeden")."""
     found = np.full((len(model.classes), 2), -1, np.int64)
     vowels = np.isin(model.classes, [CLASS_INDEX[letter] for letter in VOWEL_LETTERS])
     for state in np.flatnonzero(model.letter_of_state < 0).tolist():
         if state and model.letter_of_state[state - 1] >= 0:
             found[state, 0] = model.classes[state - 1]
         following = state + 1
-        while following < len(model.classes) and model.letter_of_state[following] >= 0:
-            if vowels[following]:
-                found[state, 1] = model.classes[following]
-                break
-            following += 1
+        if following < len(model.classes) and model.letter_of_state[following] >= 0 and vowels[following]:
+            found[state, 1] = model.classes[following]
     return found
 
 
