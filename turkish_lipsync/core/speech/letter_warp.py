@@ -30,7 +30,7 @@ from .acoustic.forced import (
     letter_model,
     text_units,
 )
-from .acoustic.labels import CLASS_INDEX, CLASSES, SILENCE, VOWEL_LETTERS, near_sounds
+from .acoustic.labels import CLASS_INDEX, CLASSES, SILENCE, VOWEL_CLASSES, near_sounds
 from .acoustic.network import PhoneNetwork
 from .features import ANALYSIS_RATE, HOP, WINDOW
 from .timewarp import JUMP, TimeWarp
@@ -156,10 +156,9 @@ def _hesitation_drawn_in(
     joins[0] = False
     ends = np.append(units.word_starts[1:], True)
     beside = joins | np.append(joins[1:], False)
-    vowel_classes = [CLASS_INDEX[letter] for letter in VOWEL_LETTERS]
-    vowels = np.isin(units.classes, vowel_classes)
+    vowels = np.isin(units.classes, VOWEL_CLASSES)
     placed = found.starts >= 0
-    held = np.concatenate(([0], np.cumsum(np.isin(best, vowel_classes))))
+    held = np.concatenate(([0], np.cumsum(np.isin(best, VOWEL_CLASSES))))
     frames = np.zeros(len(units.classes), np.int64)
     consonants = np.flatnonzero(~vowels & beside & placed)
     frames[consonants] = held[found.stops[consonants]] - held[found.starts[consonants]]

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...base.model import Utterance
-from .labels import CLASS_INDEX, SILENCE, VOWEL_LETTERS
+from .labels import CLASS_INDEX, SILENCE, VOWEL_CLASSES
 
 PRIOR_WEIGHT = 0.8  # posteriors / priors ** PRIOR_WEIGHT (the decoder's)
 ENTER_COST = 0.5  # natural-log units per letter entered: a slight push toward fewer, longer stays
@@ -223,7 +223,7 @@ def _neighbouring_sounds(model: LetterModel) -> np.ndarray:
     a consonant keeps the pause free to hold its vowel's sound: the consonant parts the two ("eee
     gelmeden")."""
     found = np.full((len(model.classes), 2), -1, np.int64)
-    vowels = np.isin(model.classes, [CLASS_INDEX[letter] for letter in VOWEL_LETTERS])
+    vowels = np.isin(model.classes, VOWEL_CLASSES)
     for state in np.flatnonzero(model.letter_of_state < 0).tolist():
         if state and model.letter_of_state[state - 1] >= 0:
             found[state, 0] = model.classes[state - 1]

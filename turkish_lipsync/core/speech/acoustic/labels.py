@@ -20,6 +20,7 @@ LETTERS = "abcçdefghıijklmnoöprsştuüvyz"
 CLASSES: tuple[str, ...] = (SILENCE, *LETTERS)
 CLASS_INDEX = {name: index for index, name in enumerate(CLASSES)}
 VOWEL_LETTERS = frozenset("aeıioöuü")
+VOWEL_CLASSES = np.array(sorted(CLASS_INDEX[letter] for letter in VOWEL_LETTERS))
 BILABIAL_LETTERS = frozenset("bmp")
 FRAME_SECONDS = HOP / ANALYSIS_RATE
 

@@ -27,7 +27,7 @@ from ..acoustic.labels import (
     CLASSES,
     FRAME_SECONDS,
     SILENCE,
-    VOWEL_LETTERS,
+    VOWEL_CLASSES,
     frame_times,
 )
 from ..acoustic.network import load_network
@@ -36,7 +36,6 @@ from .decoder import Segment, decode
 from .settings import DEFAULT_RECOGNISER, RecogniserSettings
 
 BILABIALS = np.array([CLASS_INDEX[letter] for letter in sorted(BILABIAL_LETTERS)])
-VOWELS = np.array([CLASS_INDEX[letter] for letter in sorted(VOWEL_LETTERS)])
 LIPS_APART = np.array(
     [index for index, name in enumerate(CLASSES) if name not in BILABIAL_LETTERS | {"f", "v", CLASSES[0]}]
 )
@@ -182,7 +181,7 @@ def _doubt_checked(label: int, probabilities: np.ndarray, settings: RecogniserSe
     if label not in BILABIALS:
         return label
     if probabilities[BILABIALS].sum() >= settings.bilabial_sure and probabilities[BILABIALS].sum() >= (
-        probabilities[VOWELS].sum()
+        probabilities[VOWEL_CLASSES].sum()
     ):
         return label
     return int(LIPS_APART[np.argmax(probabilities[LIPS_APART])])
