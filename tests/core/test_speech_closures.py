@@ -5,6 +5,7 @@ closure carried through a recording's time warp and given back to recognised sto
 """
 
 import numpy as np
+import pytest
 
 from turkish_lipsync.core.speech.base import PhoneEvent, Synthesis
 from turkish_lipsync.core.speech.recognition.recogniser import HeardLetter, Recognition
@@ -35,25 +36,53 @@ def test_a_stop_takes_its_closure_from_the_end_of_the_phone_before():
     assert short[1].start == 0.28
 
 
-def test_a_recorded_closure_stretches_with_the_phone_before_but_not_over_a_pause():
+def test_a_recorded_closure_stretches_with_the_phone_before():
     vowel = PhoneEvent(0.10, 0.30, "a", 0)
-    stop = PhoneEvent(0.30, 0.40, "p", 1, closure=0.04)
-    # The recording speaks the vowel twice as slowly and pauses 0.5 s before the stop's word: the warp
-    # jumps over the pause between the vowel's end and the stop's burst.
-    warp = TimeWarp(
-        synthetic=np.array([0.10, 0.30 - JUMP, 0.30, 0.40]),
-        recorded=np.array([0.20, 0.60, 1.10, 1.20]),
-        recording_duration=2.0,
-    )
+    stop = PhoneEvent(0.30, 0.40, "p", 0, closure=0.04)
+    # The recording speaks the vowel and the stop twice as slowly, with no pause between them.
+    warp = TimeWarp(np.array([0.10, 0.30, 0.40]), np.array([0.20, 0.60, 0.80]), recording_duration=2.0)
     warped = warp_synthesis(synthesis(vowel, stop), warp, np.zeros(32000, np.int16)).phone_events
-    assert np.isclose(warped[1].start, 1.10)
-    assert np.isclose(warped[1].closure, 0.08, atol=1e-4)  # twice as long, the pause not in it
+    assert np.isclose(warped[1].start, 0.60) and np.isclose(warped[1].closure, 0.08, atol=1e-4)
     placed = with_closures(synthesis(*warped)).phone_events
-    assert np.isclose(placed[1].start, 1.02, atol=1e-4) and np.isclose(placed[0].end, 0.60, atol=1e-4)
-    # A phone before that swallowed a hesitation: its share is bounded.
+    assert np.isclose(placed[1].start, 0.52, atol=1e-4) and np.isclose(placed[0].end, 0.52, atol=1e-4)
+    # A phone before that swallowed a hesitation said aloud (0.2 s of eSpeak NG's vowel recorded as 2 s): the
+    # closure keeps the stop's own pace, not the vowel's (it was 0.15 s: a "t" after "bahçede eee" keyed
+    # 90 ms early).
     slow = TimeWarp(np.array([0.10, 0.30]), np.array([0.20, 2.20]), 3.0)
     stretched = warp_synthesis(synthesis(vowel, stop), slow, np.zeros(48000, np.int16)).phone_events
-    assert np.isclose(stretched[1].closure, min(CLOSURE_STRETCH * 0.04, LONGEST_CLOSURE))
+    assert np.isclose(stretched[1].closure, 0.04)
+    # However slow the stop's word, never longer than a person's closures go.
+    slower = TimeWarp(np.array([0.10, 0.30, 0.40]), np.array([0.20, 2.20, 3.20]), 4.0)
+    longest = warp_synthesis(synthesis(vowel, stop), slower, np.zeros(64000, np.int16)).phone_events
+    assert np.isclose(longest[1].closure, min(CLOSURE_STRETCH * 0.04, LONGEST_CLOSURE))
+
+
+@pytest.mark.parametrize(("vowel_stretch", "closure"), [(1.0, 0.04), (2.0, 0.06), (8.0, 0.06)])
+def test_after_a_pause_a_closure_stretches_no_more_than_the_stop_does(vowel_stretch, closure):
+    """The vowel before a pause may be drawn out (a phrase's end, a hesitation said aloud held in it): the
+    closure lies in the pause, stretched as that vowel is or as the stop's word is, whichever is less. It
+    used to take the vowel's stretch alone, up to 0.15 s: a "t" after "bahçede eee" keyed 90 ms early."""
+    vowel = PhoneEvent(0.10, 0.30, "a", 0)
+    stop = PhoneEvent(0.30, 0.40, "p", 1, closure=0.04)
+    after = PhoneEvent(0.40, 0.50, "a", 1)
+    # The stop's word is spoken 1.5 times as slowly, 0.5 s after the vowel ends: the warp jumps over the
+    # pause between the vowel's end and the stop's burst.
+    vowel_end = 0.20 + 0.20 * vowel_stretch
+    warp = TimeWarp(
+        synthetic=np.array([0.10, 0.30 - JUMP, 0.30, 0.50]),
+        recorded=np.array([0.20, vowel_end, vowel_end + 0.50, vowel_end + 0.80]),
+        recording_duration=5.0,
+    )
+    events = synthesis(vowel, stop, after)
+    warped = warp_synthesis(events, warp, np.zeros(80000, np.int16)).phone_events
+    assert np.isclose(warped[1].start, vowel_end + 0.50)
+    assert np.isclose(warped[1].closure, closure, atol=1e-4)  # the pause not in it
+    placed = with_closures(synthesis(*warped)).phone_events
+    assert np.isclose(placed[1].start, vowel_end + 0.50 - closure, atol=1e-4)
+    assert np.isclose(placed[0].end, vowel_end, atol=1e-4)
+    # Never longer than the pause it lies in.
+    brief = TimeWarp(warp.synthetic, np.array([0.20, 0.60, 0.63, 0.93]), 5.0)
+    assert np.isclose(warp_synthesis(events, brief, np.zeros(80000, np.int16)).phone_events[1].closure, 0.03)
 
 
 def test_a_recognised_stop_gets_its_closure_back_from_the_letter_before_it_in_its_phrase():

@@ -31,23 +31,31 @@ class TimeWarp:
 CLOSURE_STRETCH = 3.0  # a recorded closure lasts at most this many times the synthetic one ...
 LONGEST_CLOSURE = 0.15  # ... and at most this long (seconds)
 JUMP = 1e-6  # seconds between the two knots of a jump (ends of events are warped this much before them)
+PAUSE_BEFORE_CLOSURE = 0.01  # seconds of a jump of the warp right before a stop: a pause its closure lies in
 
 
 def warp_synthesis(synthesis: Synthesis, warp: TimeWarp, samples: np.ndarray) -> Synthesis:
     """The synthesis's events moved onto the recording's time, holding the recording's samples."""
     phones = synthesis.phone_events
     synthetic_starts = np.array([event.start for event in phones])
+    synthetic_ends = np.array([event.end for event in phones])
     starts = warp(synthetic_starts)
+    ends = warp(synthetic_ends - JUMP)  # a pause after a phone follows its end
     # A closure lasts as long as its part of the phone before it does in the recording (a pause between
-    # the two is a jump of the warp, which it does not take), but no longer than a person's closures go:
-    # the phone before may hold a hesitation the alignment did not see.
+    # the two is a jump of the warp, which it does not take), or as the stop's own phone and the one after
+    # it are slower or faster than eSpeak NG's, whichever is the shorter, but no longer than a person's
+    # closures go, nor than a pause before the stop: the phone before may be drawn out, or hold a
+    # hesitation said aloud the alignment took for its own.
     synthetic_closures = np.array([event.closure for event in phones])
-    closures = np.minimum(
-        warp(synthetic_starts - JUMP) - warp(synthetic_starts - synthetic_closures),
-        np.minimum(CLOSURE_STRETCH * synthetic_closures, LONGEST_CLOSURE),
-    )
+    before = warp(synthetic_starts - JUMP) - warp(synthetic_starts - synthetic_closures)
+    own_end = np.append(synthetic_ends[1:], synthetic_ends[-1:])
+    own = own_end - synthetic_starts
+    tempo = np.divide(warp(own_end - JUMP) - starts, own, out=np.ones_like(own), where=own > 0)
+    paused = starts - warp(synthetic_starts - JUMP)
+    pause = np.where(paused > PAUSE_BEFORE_CLOSURE, paused, np.inf)
+    closures = np.minimum(np.minimum(before, synthetic_closures * tempo), pause)
+    closures = np.minimum(closures, np.minimum(CLOSURE_STRETCH * synthetic_closures, LONGEST_CLOSURE))
     closures = np.where(synthetic_closures > 0, np.maximum(closures, 0.0), 0.0)
-    ends = warp(np.array([event.end for event in phones]) - JUMP)  # a pause after a phone follows its end
     words = synthesis.word_events
     word_starts = warp(np.array([event.start for event in words]))
     return Synthesis(
