@@ -401,3 +401,28 @@ def test_weights_that_do_not_fit_the_layout_are_refused_with_their_layer(tmp_pat
     layers["blocks.2.dilated.weight"] = layers["blocks.2.dilated.weight"][:, :64]
     with pytest.raises(DataError, match=r"do not fit its network \(blocks\.2\.dilated\.weight\)"):
         load_network(_weights_file(tmp_path / "broken.npz", layers))
+
+
+def test_a_hesitation_heard_with_a_few_other_frames_in_it_is_held_at_its_own_scores():
+    """ "ba eee de", the "eee" heard with a b-like frame every sixth (as the network hears eSpeak NG's and
+    people's): a pause holds it and "de" starts after it. A grey-scale opening (the least score over 0.3
+    s) priced every frame of it at a b frame's, under the e of "de", and the d was drawn to its start."""
+    silence, a, b, d, e = (CLASS_INDEX[name] for name in "_abde")
+    frames = 60
+    heard = np.full((33 + frames, len(CLASSES)), 1e-4)
+    for start, stop, name in ((0, 3, silence), (3, 6, b), (6, 10, a), (10, 13, silence)):
+        heard[start:stop, name] = 1.0
+    heard[13 : 13 + frames, e] = 1.0
+    heard[13 : 13 + frames : 6, e], heard[13 : 13 + frames : 6, b] = 0.2, 0.8
+    for start, stop, name in ((0, 3, silence), (3, 5, d), (5, 10, e), (10, 20, silence)):
+        heard[13 + frames + start : 13 + frames + stop, name] = 1.0
+    heard[13 + frames + 3 : 13 + frames + 5, e] = 0.3  # the d heard faintly, as a voiced stop often is
+    log_posteriors = np.log(heard / heard.sum(axis=1, keepdims=True))
+    units = np.array([CLASS_INDEX[name] for name in "bade"])
+    starts, shortest = np.array([True, False, True, False]), np.ones(len(CLASSES), np.int64)
+    model = letter_model(units, starts, shortest, marked=np.zeros(4, bool))
+    priors = np.full(len(CLASSES), 1 / len(CLASSES))
+    sounds = np.array([CLASS_INDEX[name] for name in "aeıioöuümn"])
+    found = force_align(log_posteriors, priors, model, None, None, None, sounds, 0.3, 30)
+    assert found.starts[2] == 13 + frames + 3
+    assert np.count_nonzero(found.frame_hesitations == e) >= frames - 5

@@ -115,7 +115,8 @@ class AlignerSettings:
     comma, no stop) free to hold a hesitation said aloud, one of these letters ("ııı", "eee", "mmm"; not
     the sound the word before ends on, nor the vowel the next word begins with; "" for none) ..."""
     hesitation_frames: int = 30
-    """... for at least this many frames (a word of such letters is no hesitation) ..."""
+    """... heard for at least this many frames of a run of frames / 0.6 (a word of such letters is no
+    hesitation) ..."""
     hesitation_longest_frames: int = 200
     """... and at most this many in one pause (music or a long noise between two lines is none) ..."""
     hesitation_cost: float = 0.3

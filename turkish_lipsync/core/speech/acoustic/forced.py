@@ -23,6 +23,12 @@ PRIOR_WEIGHT = 0.8  # posteriors / priors ** PRIOR_WEIGHT (the decoder's)
 ENTER_COST = 0.5  # natural-log units per letter entered: a slight push toward fewer, longer stays
 POSTERIOR_FLOOR = 1e-3
 PAUSE_COST = 2.0  # entering a pause between words costs this much more than going on speaking
+# A hesitation's sound is held where it scores within HELD_MARGIN of the frame's best class on
+# hesitation_frames frames of a run of hesitation_frames / HELD_SHARE: an "eee" the network hears with a few
+# b- or d-like frames in it is held at its own scores (a grey-scale opening, the least score over the run,
+# priced it under the next word's own vowel by about a nat a frame, and the word was drawn into it).
+HELD_MARGIN = 1.0
+HELD_SHARE = 0.6
 VITERBI_BLOCK_CELLS = 1 << 20  # the forward pass gathers its frames' band scores this many at a time
 
 
@@ -204,7 +210,7 @@ def _hesitating(
         none = np.full((len(scores), 1), -np.inf)
         return none, np.full(none.shape, -1), np.zeros(len(model.classes), np.int64)
     sounds = np.asarray(classes)
-    held = _held(scores[:, sounds], frames) - cost
+    held = _held(scores[:, sounds], scores.max(axis=1), frames) - cost
     theirs = _neighbouring_sounds(model)[:, :, None] == sounds[None, None, :]
     kinds, kind_of_state = np.unique(theirs.any(axis=1), axis=0, return_inverse=True)
     hesitating = np.full((len(scores), len(kinds)), -np.inf)
@@ -233,17 +239,19 @@ def _neighbouring_sounds(model: LetterModel) -> np.ndarray:
     return found
 
 
-def _held(scores: np.ndarray, frames: int) -> np.ndarray:
-    """Each column's scores where they are reached for at least `frames` frames in a row (a grey-scale
-    opening: the least over every window of that length, then the most over the windows holding each
-    frame); a sound heard more briefly keeps only what its longer neighbours reach."""
+def _held(scores: np.ndarray, best: np.ndarray, frames: int) -> np.ndarray:
+    """Each column's scores where it is held: within HELD_MARGIN of the frame's best score (`best`) on
+    `frames` frames or more of a run of frames / HELD_SHARE holding that frame (a sound heard more
+    briefly, a word's vowel between its consonants, is not held); -inf elsewhere."""
     if frames <= 1:
         return scores
     if len(scores) < frames:
         return np.full_like(scores, -np.inf)
-    least = np.lib.stride_tricks.sliding_window_view(scores, frames, axis=0).min(axis=-1)
-    padded = np.pad(least, ((frames - 1, frames - 1), (0, 0)), constant_values=-np.inf)
-    return np.lib.stride_tricks.sliding_window_view(padded, frames, axis=0).max(axis=-1)
+    run = min(len(scores), int(np.ceil(frames / HELD_SHARE)))
+    near = np.concatenate(([[0] * scores.shape[1]], np.cumsum(scores >= best[:, None] - HELD_MARGIN, axis=0)))
+    runs_held = np.pad((near[run:] - near[:-run]) >= frames, ((run - 1, run - 1), (0, 0)))
+    holding = np.concatenate(([[0] * scores.shape[1]], np.cumsum(runs_held, axis=0)))
+    return np.where(holding[run:] - holding[:-run] > 0, scores, -np.inf)
 
 
 def _transitions(model: LetterModel) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
