@@ -19,6 +19,7 @@ from turkish_lipsync.core.speech.acoustic.features import (
 from turkish_lipsync.core.speech.acoustic.forced import (
     POSTERIOR_FLOOR,
     PRIOR_WEIGHT,
+    ForcedAlignment,
     _transitions,
     force_align,
     letter_model,
@@ -28,7 +29,7 @@ from turkish_lipsync.core.speech.acoustic.labels import CLASS_INDEX, CLASSES
 from turkish_lipsync.core.speech.acoustic.network import PEOPLE_WEIGHTS_FILE, WEIGHTS_FILE, load_network
 from turkish_lipsync.core.speech.audio import resample
 from turkish_lipsync.core.speech.features import ANALYSIS_RATE, HOP, WINDOW, frame_count
-from turkish_lipsync.core.speech.letter_warp import spoken_hesitations
+from turkish_lipsync.core.speech.letter_warp import _hesitation_drawn_in, spoken_hesitations
 from turkish_lipsync.core.text.utterance import build_utterance, read_aloud
 
 
@@ -426,3 +427,22 @@ def test_a_hesitation_heard_with_a_few_other_frames_in_it_is_held_at_its_own_sco
     found = force_align(log_posteriors, priors, model, None, None, None, sounds, 0.3, 30)
     assert found.starts[2] == 13 + frames + 3
     assert np.count_nonzero(found.frame_hesitations == e) >= frames - 5
+
+
+def test_each_word_a_hesitation_seems_drawn_into_is_told():
+    """ "bal demek gerek" with an "eee" drawn into the e inside "demek" (40 frames) and one into the e
+    inside "gerek" (35): both words are told, so that a second alignment may move both (it was the
+    longest alone, and a second alignment that put the other word right too was not kept)."""
+    utterance = build_utterance("bal demek gerek")
+    units = text_units(utterance)
+    lengths = np.full(len(units.classes), 5)
+    lengths[4], lengths[9] = 40, 35  # the first e of "demek", of "gerek"
+    stops = np.cumsum(lengths)
+    starts = stops - lengths
+    frames = int(stops[-1])
+    frame_letters = np.repeat(np.arange(len(lengths)), lengths)
+    found = ForcedAlignment(starts, stops, frame_letters, np.zeros(frames), np.full(frames, -1))
+    word_of_letter = np.array([utterance.letters[letter].word_index for letter in units.letters])
+    silence = np.full(frames, CLASS_INDEX["_"])
+    drawn_in = _hesitation_drawn_in(units, found, silence, word_of_letter, len(utterance.words))
+    assert drawn_in.tolist() == [5, 40, 35]

@@ -48,8 +48,7 @@ def take_of(word_mismatch: list[float], order_ratio: float, text: str, gap_frame
         recorded_under_speech=np.where(spoken, 0.0, 40.0),
         lead=0,
         order_ratio=order_ratio,
-        hesitation_drawn_in=5,
-        hesitation_drawn_in_word=-1,
+        hesitation_drawn_in=np.zeros(len(utterance.words), np.int64),
     )
     warp = TimeWarp(
         synthetic=np.array([0.0, frames / 100]),

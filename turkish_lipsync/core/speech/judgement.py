@@ -51,8 +51,7 @@ class Fit:
     recorded_under_speech: np.ndarray  # dB under the recording's loud frames, per frame
     lead: int
     order_ratio: float  # the path's cost over the cost with the text's sounds in reverse order
-    hesitation_drawn_in: int  # frames: a hesitation said aloud drawn into a word (LetterFit) ...
-    hesitation_drawn_in_word: int  # ... into this word (-1: none)
+    hesitation_drawn_in: np.ndarray  # per word: frames of a hesitation said aloud drawn into it (LetterFit)
 
 
 def word_frames(utterance: Utterance, phone_events: tuple[PhoneEvent, ...], lead: int) -> np.ndarray:

@@ -56,9 +56,9 @@ class LetterFit:
     heard_letters: np.ndarray  # the network's best class is a letter, not silence, nor a hesitation's
     # the class of a hesitation's sound ("ııı") a pause holds, which no letter is drawn into (-1: none)
     hesitations: np.ndarray
-    # frames: the longest hesitation said aloud the path seems to draw into a word (_hesitation_drawn_in) ...
-    hesitation_drawn_in: int
-    hesitation_drawn_in_word: int  # ... into this word (-1: none)
+    # per word: the most frames of a hesitation said aloud the path seems to draw into it
+    # (_hesitation_drawn_in)
+    hesitation_drawn_in: np.ndarray
 
 
 def letter_warp(
@@ -139,15 +139,15 @@ def letter_warp(
         scaled.max(axis=1) - text_score,
         heard_letters,
         hesitations,
-        *_hesitation_drawn_in(units, found, scaled.argmax(axis=1), word_of_letter),
+        _hesitation_drawn_in(units, found, scaled.argmax(axis=1), word_of_letter, len(utterance.words)),
     )
 
 
 def _hesitation_drawn_in(
-    units: TextUnits, found: ForcedAlignment, best: np.ndarray, word_of_letter: np.ndarray
-) -> tuple[int, int]:
-    """The most frames of a hesitation said aloud in a pause the text does not mark that the path seems
-    to have drawn into a word beside it, and that word (-1: none): frames the network hears a vowel as
+    units: TextUnits, found: ForcedAlignment, best: np.ndarray, word_of_letter: np.ndarray, words: int
+) -> np.ndarray:
+    """Per word, the most frames of a hesitation said aloud in a pause the text does not mark that the
+    path seems to have drawn into it (0 for a word beside no such pause): frames the network hears a vowel as
     its best class inside a consonant at the word's edge ("eee" into the b of "balkonda"), or a vowel
     inside the word held that long ("eee" into the e of "gelmeden": g a frame long, then the e through
     the hesitation). A word's first or last letter held long is its own (a drawn-out vowel, a room's
@@ -168,9 +168,9 @@ def _hesitation_drawn_in(
         vowels & ~units.word_starts & ~ends & placed & np.isin(word_of_letter, words_beside)
     )
     frames[inner] = found.stops[inner] - found.starts[inner]
-    if not frames.any():
-        return 0, -1
-    return int(frames.max()), int(word_of_letter[frames.argmax()])
+    drawn_in = np.zeros(words, np.int64)
+    np.maximum.at(drawn_in, word_of_letter, frames)
+    return drawn_in
 
 
 def frame_edge_seconds(frames: np.ndarray) -> np.ndarray:

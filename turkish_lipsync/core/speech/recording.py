@@ -255,6 +255,8 @@ def align_recording(
         else:
             if isinstance(kept, AudioError) or isinstance(again[2], RecordingAlignment):
                 fitted, take, kept = again
+    # The words a hesitation said aloud seems drawn into (letter_warp's _hesitation_drawn_in).
+    drawn_in = np.flatnonzero(fitted.fit.hesitation_drawn_in >= hesitating.hesitation_frames)
     if isinstance(kept, AudioError) or kept.warnings:
         # A list typed with no commas, read item by item: aligned again as read, a pause before each item
         # (the take as the first alignment read and measured it).
@@ -280,19 +282,19 @@ def align_recording(
             ):
                 again = AudioError("a word moved further than a hesitation lasts")
             kept = _fewer_warnings(kept, again)
-    elif hesitating.hesitation_sounds and fitted.fit.hesitation_drawn_in >= hesitating.hesitation_frames:
+    elif hesitating.hesitation_sounds and drawn_in.size:
         # A hesitation said aloud seemingly drawn into a word beside a pause the text does not mark,
         # though the fit draws no warning: a vowel heard as long as one in a consonant at the word's edge
         # ("eee" into the b of "balkonda"), or a vowel inside the word held that long (into the e of
         # "gelmeden"). Aligned again with pauses that may hold one, and kept where that fits as well,
-        # draws none into a word and moves no word but that one and its neighbours (a long take's music
+        # draws none into a word and moves no word but those and their neighbours (a long take's music
         # or noise taken for a hesitation elsewhere moves others).
         hesitated, again = _hesitated(utterance, take, engine, hesitating)
         if (
             isinstance(again, RecordingAlignment)
             and not again.warnings
-            and hesitated.fit.hesitation_drawn_in < hesitating.hesitation_frames
-            and _moved_beside(kept, again, fitted.fit.hesitation_drawn_in_word)
+            and hesitated.fit.hesitation_drawn_in.max(initial=0) < hesitating.hesitation_frames
+            and _moved_beside(kept, again, drawn_in)
         ):
             kept = again
     if isinstance(kept, AudioError):
@@ -312,11 +314,12 @@ def _moves(first: RecordingAlignment, again: RecordingAlignment) -> dict[int, fl
     }
 
 
-def _moved_beside(first: RecordingAlignment, again: RecordingAlignment, word: int) -> bool:
-    """Whether every word the second alignment moves from where the first put it is `word` or next to
-    it."""
+def _moved_beside(first: RecordingAlignment, again: RecordingAlignment, words: np.ndarray) -> bool:
+    """Whether every word the second alignment moves from where the first put it is one of `words` or
+    next to one."""
     return all(
-        moved <= MOVED_SECONDS or abs(index - word) <= 1 for index, moved in _moves(first, again).items()
+        moved <= MOVED_SECONDS or bool(np.any(np.abs(words - index) <= 1))
+        for index, moved in _moves(first, again).items()
     )
 
 
@@ -513,7 +516,6 @@ def _fitted(
         found.lead,
         found.order_ratio,
         letters.hesitation_drawn_in,
-        letters.hesitation_drawn_in_word,
     )
     return RecordingFit(
         rendered.reference.phone_events, letters.warp, synthesis, fit, take.name, take.clipped
