@@ -259,7 +259,7 @@ def test_an_eee_drawn_into_a_vowel_inside_the_next_word_is_taken_out_of_it(tmp_p
 def test_a_stop_after_a_hesitation_said_aloud_starts_at_its_closure(tmp_path):
     """ "Çocuklar bahçede eee top ...": the e "bahçede" ends on holds the hesitation (as its own, drawn out),
     and the closure of the t after it was measured on that e's stretch, 0.15 s: "top" keyed 0.1 s early.
-    Now a closure stretches no more than the stop's own word does."""
+    Now a closure after a vowel drawn out past a person's closures keeps the stop's word's pace."""
     text = "Çocuklar bahçede top oynarken komşunun kedisi ağaca tırmandı."
     take = said_aloud(take_of(text), "eeeeee", 0.8, 0.8, before=(2,))
     speech, error = aligned(quiet_room(take), tmp_path, text)

@@ -42,19 +42,21 @@ def warp_synthesis(synthesis: Synthesis, warp: TimeWarp, samples: np.ndarray) ->
     starts = warp(synthetic_starts)
     ends = warp(synthetic_ends - JUMP)  # a pause after a phone follows its end
     # A closure lasts as long as its part of the phone before it does in the recording (a pause between
-    # the two is a jump of the warp, which it does not take), or as the stop's own phone and the one after
-    # it are slower or faster than eSpeak NG's, whichever is the shorter, but no longer than a person's
-    # closures go, nor than a pause before the stop: the phone before may be drawn out, or hold a
-    # hesitation said aloud the alignment took for its own.
+    # the two is a jump of the warp, which it does not take), but no longer than a person's closures go.
+    # Where that phone is drawn out past them (a vowel holding a hesitation said aloud that the alignment
+    # took for its own), the closure is as much longer or shorter than eSpeak NG's as the stop and the
+    # phone after it are, and no longer than a pause before the stop.
     synthetic_closures = np.array([event.closure for event in phones])
+    longest = np.minimum(CLOSURE_STRETCH * synthetic_closures, LONGEST_CLOSURE)
     before = warp(synthetic_starts - JUMP) - warp(synthetic_starts - synthetic_closures)
     own_end = np.append(synthetic_ends[1:], synthetic_ends[-1:])
     own = own_end - synthetic_starts
     tempo = np.divide(warp(own_end - JUMP) - starts, own, out=np.ones_like(own), where=own > 0)
     paused = starts - warp(synthetic_starts - JUMP)
-    pause = np.where(paused > PAUSE_BEFORE_CLOSURE, paused, np.inf)
-    closures = np.minimum(np.minimum(before, synthetic_closures * tempo), pause)
-    closures = np.minimum(closures, np.minimum(CLOSURE_STRETCH * synthetic_closures, LONGEST_CLOSURE))
+    at_own_pace = np.minimum(
+        synthetic_closures * tempo, np.where(paused > PAUSE_BEFORE_CLOSURE, paused, np.inf)
+    )
+    closures = np.minimum(np.where(before > longest, at_own_pace, before), longest)
     closures = np.where(synthetic_closures > 0, np.maximum(closures, 0.0), 0.0)
     words = synthesis.word_events
     word_starts = warp(np.array([event.start for event in words]))
