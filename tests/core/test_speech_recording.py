@@ -586,3 +586,21 @@ def test_a_hesitation_is_held_for_a_person_s_length_in_one_pause(pieces, held):
     sounds = np.concatenate([np.full(n, sound if sound not in (0, 1) else -1) for sound, n in pieces])
     fit = SimpleNamespace(hesitations=sounds, frame_words=words)
     assert recording_module._held_hesitations(fit, 2, AlignerSettings()) is held
+
+
+@pytest.mark.parametrize(
+    ("second", "held"),
+    [
+        (20, True),  # the rest of the second "eee" drawn into the word after it
+        (10, False),  # a tenth of a second: a sound of another text's, not a hesitation
+    ],
+)
+def test_a_second_hesitation_may_be_held_in_part(second, held):
+    """Two pauses, each holding an "eee": one 0.6 s, the other `second` frames of one (the alignment with
+    hesitations allowed drew the rest of it into the next word's e). Half a hesitation's frames are
+    enough for the second: "Uçağımız rötar ... eee bekledik" was refused for its 20, and warned."""
+    pieces = [(0, 50), (5, 60), (1, 50), (-1, 20), (5, second), (2, 50)]
+    words = np.concatenate([np.full(n, word if word in (0, 1, 2) else -1) for word, n in pieces])
+    sounds = np.concatenate([np.full(n, sound if sound == 5 else -1) for sound, n in pieces])
+    fit = SimpleNamespace(hesitations=sounds, frame_words=words)
+    assert recording_module._held_hesitations(fit, 6, AlignerSettings()) is held

@@ -341,11 +341,11 @@ def _hesitated(
 
 
 def _held_hesitations(fit: Fit, words: int, settings: AlignerSettings) -> bool:
-    """Whether an alignment's pauses hold hesitations as a person's are: at least one pause holding one,
-    each such pause with hesitation_frames to hesitation_longest_frames of it (a breath or a few quiet
-    frames may split one "ııı"; music between two lines is far longer), and at most one such pause for
-    every hesitation_words words of the text (another text's sounds left to its pauses are many and
-    short)."""
+    """Whether an alignment's pauses hold hesitations as a person's are: at least one pause with
+    hesitation_frames to hesitation_longest_frames of one (a breath or a few quiet frames may split one
+    "ııı"; music between two lines is far longer), any other such pause with at least half as many (the
+    rest of an "eee" may still be drawn into the word after it), and at most one such pause for every
+    hesitation_words words of the text (another text's sounds left to its pauses are many and short)."""
     held = np.array(
         [np.count_nonzero(fit.hesitations[start:stop] >= 0) for start, stop in runs(fit.frame_words < 0)]
     )
@@ -353,7 +353,8 @@ def _held_hesitations(fit: Fit, words: int, settings: AlignerSettings) -> bool:
     most = -(-words // settings.hesitation_words)
     return (
         0 < len(held) <= most
-        and bool(np.all(held >= settings.hesitation_frames))
+        and bool(np.any(held >= settings.hesitation_frames))
+        and bool(np.all(2 * held >= settings.hesitation_frames))
         and bool(np.all(held <= settings.hesitation_longest_frames))
     )
 
