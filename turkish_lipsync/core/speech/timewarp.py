@@ -48,11 +48,12 @@ def warp_synthesis(synthesis: Synthesis, warp: TimeWarp, samples: np.ndarray) ->
     # phone after it are, and no longer than a pause before the stop.
     synthetic_closures = np.array([event.closure for event in phones])
     longest = np.minimum(CLOSURE_STRETCH * synthetic_closures, LONGEST_CLOSURE)
-    before = warp(synthetic_starts - JUMP) - warp(synthetic_starts - synthetic_closures)
+    just_before = warp(synthetic_starts - JUMP)
+    before = just_before - warp(synthetic_starts - synthetic_closures)
     own_end = np.append(synthetic_ends[1:], synthetic_ends[-1:])
     own = own_end - synthetic_starts
     tempo = np.divide(warp(own_end - JUMP) - starts, own, out=np.ones_like(own), where=own > 0)
-    paused = starts - warp(synthetic_starts - JUMP)
+    paused = starts - just_before
     at_own_pace = np.minimum(
         synthetic_closures * tempo, np.where(paused > PAUSE_BEFORE_CLOSURE, paused, np.inf)
     )

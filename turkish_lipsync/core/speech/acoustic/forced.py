@@ -248,10 +248,15 @@ def _held(scores: np.ndarray, best: np.ndarray, frames: int) -> np.ndarray:
     if len(scores) < frames:
         return np.full_like(scores, -np.inf)
     run = min(len(scores), int(np.ceil(frames / HELD_SHARE)))
-    near = np.concatenate(([[0] * scores.shape[1]], np.cumsum(scores >= best[:, None] - HELD_MARGIN, axis=0)))
-    runs_held = np.pad((near[run:] - near[:-run]) >= frames, ((run - 1, run - 1), (0, 0)))
-    holding = np.concatenate(([[0] * scores.shape[1]], np.cumsum(runs_held, axis=0)))
-    return np.where(holding[run:] - holding[:-run] > 0, scores, -np.inf)
+    runs_held = _run_sums(scores >= best[:, None] - HELD_MARGIN, run) >= frames  # the run from each frame
+    holding = _run_sums(np.pad(runs_held, ((run - 1, run - 1), (0, 0))), run)  # the runs over each frame
+    return np.where(holding > 0, scores, -np.inf)
+
+
+def _run_sums(flags: np.ndarray, run: int) -> np.ndarray:
+    """Each column's count of true flags in every run of `run` rows, one per row a run can start on."""
+    counts = np.cumsum(flags, axis=0)
+    return counts[run - 1 :] - np.concatenate((np.zeros((1, flags.shape[1]), counts.dtype), counts[:-run]))
 
 
 def _transitions(model: LetterModel) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
