@@ -443,6 +443,81 @@ def test_each_word_a_hesitation_seems_drawn_into_is_told():
     frame_letters = np.repeat(np.arange(len(lengths)), lengths)
     found = ForcedAlignment(starts, stops, frame_letters, np.zeros(frames), np.full(frames, -1))
     word_of_letter = np.array([utterance.letters[letter].word_index for letter in units.letters])
-    silence = np.full(frames, CLASS_INDEX["_"])
+    silence = np.full((frames, len(CLASSES)), -10.0)
+    silence[:, CLASS_INDEX["_"]] = 0.0
     drawn_in = _hesitation_drawn_in(units, found, silence, word_of_letter, len(utterance.words))
     assert drawn_in.tolist() == [5, 40, 35]
+
+
+def _hesitation_before_a_word_of_its_sound(parting: int) -> np.ndarray:
+    """Log posteriors of "ba eee ede": "ba", 60 frames of e, `parting` frames of silence, "ede"."""
+    silence, a, b, d, e = (CLASS_INDEX[name] for name in "_abde")
+    frames = 60
+    heard = np.full((13 + frames + parting + 20, len(CLASSES)), 1e-4)
+    for start, stop, name in ((0, 3, silence), (3, 6, b), (6, 10, a), (10, 13, silence)):
+        heard[start:stop, name] = 1.0
+    heard[13 : 13 + frames, e] = 1.0
+    heard[13 + frames : 13 + frames + parting, silence] = 1.0
+    word = 13 + frames + parting
+    for start, stop, name in ((0, 5, e), (5, 8, d), (8, 13, e), (13, 20, silence)):
+        heard[word + start : word + stop, name] = 1.0
+    return np.log(heard / heard.sum(axis=1, keepdims=True))
+
+
+@pytest.mark.parametrize("parting", [0, 8])
+def test_a_hesitation_of_the_next_words_first_vowel_is_held_only_where_a_silence_parts_them(parting):
+    """ "ba eee, ede": where a silence parts the "eee" from the word, the pause holds it and the word
+    starts after the silence ("eee, eğlenceliydi"); where none does, it is the word's own first vowel
+    drawn out ("eeede"), and the word starts where it does."""
+    log_posteriors = _hesitation_before_a_word_of_its_sound(parting)
+    units = np.array([CLASS_INDEX[name] for name in "baede"])
+    starts, shortest = np.array([True, False, True, False, False]), np.ones(len(CLASSES), np.int64)
+    model = letter_model(units, starts, shortest, marked=np.zeros(5, bool))
+    priors = np.full(len(CLASSES), 1 / len(CLASSES))
+    sounds = np.array([CLASS_INDEX[name] for name in "aeıioöuümn"])
+    found = force_align(log_posteriors, priors, model, None, None, None, sounds, 0.3, 30)
+    assert found.starts[2] == (13 + 60 + parting if parting else 13)
+    assert np.count_nonzero(found.frame_hesitations >= 0) == (60 if parting else 0)
+
+
+@pytest.mark.parametrize("parting", [0, 8])
+def test_a_words_first_vowel_holding_a_hesitation_parted_from_it_is_told(parting):
+    """The path draws "ba eee, ede"'s hesitation into the first e of "ede": told as drawn in where a
+    silence parts it from the rest of the vowel inside the letter, not where the vowel is one (a drawn-out
+    vowel is the word's own)."""
+    log_posteriors = _hesitation_before_a_word_of_its_sound(parting)
+    utterance = build_utterance("ba ede")
+    units = text_units(utterance)
+    lengths = np.array([3, 4, 3 + 60 + parting + 5, 3, 5])
+    stops = 3 + np.cumsum(lengths)
+    starts = stops - lengths
+    frame_letters = np.full(len(log_posteriors), -1)
+    for letter, (start, stop) in enumerate(zip(starts, stops, strict=True)):
+        frame_letters[start:stop] = letter
+    found = ForcedAlignment(
+        starts, stops, frame_letters, np.zeros(len(frame_letters)), np.full(len(frame_letters), -1)
+    )
+    word_of_letter = np.array([utterance.letters[letter].word_index for letter in units.letters])
+    drawn_in = _hesitation_drawn_in(units, found, log_posteriors, word_of_letter, len(utterance.words))
+    assert drawn_in.tolist() == [0, 60 if parting else 0]
+
+
+def test_a_hesitation_heard_nearly_as_a_vowel_inside_a_consonant_is_told():
+    """ "im parator": the "eee" drawn into the p, heard as e on most frames and as b on every sixth
+    (within a nat of the e): each of its frames counts, the b-like ones too, and both words beside the
+    join are told (the m and the p at it may share a hold between them)."""
+    utterance = build_utterance("im parator")
+    units = text_units(utterance)
+    lengths = np.array([5, 5, 60, 5, 5, 5, 5, 5, 5])
+    stops = np.cumsum(lengths)
+    starts = stops - lengths
+    heard = np.full((int(stops[-1]), len(CLASSES)), -10.0)
+    heard[np.arange(len(heard)), units.classes[np.repeat(np.arange(len(lengths)), lengths)]] = 0.0
+    p = slice(int(starts[2]), int(stops[2]))
+    heard[p, CLASS_INDEX["p"]] = -10.0
+    heard[p, CLASS_INDEX["e"]] = 0.0
+    heard[p][::6, CLASS_INDEX["b"]] = 0.5
+    frame_letters = np.repeat(np.arange(len(lengths)), lengths)
+    found = ForcedAlignment(starts, stops, frame_letters, np.zeros(len(heard)), np.full(len(heard), -1))
+    word_of_letter = np.array([utterance.letters[letter].word_index for letter in units.letters])
+    assert _hesitation_drawn_in(units, found, heard, word_of_letter, 2).tolist() == [60, 60]

@@ -604,3 +604,13 @@ def test_a_second_hesitation_may_be_held_in_part(second, held):
     sounds = np.concatenate([np.full(n, sound if sound == 5 else -1) for sound, n in pieces])
     fit = SimpleNamespace(hesitations=sounds, frame_words=words)
     assert recording_module._held_hesitations(fit, 6, AlignerSettings()) is held
+
+
+def test_a_word_squeezed_to_its_letters_shortest_is_told():
+    """ "ga lyu": a second alignment that held the o of "lyu" (said "ljooo") as a hesitation before it
+    left the word 6 frames, 2 a letter: squeezed, and that alignment is not kept; 40 frames are not."""
+    utterance = build_utterance("ga lyu")
+    for frames, squeezed in ((6, True), (9, False), (40, False)):
+        words = np.concatenate([np.full(20, 0), np.full(50, -1), np.full(frames, 1)])
+        fit = SimpleNamespace(frame_words=words)
+        assert recording_module._squeezed(fit, utterance).tolist() == [False, squeezed]

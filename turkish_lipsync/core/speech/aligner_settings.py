@@ -112,8 +112,9 @@ class AlignerSettings:
     after it are not drawn before it into the dying sound of the line before."""
     hesitation_sounds: str = "aeıioöuümn"
     """A take still warned is aligned again with each pause between two words the text does not part (no
-    comma, no stop) free to hold a hesitation said aloud, one of these letters ("ııı", "eee", "mmm"; not
-    the sound the word before ends on, nor the vowel the next word begins with; "" for none) ..."""
+    comma, no stop) free to hold a hesitation said aloud, one of these letters ("ııı", "eee", "mmm"; the
+    sound the word before ends on, or the vowel the next word begins with, only where a silence parts the
+    hold from that word; "" for none) ..."""
     hesitation_frames: int = 30
     """... heard for at least this many frames of a run of frames / 0.6 (a word of such letters is no
     hesitation) ..."""
@@ -125,8 +126,8 @@ class AlignerSettings:
     hesitation_words: int = 3
     """... and at most one for every this many words of the text (another text's sounds the alignment
     leaves to its pauses are many). A take that fits with no warning is aligned so too where the network
-    hears a vowel for hesitation_frames inside a consonant beside such a pause (a hesitation
-    drawn into the next word's first letter), and kept where it then draws no warning and no such vowel
+    hears a vowel for hesitation_frames inside a consonant of a word beside such a pause (a hesitation
+    drawn into the next word), and kept where it then draws no warning and no such vowel
     and moves no word but that consonant's and its neighbours."""
 
     # -- the judgement: a confidence per phrase, another text refused, warnings

@@ -22,12 +22,14 @@ import numpy as np
 from ..base.model import Hesitation, Utterance
 from ..text.visemes import viseme_for_letter
 from .acoustic.forced import (
+    HELD_MARGIN,
     PRIOR_WEIGHT,
     ForcedAlignment,
     LetterModel,
     TextUnits,
     force_align,
     letter_model,
+    parting_gaps,
     text_units,
 )
 from .acoustic.labels import CLASS_INDEX, CLASSES, SILENCE, VOWEL_CLASSES, near_sounds
@@ -139,37 +141,55 @@ def letter_warp(
         scaled.max(axis=1) - text_score,
         heard_letters,
         hesitations,
-        _hesitation_drawn_in(units, found, scaled.argmax(axis=1), word_of_letter, len(utterance.words)),
+        _hesitation_drawn_in(units, found, scaled, word_of_letter, len(utterance.words)),
     )
 
 
 def _hesitation_drawn_in(
-    units: TextUnits, found: ForcedAlignment, best: np.ndarray, word_of_letter: np.ndarray, words: int
+    units: TextUnits, found: ForcedAlignment, scaled: np.ndarray, word_of_letter: np.ndarray, words: int
 ) -> np.ndarray:
     """Per word, the most frames of a hesitation said aloud in a pause the text does not mark that the
-    path seems to have drawn into it (0 for a word beside no such pause): frames the network hears a vowel as
-    its best class inside a consonant at the word's edge ("eee" into the b of "balkonda"), or a vowel
-    inside the word held that long ("eee" into the e of "gelmeden": g a frame long, then the e through
-    the hesitation). A word's first or last letter held long is its own (a drawn-out vowel, a room's
-    tail), as forced alignment's hesitations leave it."""
+    path seems to have drawn into it (0 for a word beside no such pause), from what the network hears
+    (`scaled`, frames x classes): frames a vowel is heard as, or nearly as (forced.HELD_MARGIN), the best
+    class inside one of the word's consonants ("eee" into the b of "balkonda", or into the p of
+    "İmparatorluğu" after an İ a frame long; or into both consonants of a join, the m and the g of
+    "Ağabeyim ııı geçen"), or a vowel inside the word held that long ("eee" into the e
+    of "gelmeden": g a frame long, then the e through the hesitation). A word's first or last letter held
+    long is its own (a drawn-out vowel, a room's tail) unless a pause parts the hold from the rest of the
+    word inside it (forced.PARTING_FRAMES of silence: "eee", a breath, "eğlenceliydi"); then the vowel
+    heard on the far side of that pause counts."""
     joins = units.word_starts & ~units.marked
     joins[0] = False
     ends = np.append(units.word_starts[1:], True)
-    beside = joins | np.append(joins[1:], False)
+    after_join, before_join = joins, np.append(joins[1:], False)
+    words_beside = np.unique(word_of_letter[np.flatnonzero(after_join | before_join)])
+    placed = (found.starts >= 0) & np.isin(word_of_letter, words_beside)
     vowels = np.isin(units.classes, VOWEL_CLASSES)
-    placed = found.starts >= 0
-    held = np.concatenate(([0], np.cumsum(np.isin(best, VOWEL_CLASSES))))
+    vowel_like = scaled[:, VOWEL_CLASSES].max(axis=1) >= scaled.max(axis=1) - HELD_MARGIN
+    held = np.concatenate(([0], np.cumsum(vowel_like)))
     frames = np.zeros(len(units.classes), np.int64)
-    consonants = np.flatnonzero(~vowels & beside & placed)
+    consonants = np.flatnonzero(~vowels & placed)
     frames[consonants] = held[found.stops[consonants]] - held[found.starts[consonants]]
-    # The words beside each such pause, and their vowels that neither begin nor end them.
-    words_beside = np.unique(word_of_letter[np.flatnonzero(beside)])
-    inner = np.flatnonzero(
-        vowels & ~units.word_starts & ~ends & placed & np.isin(word_of_letter, words_beside)
-    )
+    inner = np.flatnonzero(vowels & ~units.word_starts & ~ends & placed)
     frames[inner] = found.stops[inner] - found.starts[inner]
+    gaps = parting_gaps(scaled.argmax(axis=1) == CLASS_INDEX[SILENCE])
+    for letter in np.flatnonzero(vowels & placed & ((units.word_starts & after_join) | (ends & before_join))):
+        start, stop = int(found.starts[letter]), int(found.stops[letter])
+        first = int(np.searchsorted(gaps[:, 0], start, side="right"))
+        last = int(np.searchsorted(gaps[:, 1], stop, side="left"))  # gaps[first:last] lie inside
+        if first >= last:
+            continue
+        if units.word_starts[letter] and after_join[letter]:  # the hold before the word's own start
+            frames[letter] = held[gaps[last - 1, 0]] - held[start]
+        if ends[letter] and before_join[letter]:  # the hold after the word's own end
+            frames[letter] = max(frames[letter], held[stop] - held[gaps[first, 1]])
     drawn_in = np.zeros(words, np.int64)
     np.maximum.at(drawn_in, word_of_letter, frames)
+    # A hold split between the consonants either side of a join ("Ağabeyim ııı geçen": the m and the g).
+    after = np.flatnonzero(after_join)
+    split = np.where(vowels[after - 1] | vowels[after], 0, frames[after - 1] + frames[after])
+    np.maximum.at(drawn_in, word_of_letter[after - 1], split)
+    np.maximum.at(drawn_in, word_of_letter[after], split)
     return drawn_in
 
 

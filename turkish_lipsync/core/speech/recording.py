@@ -282,19 +282,26 @@ def align_recording(
             ):
                 again = AudioError("a word moved further than a hesitation lasts")
             kept = _fewer_warnings(kept, again)
-    elif hesitating.hesitation_sounds and drawn_in.size:
+    elif (
+        hesitating.hesitation_sounds
+        and drawn_in.size
+        and not pauses_read_as_list(utterance, fitted.phone_events, fitted.warp, settings)
+    ):
         # A hesitation said aloud seemingly drawn into a word beside a pause the text does not mark,
         # though the fit draws no warning: a vowel heard as long as one in a consonant at the word's edge
         # ("eee" into the b of "balkonda"), or a vowel inside the word held that long (into the e of
         # "gelmeden"). Aligned again with pauses that may hold one, and kept where that fits as well,
         # draws none into a word and moves no word but those and their neighbours (a long take's music
-        # or noise taken for a hesitation elsewhere moves others).
+        # or noise taken for a hesitation elsewhere moves others), and squeezes no word to its letters'
+        # shortest (a word's own drawn-out sound taken for a hesitation before it). Not a list read
+        # item by item: an item's held vowel is its own (the people's lists typed with spaces).
         hesitated, again = _hesitated(utterance, take, engine, hesitating)
         if (
             isinstance(again, RecordingAlignment)
             and not again.warnings
             and hesitated.fit.hesitation_drawn_in.max(initial=0) < hesitating.hesitation_frames
             and _moved_beside(kept, again, drawn_in)
+            and not np.any(_squeezed(hesitated.fit, utterance) & ~_squeezed(fitted.fit, utterance))
         ):
             kept = again
     if isinstance(kept, AudioError):
@@ -303,6 +310,16 @@ def align_recording(
 
 
 MOVED_SECONDS = 0.1  # a word's onset moved by more than this between two alignments has moved
+SQUEEZED_FRAMES = 3  # a word given fewer frames than this per letter is squeezed to its letters' shortest
+
+
+def _squeezed(fit: Fit, utterance: Utterance) -> np.ndarray:
+    """Per word, whether the alignment gives it fewer than SQUEEZED_FRAMES frames a letter: a second
+    alignment that squeezes a word so took its own sound for a hesitation (a list's "lyu" said "ljooo",
+    its o held in the pause before it and the word 60 ms long)."""
+    frames = np.bincount(fit.frame_words[fit.frame_words >= 0], minlength=len(utterance.words))
+    letters = np.array([word.letter_count for word in utterance.words])
+    return frames < SQUEEZED_FRAMES * letters
 
 
 def _moves(first: RecordingAlignment, again: RecordingAlignment) -> dict[int, float]:

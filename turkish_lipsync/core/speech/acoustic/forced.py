@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...base.model import Utterance
+from ..voice_activity import runs
 from .labels import CLASS_INDEX, SILENCE, VOWEL_CLASSES
 
 PRIOR_WEIGHT = 0.8  # posteriors / priors ** PRIOR_WEIGHT (the decoder's)
@@ -29,6 +30,11 @@ PAUSE_COST = 2.0  # entering a pause between words costs this much more than goi
 # priced it under the next word's own vowel by about a nat a frame, and the word was drawn into it).
 HELD_MARGIN = 1.0
 HELD_SHARE = 0.6
+# A pause may hold the sound the word before it ends on, or the vowel the next word begins with, only where
+# PARTING_FRAMES or more of silence part the hold from that word, within PARTING_REACH frames of the hold's
+# end (its fade): "eee, eğlenceliydi" is a hesitation, "eeeğlenceliydi" a drawn-out vowel.
+PARTING_FRAMES = 5
+PARTING_REACH = 5
 VITERBI_BLOCK_CELLS = 1 << 20  # the forward pass gathers its frames' band scores this many at a time
 
 
@@ -203,24 +209,54 @@ def _hesitating(
     scores: np.ndarray, model: LetterModel, classes: np.ndarray | None, cost: float, frames: int
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Per frame, a hesitation's score for each kind of pause and the class that scores it, and each
-    state's kind: the best of the classes held for `frames` or more, less `cost`, leaving out the sound
-    the word before the pause ends on and the vowel the next word begins with (those words' own when
-    held: a drawn-out vowel, a room's tail). One kind that holds none where no classes are given."""
+    state's kind: the best of the classes held for `frames` or more, less `cost`. The sound the word
+    before the pause ends on, and the vowel the next word begins with, are held only where a silence
+    parts the hold from that word (_parted): unparted, they are those words' own (a drawn-out vowel, a
+    room's tail). One kind that holds none where no classes are given."""
     if classes is None or len(classes) == 0:
         none = np.full((len(scores), 1), -np.inf)
         return none, np.full(none.shape, -1), np.zeros(len(model.classes), np.int64)
     sounds = np.asarray(classes)
     held = _held(scores[:, sounds], scores.max(axis=1), frames) - cost
+    silent = scores.argmax(axis=1) == CLASS_INDEX[SILENCE]
+    sounding = np.isfinite(held) & ~silent[:, None]
+    parted = (_parted(sounding, silent, after=False), _parted(sounding, silent, after=True))
     theirs = _neighbouring_sounds(model)[:, :, None] == sounds[None, None, :]
-    kinds, kind_of_state = np.unique(theirs.any(axis=1), axis=0, return_inverse=True)
+    kinds, kind_of_state = np.unique(theirs.reshape(len(theirs), -1), axis=0, return_inverse=True)
     hesitating = np.full((len(scores), len(kinds)), -np.inf)
     sound = np.full(hesitating.shape, -1)
-    for column, excluded in enumerate(kinds):
-        if not excluded.all():
-            best = held[:, ~excluded].argmax(axis=1)
-            hesitating[:, column] = held[:, ~excluded][np.arange(len(scores)), best]
-            sound[:, column] = sounds[~excluded][best]
+    for column, kind in enumerate(kinds):
+        before, after = kind.reshape(2, -1)
+        allowed = (parted[0] | ~before) & (parted[1] | ~after)
+        kept = np.where(allowed, held, -np.inf)
+        best = kept.argmax(axis=1)
+        hesitating[:, column] = kept[np.arange(len(scores)), best]
+        sound[:, column] = sounds[best]
     return hesitating, sound, kind_of_state.reshape(-1)
+
+
+def parting_gaps(silent: np.ndarray) -> np.ndarray:
+    """(start, stop) of each run of PARTING_FRAMES or more silent frames: a pause that parts a
+    hesitation from a word holding its sound."""
+    found = runs(silent)
+    return found[found[:, 1] - found[:, 0] >= PARTING_FRAMES]
+
+
+def _parted(held: np.ndarray, silent: np.ndarray, after: bool) -> np.ndarray:
+    """frames x columns: True on each run of `held` frames that a parting gap (parting_gaps of
+    `silent`) follows (`after`) or precedes within PARTING_REACH frames."""
+    frames = len(silent)
+    if not after:
+        return _parted(held[::-1], silent[::-1], True)[::-1]
+    gap_starts = np.zeros(frames + 1, bool)
+    gap_starts[parting_gaps(silent)[:, 0]] = True
+    reach = np.concatenate(([0], np.cumsum(gap_starts)))
+    index = np.arange(frames + 1)
+    near = reach[np.minimum(index + PARTING_REACH + 1, frames + 1)] - reach[index] > 0  # a gap from here
+    # Each frame's run end: the first frame at or after it that is not held.
+    ending = np.where(np.vstack((~held, np.ones((1, held.shape[1]), bool))), index[:, None], frames)
+    run_end = np.minimum.accumulate(ending[::-1], axis=0)[::-1][:frames]
+    return held & near[run_end]
 
 
 def _neighbouring_sounds(model: LetterModel) -> np.ndarray:
