@@ -521,3 +521,29 @@ def test_a_hesitation_heard_nearly_as_a_vowel_inside_a_consonant_is_told():
     found = ForcedAlignment(starts, stops, frame_letters, np.zeros(len(heard)), np.full(len(heard), -1))
     word_of_letter = np.array([utterance.letters[letter].word_index for letter in units.letters])
     assert _hesitation_drawn_in(units, found, heard, word_of_letter, 2).tolist() == [60, 60]
+
+
+@pytest.mark.parametrize("pause", [0, 10])
+def test_a_words_last_vowel_held_long_before_the_paths_pause_is_told(pause):
+    """ "gün işe gel": the path put the i and ş of "işe" at an "eee"'s start and held its e through the
+    "eee" (50 frames), then paused before "gel" (the word's own sounds were heard later): told where the
+    path pauses right after the held vowel, not where the next word follows it at once (a drawn-out
+    vowel)."""
+    utterance = build_utterance("gün işe gel")
+    units = text_units(utterance)
+    lengths = np.array([5, 5, 5, 2, 4, 50, 5, 5, 5])
+    gaps = np.zeros(len(lengths), np.int64)
+    gaps[6] = pause  # before "gel"
+    starts = np.cumsum(lengths + gaps) - lengths
+    stops = starts + lengths
+    frame_letters = np.full(int(stops[-1]), -1)
+    for letter, (start, stop) in enumerate(zip(starts, stops, strict=True)):
+        frame_letters[start:stop] = letter
+    heard = np.full((len(frame_letters), len(CLASSES)), -10.0)
+    spoken = frame_letters >= 0
+    heard[np.flatnonzero(spoken), units.classes[frame_letters[spoken]]] = 0.0
+    heard[~spoken, CLASS_INDEX["_"]] = 0.0
+    found = ForcedAlignment(starts, stops, frame_letters, np.zeros(len(heard)), np.full(len(heard), -1))
+    word_of_letter = np.array([utterance.letters[letter].word_index for letter in units.letters])
+    drawn_in = _hesitation_drawn_in(units, found, heard, word_of_letter, 3)
+    assert drawn_in[1] == (50 if pause else 0)

@@ -127,8 +127,8 @@ class AlignerSettings:
     """... and at most one for every this many words of the text (another text's sounds the alignment
     leaves to its pauses are many). A take that fits with no warning is aligned so too where the network
     hears a vowel for hesitation_frames inside a consonant of a word beside such a pause (a hesitation
-    drawn into the next word), and kept where it then draws no warning and no such vowel
-    and moves no word but that consonant's and its neighbours."""
+    drawn into the next word), and kept where it then draws no warning and no word in further than the
+    first did, and moves no word but those words and their neighbours."""
 
     # -- the judgement: a confidence per phrase, another text refused, warnings
     matched: float = 0.5

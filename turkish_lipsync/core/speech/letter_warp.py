@@ -23,6 +23,7 @@ from ..base.model import Hesitation, Utterance
 from ..text.visemes import viseme_for_letter
 from .acoustic.forced import (
     HELD_MARGIN,
+    PARTING_FRAMES,
     PRIOR_WEIGHT,
     ForcedAlignment,
     LetterModel,
@@ -156,8 +157,10 @@ def _hesitation_drawn_in(
     "Ağabeyim ııı geçen"), or a vowel inside the word held that long ("eee" into the e
     of "gelmeden": g a frame long, then the e through the hesitation). A word's first or last letter held
     long is its own (a drawn-out vowel, a room's tail) unless a pause parts the hold from the rest of the
-    word inside it (forced.PARTING_FRAMES of silence: "eee", a breath, "eğlenceliydi"); then the vowel
-    heard on the far side of that pause counts."""
+    word inside it (forced.PARTING_FRAMES of silence: "eee", a breath, "eğlenceliydi"), where the vowel
+    heard on the far side of that pause counts, or the path itself pauses at the join right beside it
+    (forced.PARTING_FRAMES of the path's pause: "bugün eee işe" with the i and ş at the "eee"'s start and
+    the e through it), where the whole letter counts."""
     joins = units.word_starts & ~units.marked
     joins[0] = False
     ends = np.append(units.word_starts[1:], True)
@@ -173,14 +176,26 @@ def _hesitation_drawn_in(
     inner = np.flatnonzero(vowels & ~units.word_starts & ~ends & placed)
     frames[inner] = found.stops[inner] - found.starts[inner]
     gaps = parting_gaps(scaled.argmax(axis=1) == CLASS_INDEX[SILENCE])
+    paused = np.concatenate((np.zeros(1, np.int64), np.cumsum(found.frame_letters < 0)))
     for letter in np.flatnonzero(vowels & placed & ((units.word_starts & after_join) | (ends & before_join))):
         start, stop = int(found.starts[letter]), int(found.stops[letter])
+        # Held beside the path's own pause at the join: the hesitation's sound where the word's should be
+        # ("bugün eee işe": i and ş at the "eee"'s start, the e through it, then the pause).
+        before = start >= PARTING_FRAMES and paused[start] - paused[start - PARTING_FRAMES] == PARTING_FRAMES
+        after = (
+            stop + PARTING_FRAMES < len(paused)
+            and paused[stop + PARTING_FRAMES] - paused[stop] == PARTING_FRAMES
+        )
+        if (units.word_starts[letter] and after_join[letter] and before) or (
+            ends[letter] and before_join[letter] and after
+        ):
+            frames[letter] = held[stop] - held[start]
         first = int(np.searchsorted(gaps[:, 0], start, side="right"))
         last = int(np.searchsorted(gaps[:, 1], stop, side="left"))  # gaps[first:last] lie inside
         if first >= last:
             continue
         if units.word_starts[letter] and after_join[letter]:  # the hold before the word's own start
-            frames[letter] = held[gaps[last - 1, 0]] - held[start]
+            frames[letter] = max(frames[letter], held[gaps[last - 1, 0]] - held[start])
         if ends[letter] and before_join[letter]:  # the hold after the word's own end
             frames[letter] = max(frames[letter], held[stop] - held[gaps[first, 1]])
     drawn_in = np.zeros(words, np.int64)

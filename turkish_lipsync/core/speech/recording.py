@@ -291,15 +291,18 @@ def align_recording(
         # though the fit draws no warning: a vowel heard as long as one in a consonant at the word's edge
         # ("eee" into the b of "balkonda"), or a vowel inside the word held that long (into the e of
         # "gelmeden"). Aligned again with pauses that may hold one, and kept where that fits as well,
-        # draws none into a word and moves no word but those and their neighbours (a long take's music
-        # or noise taken for a hesitation elsewhere moves others), and squeezes no word to its letters'
-        # shortest (a word's own drawn-out sound taken for a hesitation before it). Not a list read
-        # item by item: an item's held vowel is its own (the people's lists typed with spaces).
+        # draws no word in further than the first did, moves no word but those and their neighbours (a
+        # long take's music or noise taken for a hesitation elsewhere moves others), and squeezes no word
+        # to its letters' shortest (a word's own drawn-out sound taken for a hesitation before it). Not a
+        # list read item by item: an item's held vowel is its own (the people's lists typed with spaces).
         hesitated, again = _hesitated(utterance, take, engine, hesitating)
         if (
             isinstance(again, RecordingAlignment)
             and not again.warnings
-            and hesitated.fit.hesitation_drawn_in.max(initial=0) < hesitating.hesitation_frames
+            and not np.any(
+                (hesitated.fit.hesitation_drawn_in >= hesitating.hesitation_frames)
+                & (hesitated.fit.hesitation_drawn_in > fitted.fit.hesitation_drawn_in)
+            )
             and _moved_beside(kept, again, drawn_in)
             and not np.any(_squeezed(hesitated.fit, utterance) & ~_squeezed(fitted.fit, utterance))
         ):
