@@ -175,29 +175,30 @@ def _hesitation_drawn_in(
     frames[consonants] = held[found.stops[consonants]] - held[found.starts[consonants]]
     inner = np.flatnonzero(vowels & ~units.word_starts & ~ends & placed)
     frames[inner] = found.stops[inner] - found.starts[inner]
+    # A word's first vowel before its own start, its last after its own end: the whole letter where the
+    # path itself pauses right beside it at the join ("bugün eee işe": i and ş at the "eee"'s start, the
+    # e through it, then the pause); else the vowel heard on the far side of a silence inside it.
     gaps = parting_gaps(scaled.argmax(axis=1) == CLASS_INDEX[SILENCE])
-    paused = np.concatenate((np.zeros(1, np.int64), np.cumsum(found.frame_letters < 0)))
-    for letter in np.flatnonzero(vowels & placed & ((units.word_starts & after_join) | (ends & before_join))):
-        start, stop = int(found.starts[letter]), int(found.stops[letter])
-        # Held beside the path's own pause at the join: the hesitation's sound where the word's should be
-        # ("bugün eee işe": i and ş at the "eee"'s start, the e through it, then the pause).
-        before = start >= PARTING_FRAMES and paused[start] - paused[start - PARTING_FRAMES] == PARTING_FRAMES
-        after = (
-            stop + PARTING_FRAMES < len(paused)
-            and paused[stop + PARTING_FRAMES] - paused[stop] == PARTING_FRAMES
-        )
-        if (units.word_starts[letter] and after_join[letter] and before) or (
-            ends[letter] and before_join[letter] and after
-        ):
-            frames[letter] = held[stop] - held[start]
-        first = int(np.searchsorted(gaps[:, 0], start, side="right"))
-        last = int(np.searchsorted(gaps[:, 1], stop, side="left"))  # gaps[first:last] lie inside
-        if first >= last:
-            continue
-        if units.word_starts[letter] and after_join[letter]:  # the hold before the word's own start
-            frames[letter] = max(frames[letter], held[gaps[last - 1, 0]] - held[start])
-        if ends[letter] and before_join[letter]:  # the hold after the word's own end
-            frames[letter] = max(frames[letter], held[stop] - held[gaps[first, 1]])
+    paused = np.concatenate(([0], np.cumsum(found.frame_letters < 0)))
+    opening = np.flatnonzero(vowels & placed & units.word_starts & after_join)
+    start, stop = found.starts[opening], found.stops[opening]
+    beside = (start >= PARTING_FRAMES) & (
+        paused[start] - paused[np.maximum(start - PARTING_FRAMES, 0)] == PARTING_FRAMES
+    )
+    last = np.searchsorted(gaps[:, 1], stop, side="left")  # gaps[:last] end inside or before the letter
+    inside = last > np.searchsorted(gaps[:, 0], start, side="right")
+    gap_start = gaps[np.maximum(last - 1, 0), 0] if len(gaps) else start
+    frames[opening] = np.where(beside, held[stop] - held[start], 0)
+    frames[opening] = np.maximum(frames[opening], np.where(inside, held[gap_start] - held[start], 0))
+    closing = np.flatnonzero(vowels & placed & ends & before_join)
+    start, stop = found.starts[closing], found.stops[closing]
+    later = np.minimum(stop + PARTING_FRAMES, len(paused) - 1)
+    beside = (stop + PARTING_FRAMES < len(paused)) & (paused[later] - paused[stop] == PARTING_FRAMES)
+    first = np.searchsorted(gaps[:, 0], start, side="right")  # gaps[first:] start inside or after it
+    inside = np.searchsorted(gaps[:, 1], stop, side="left") > first
+    gap_stop = gaps[np.minimum(first, len(gaps) - 1), 1] if len(gaps) else stop
+    frames[closing] = np.maximum(frames[closing], np.where(beside, held[stop] - held[start], 0))
+    frames[closing] = np.maximum(frames[closing], np.where(inside, held[stop] - held[gap_stop], 0))
     drawn_in = np.zeros(words, np.int64)
     np.maximum.at(drawn_in, word_of_letter, frames)
     # A hold split between the consonants either side of a join ("Ağabeyim ııı geçen": the m and the g).
